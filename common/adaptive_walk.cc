@@ -1,0 +1,72 @@
+#include "common/adaptive_walk.h"
+
+#include <algorithm>
+
+#include "absl/strings/str_cat.h"
+
+namespace juggle {
+
+AdaptiveWalk::AdaptiveWalk(const ControlGraph* graph) : graph_(graph) {
+  counts_.reserve(graph->num_edges());
+  for (int e = 0; e < graph->num_edges(); ++e) counts_.push_back(graph->edge(e).base_weight);
+}
+
+int AdaptiveWalk::SampleEdge(int node, Rng* rng) const {
+  const std::vector<int>& out = graph_->node(node).out_edges;
+  double total = 0;
+  for (int e : out) total += counts_[e];
+  double u = rng->Uniform() * total;
+  for (int e : out) {
+    u -= counts_[e];
+    if (u < 0) return e;
+  }
+  return out.back();  // rounding guard
+}
+
+absl::Status AdaptiveWalk::Apply(const EdgeEvent& event) {
+  if (event.edge < 0 || event.edge >= graph_->num_edges()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("edge event for unknown edge ", event.edge, " (graph has ",
+                     graph_->num_edges(), " edges)"));
+  }
+  const double w0 = graph_->edge(event.edge).base_weight;
+  double& c = counts_[event.edge];
+  switch (event.type) {
+    case EdgeEventType::kChosen:
+      c += w0;
+      break;
+    case EdgeEventType::kCompleted:
+      c -= kCompletedDecrement * w0;
+      break;
+    case EdgeEventType::kFailed:
+      break;
+  }
+  c = std::clamp(c, w0, kMaxCountFactor * w0);
+  return absl::OkStatus();
+}
+
+absl::Status AdaptiveWalk::SetCounts(const std::vector<double>& counts) {
+  if (static_cast<int>(counts.size()) != graph_->num_edges()) {
+    return absl::InvalidArgumentError(absl::StrCat("edge counts have ", counts.size(),
+                                                   " entries, the graph has ",
+                                                   graph_->num_edges(), " edges"));
+  }
+  for (int e = 0; e < graph_->num_edges(); ++e) {
+    const double w0 = graph_->edge(e).base_weight;
+    if (!(counts[e] >= w0 && counts[e] <= kMaxCountFactor * w0)) {
+      return absl::InvalidArgumentError(absl::StrCat("edge count ", counts[e], " of edge ", e,
+                                                     " lies outside [", w0, ", ",
+                                                     kMaxCountFactor * w0, "]"));
+    }
+  }
+  counts_ = counts;
+  return absl::OkStatus();
+}
+
+double AdaptiveWalk::Probability(int edge) const {
+  double total = 0;
+  for (int e : graph_->node(graph_->edge(edge).from).out_edges) total += counts_[e];
+  return counts_[edge] / total;
+}
+
+}  // namespace juggle

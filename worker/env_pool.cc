@@ -1,0 +1,151 @@
+#include "worker/env_pool.h"
+
+#include <algorithm>
+
+#include "absl/strings/str_cat.h"
+
+namespace juggle {
+
+absl::StatusOr<std::unique_ptr<EnvPool>> EnvPool::Create(std::shared_ptr<const JuggleSpec> spec,
+                                                         int num_envs, int num_threads,
+                                                         uint64_t seed, uint64_t worker) {
+  if (num_envs < 1 || num_threads < 1) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "env pool needs num_envs >= 1 and num_threads >= 1, got ", num_envs, " and ",
+        num_threads));
+  }
+  std::unique_ptr<EnvPool> pool(new EnvPool(spec, std::min(num_threads, num_envs)));
+  const int obs_dim = spec->obs_dim();
+  for (int i = 0; i < num_envs; ++i) {
+    pool->envs_.push_back(std::make_unique<JuggleEnv>(spec, Rng::ForStream(seed, worker, i)));
+  }
+  PoolStep& out = pool->out_;
+  out.obs.assign(size_t(num_envs) * obs_dim, 0);
+  out.final_obs.assign(size_t(num_envs) * obs_dim, 0);
+  out.reward.assign(num_envs, 0);
+  out.terminated.assign(num_envs, 0);
+  out.truncated.assign(num_envs, 0);
+  out.outcome.assign(num_envs, Outcome::kRunning);
+  out.node.assign(num_envs, -1);
+  out.events.reserve(4 * num_envs);
+  pool->episode_return_.assign(num_envs, 0);
+  pool->env_events_.resize(num_envs);
+  for (auto& ev : pool->env_events_) ev.reserve(8);
+  pool->finished_length_.assign(num_envs, 0);
+  pool->finished_completions_.assign(num_envs, 0);
+  for (int t = 1; t < pool->num_threads_; ++t) {
+    pool->threads_.emplace_back(&EnvPool::ThreadMain, pool.get(), t);
+  }
+  return pool;
+}
+
+EnvPool::EnvPool(std::shared_ptr<const JuggleSpec> spec, int num_threads)
+    : spec_(std::move(spec)), walk_(&spec_->graph()), num_threads_(num_threads) {}
+
+EnvPool::~EnvPool() {
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    stop_ = true;
+  }
+  start_cv_.notify_all();
+  for (std::thread& t : threads_) t.join();
+}
+
+void EnvPool::Reset() {
+  for (int i = 0; i < num_envs(); ++i) {
+    envs_[i]->Reset(walk_);
+    envs_[i]->WriteObservation(out_.obs.data() + size_t(i) * obs_dim());
+    episode_return_[i] = 0;
+  }
+}
+
+void EnvPool::StepRange(int begin, int end) {
+  const int obs_dim = spec_->obs_dim();
+  for (int i = begin; i < end; ++i) {
+    JuggleEnv& env = *envs_[i];
+    out_.node[i] = env.cursor().current;
+    const StepResult r = env.Step(actions_ + size_t(i) * kNumActions, walk_);
+    out_.reward[i] = r.reward;
+    out_.outcome[i] = r.outcome;
+    out_.terminated[i] = r.terminated();
+    out_.truncated[i] = r.truncated();
+    float* obs = out_.obs.data() + size_t(i) * obs_dim;
+    if (r.truncated()) {
+      env.WriteObservation(out_.final_obs.data() + size_t(i) * obs_dim);
+    }
+    env_events_[i] = env.events();
+    if (r.outcome != Outcome::kRunning) {
+      finished_length_[i] = env.steps();
+      finished_completions_[i] = env.cursor().completions;
+      // The walk is read-only during the batch step, so resetting here is thread-safe; the
+      // reset's own sampling does not create events.
+      env.Reset(walk_);
+    }
+    env.WriteObservation(obs);
+  }
+}
+
+void EnvPool::ThreadMain(int thread) {
+  int64_t seen = 0;
+  while (true) {
+    {
+      std::unique_lock<std::mutex> lock(mu_);
+      start_cv_.wait(lock, [&] { return stop_ || generation_ != seen; });
+      if (stop_) return;
+      seen = generation_;
+    }
+    const int n = num_envs();
+    StepRange(n * thread / num_threads_, n * (thread + 1) / num_threads_);
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      if (--pending_ == 0) done_cv_.notify_one();
+    }
+  }
+}
+
+void EnvPool::RunParallel() {
+  if (num_threads_ == 1) {
+    StepRange(0, num_envs());
+    return;
+  }
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    pending_ = num_threads_ - 1;
+    ++generation_;
+  }
+  start_cv_.notify_all();
+  StepRange(0, num_envs() / num_threads_);
+  std::unique_lock<std::mutex> lock(mu_);
+  done_cv_.wait(lock, [&] { return pending_ == 0; });
+}
+
+void EnvPool::Step(const float* actions) {
+  actions_ = actions;
+  RunParallel();
+  out_.events.clear();
+  for (int i = 0; i < num_envs(); ++i) {
+    const std::vector<EdgeEvent>& ev = env_events_[i];
+    out_.events.insert(out_.events.end(), ev.begin(), ev.end());
+    episode_return_[i] += out_.reward[i];
+    ++stats_.steps;
+    if (out_.outcome[i] != Outcome::kRunning) {
+      ++stats_.episodes;
+      stats_.return_sum += episode_return_[i];
+      stats_.length_sum += finished_length_[i];
+      stats_.completions_sum += finished_completions_[i];
+      ++stats_.outcomes[static_cast<int>(out_.outcome[i])];
+      episode_return_[i] = 0;
+    }
+  }
+  if (apply_events_locally_) {
+    for (const EdgeEvent& e : out_.events) walk_.Apply(e).IgnoreError();
+  }
+}
+
+EpisodeStats EnvPool::TakeStats() {
+  EpisodeStats s = stats_;
+  stats_ = EpisodeStats();
+  return s;
+}
+
+}  // namespace juggle

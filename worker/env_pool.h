@@ -1,0 +1,107 @@
+// EnvPool: N juggling environments stepped in lockstep on T threads (one shared mjModel, one
+// mjData per env), with automatic reset. Env i draws from Rng::ForStream(seed, worker, i), and
+// edge events are applied to the adaptive walk in env order after every batch step, so a run is
+// bit-identical for a fixed seed whatever the thread count.
+//
+// Thread-safety: the pool's public methods must be called from one thread; the pool's own
+// threads touch only their envs and read the walk, which is mutated only between steps.
+#ifndef JUGGLE_WORKER_ENV_POOL_H_
+#define JUGGLE_WORKER_ENV_POOL_H_
+
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "common/adaptive_walk.h"
+#include "worker/juggle_env.h"
+#include "worker/juggle_spec.h"
+
+namespace juggle {
+
+// Results of one batch step; buffers are preallocated and reused.
+struct PoolStep {
+  std::vector<float> obs;          // [num_envs, obs_dim]; after a reset: the new episode's first
+  std::vector<float> reward;       // [num_envs]
+  std::vector<uint8_t> terminated; // [num_envs] episode failed (includes kDiverged)
+  std::vector<uint8_t> truncated;  // [num_envs] time limit
+  std::vector<float> final_obs;    // [num_envs, obs_dim]; the last obs of a truncated episode
+  std::vector<Outcome> outcome;    // [num_envs]
+  std::vector<int32_t> node;       // [num_envs] node at the start of the step
+  std::vector<EdgeEvent> events;   // this step's edge events, in env order
+};
+
+// Counters over finished episodes since the last TakeStats().
+struct EpisodeStats {
+  int64_t episodes = 0;
+  int64_t steps = 0;
+  double return_sum = 0;
+  int64_t length_sum = 0;
+  int64_t completions_sum = 0;
+  int64_t outcomes[static_cast<int>(Outcome::kNumOutcomes)] = {0};
+  double mean_return() const { return episodes ? return_sum / episodes : 0; }
+  double mean_length() const { return episodes ? double(length_sum) / episodes : 0; }
+  double mean_completions() const { return episodes ? double(completions_sum) / episodes : 0; }
+};
+
+class EnvPool {
+ public:
+  // INVALID_ARGUMENT if num_envs < 1 or num_threads < 1.
+  static absl::StatusOr<std::unique_ptr<EnvPool>> Create(std::shared_ptr<const JuggleSpec> spec,
+                                                         int num_envs, int num_threads,
+                                                         uint64_t seed, uint64_t worker = 0);
+  ~EnvPool();
+
+  // Resets every env; output().obs holds the first observations.
+  void Reset();
+  // Steps every env with `actions` ([num_envs, kNumActions]); finished envs are reset.
+  // If apply_events_locally() (the default), the events update walk() afterwards.
+  void Step(const float* actions);
+
+  const PoolStep& output() const { return out_; }
+  AdaptiveWalk* walk() { return &walk_; }
+  void set_apply_events_locally(bool v) { apply_events_locally_ = v; }
+  EpisodeStats TakeStats();
+
+  int num_envs() const { return static_cast<int>(envs_.size()); }
+  int obs_dim() const { return spec_->obs_dim(); }
+  const JuggleSpec& spec() const { return *spec_; }
+  JuggleEnv& env(int i) { return *envs_[i]; }
+
+ private:
+  EnvPool(std::shared_ptr<const JuggleSpec> spec, int num_threads);
+  void StepRange(int begin, int end);
+  void RunParallel();
+  void ThreadMain(int thread);
+
+  std::shared_ptr<const JuggleSpec> spec_;
+  AdaptiveWalk walk_;
+  std::vector<std::unique_ptr<JuggleEnv>> envs_;
+  std::vector<double> episode_return_;
+  // Per env, written by its thread during a step: events and the finished episode's length
+  // and completions, captured before the automatic reset.
+  std::vector<std::vector<EdgeEvent>> env_events_;
+  std::vector<int> finished_length_;
+  std::vector<int> finished_completions_;
+  PoolStep out_;
+  EpisodeStats stats_;
+  bool apply_events_locally_ = true;
+  const float* actions_ = nullptr;
+
+  // Worker threads: thread t > 0 steps its slice when `generation_` advances; the calling
+  // thread steps slice 0 and waits for `pending_` to reach 0.
+  int num_threads_;
+  std::vector<std::thread> threads_;
+  std::mutex mu_;
+  std::condition_variable start_cv_, done_cv_;
+  int64_t generation_ = 0;
+  int pending_ = 0;
+  bool stop_ = false;
+};
+
+}  // namespace juggle
+
+#endif  // JUGGLE_WORKER_ENV_POOL_H_

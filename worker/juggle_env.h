@@ -1,0 +1,101 @@
+// One soccer-juggling environment: a humanoid and a ball in MuJoCo, driven by stable PD
+// tracking of the control graph's reference pose plus the policy's feed-forward torques.
+//
+// Control step (50 Hz) = `substeps` physics steps (400 Hz). Order within Step():
+//   1. reference pose and ball reference at the current (pre-step) phase;
+//   2. per substep: PD + feed-forward torques into qfrc_applied, mj_step, divergence check,
+//      ball-contact checks (allowed bodies, timing window, ball height);
+//   3. advance the graph cursor (transitions, edge events);
+//   4. reward (post-step state vs the step-1 reference) and termination checks.
+// The env does not reset itself; EnvPool does. Thread-compatible: one thread at a time.
+#ifndef JUGGLE_WORKER_JUGGLE_ENV_H_
+#define JUGGLE_WORKER_JUGGLE_ENV_H_
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <mujoco/mujoco.h>
+
+#include "common/adaptive_walk.h"
+#include "common/graph_cursor.h"
+#include "common/rng.h"
+#include "worker/juggle_spec.h"
+
+namespace juggle {
+
+// Why an episode ended (kRunning while it has not).
+enum class Outcome : uint8_t {
+  kRunning = 0,
+  kFell,            // root tilt or height beyond the limits
+  kBallLost,        // ball too low or too far from its target
+  kBadContact,      // ball touched a body not allowed in the node (or the floor)
+  kContactTiming,   // ball touched an allowed body outside the contact window
+  kAroundTheWorld,  // foot–ball angle constraint violated
+  kStallLost,       // ball left the stalling body
+  kDiverged,        // simulator warning or non-finite state
+  kTimeLimit,       // truncated at max_episode_steps (not a failure)
+  kNumOutcomes
+};
+const char* OutcomeName(Outcome o);
+
+struct StepResult {
+  float reward = 0;
+  Outcome outcome = Outcome::kRunning;
+  bool terminated() const { return outcome != Outcome::kRunning && outcome != Outcome::kTimeLimit; }
+  bool truncated() const { return outcome == Outcome::kTimeLimit; }
+};
+
+class JuggleEnv {
+ public:
+  JuggleEnv(std::shared_ptr<const JuggleSpec> spec, Rng rng);
+  ~JuggleEnv();
+  JuggleEnv(const JuggleEnv&) = delete;
+  JuggleEnv& operator=(const JuggleEnv&) = delete;
+
+  // Starts an episode at a random initial node (character at the reference pose, ball at its
+  // apex, both at rest). Events are cleared.
+  void Reset(const AdaptiveWalk& walk);
+  // Starts an episode at DOWN node `node`.
+  void ResetAt(int node, const AdaptiveWalk& walk);
+
+  // Advances one control step. REQUIRES: `action` holds kNumActions values in [−1, 1] (clamped
+  // here) and the episode has not ended. Events of this step: events().
+  StepResult Step(const float* action, const AdaptiveWalk& walk);
+
+  // Observation of the current state. REQUIRES: `obs` holds spec().obs_dim() floats.
+  void WriteObservation(float* obs) const;
+
+  const std::vector<EdgeEvent>& events() const { return events_; }
+  const CursorState& cursor() const { return cursor_; }
+  const JuggleSpec& spec() const { return *spec_; }
+  int steps() const { return steps_; }
+  // Simulator state, for tests and tools (render, record). Mutating it is the caller's risk.
+  mjData* data() { return data_; }
+  const mjData* data() const { return data_; }
+  // Reference pose the PD tracked during the last step (or set at reset).
+  const CharacterPose& reference_pose() const { return reference_; }
+  // Fraction of the last step's physics time spent in mj_step is not tracked here (bench/).
+
+ private:
+  void ApplyTorques(const double* feedforward);
+  Outcome CheckBallContacts(double substep_phase) const;
+  Outcome CheckTermination(const BallReference& ball_ref) const;
+  float ComputeReward(const BallReference& ball_ref) const;
+  bool Diverged() const;
+  void PlaceAtReference();
+
+  std::shared_ptr<const JuggleSpec> spec_;
+  const mjModel* model_;
+  mjData* data_;
+  Rng rng_;
+  CursorState cursor_;
+  CharacterPose reference_{};
+  std::vector<EdgeEvent> events_;
+  int steps_ = 0;
+  int warning_count_ = 0;   // sum of the watched MuJoCo warning counters at the last check
+};
+
+}  // namespace juggle
+
+#endif  // JUGGLE_WORKER_JUGGLE_ENV_H_

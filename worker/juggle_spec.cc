@@ -35,6 +35,11 @@ absl::Status Invalid(const SourceLocator& where, const FieldPath& path, const st
   return absl::InvalidArgumentError(absl::StrCat(where.Where(path), ": ", what));
 }
 
+// MuJoCo's default warning handler prints and appends to MUJOCO_LOG.TXT on every bad step.
+// Envs read the warning counters in mjData instead (JuggleEnv counts a diverged episode), so
+// the process-global handler is made silent. Stateless, hence safe from every thread.
+void SilentWarning(const char*) {}
+
 int JointIdByName(const std::string& name) {
   for (int j = 0; j < kNumJoints; ++j) {
     if (name == kJointNames[j]) return j;
@@ -67,6 +72,7 @@ JuggleSpec::~JuggleSpec() { mj_deleteModel(model_); }
 
 absl::StatusOr<std::shared_ptr<const JuggleSpec>> JuggleSpec::Create(const LoadedConfig& config) {
   const config::EnvConfig& env = config.run.env();
+  mju_user_warning = SilentWarning;
   const std::string model_path = ResolvePath(config.config_dir, env.model_file());
   char error[1024] = "";
   mjModel* model = mj_loadXML(model_path.c_str(), nullptr, error, sizeof(error));

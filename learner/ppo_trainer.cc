@@ -1,0 +1,313 @@
+#include "learner/ppo_trainer.h"
+
+#include <algorithm>
+#include <cstring>
+#include <functional>
+#include <sstream>
+
+#include <ATen/CPUGeneratorImpl.h>
+#include <torch/torch.h>
+
+#include "absl/strings/numbers.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_split.h"
+#include "common/status_macros.h"
+#include "learner/advantages.h"
+#include "learner/networks.h"
+#include "learner/obs_normalizer.h"
+
+namespace juggle {
+
+struct PpoTrainer::Impl {
+  config::ModelConfig model;
+  std::shared_ptr<ActorCritic> net;
+  std::unique_ptr<torch::optim::Adam> actor_opt, critic_opt;
+  ObsNormalizer normalizer;
+
+  std::vector<torch::Tensor> ActorParams() const {
+    std::vector<torch::Tensor> p = net->actor->parameters();
+    if (model.learn_log_std()) p.push_back(net->log_std);
+    return p;
+  }
+};
+
+namespace {
+
+torch::Tensor FromVector(const std::vector<float>& v, std::vector<int64_t> shape) {
+  return torch::from_blob(const_cast<float*>(v.data()), shape, torch::kFloat32).clone();
+}
+
+std::string ArchiveBytes(const std::function<void(torch::serialize::OutputArchive&)>& fill) {
+  torch::serialize::OutputArchive archive;
+  fill(archive);
+  std::ostringstream out;
+  archive.save_to(out);
+  return out.str();
+}
+
+void ClipGradients(const std::vector<torch::Tensor>& params, double max_norm) {
+  if (max_norm > 0) torch::nn::utils::clip_grad_norm_(params, max_norm);
+}
+
+}  // namespace
+
+PpoTrainer::PpoTrainer(const config::ModelConfig& model, const config::PpoConfig& ppo,
+                       int obs_dim, int act_dim, uint64_t seed)
+    : impl_(std::make_unique<Impl>()),
+      ppo_(ppo),
+      obs_dim_(obs_dim),
+      act_dim_(act_dim),
+      actor_lr_(ppo.actor_lr()) {
+  torch::manual_seed(seed);
+  torch::set_num_threads(std::max(1, ppo.torch_threads()));
+  impl_->model = model;
+  impl_->net = std::make_shared<ActorCritic>(model, obs_dim, act_dim);
+  impl_->net->normalize = ppo.normalize_observations();
+  impl_->normalizer = ObsNormalizer(obs_dim);
+}
+
+PpoTrainer::~PpoTrainer() = default;
+
+std::vector<float> PpoTrainer::Values(const float* obs, int64_t n) const {
+  if (n == 0) return {};
+  torch::NoGradGuard no_grad;
+  torch::Tensor x = torch::from_blob(const_cast<float*>(obs), {n, obs_dim_}, torch::kFloat32);
+  torch::Tensor v = impl_->net->Value(x).contiguous();
+  return std::vector<float>(v.data_ptr<float>(), v.data_ptr<float>() + n);
+}
+
+absl::StatusOr<UpdateStats> PpoTrainer::Update(const UnrollBatch& batch, int64_t max_policy_lag) {
+  RETURN_IF_ERROR(ValidateUnrollBatch(batch, obs_dim_, act_dim_, version_, max_policy_lag));
+  ActorCritic& net = *impl_->net;
+  const int64_t n = batch.num_samples();
+  const torch::Tensor obs = FromVector(batch.obs, {n, obs_dim_});
+  const torch::Tensor actions = FromVector(batch.actions, {n, act_dim_});
+  const torch::Tensor old_log_probs = FromVector(batch.log_probs, {n});
+
+  // Values for GAE: V(s_t), V(bootstrap), V(final obs of truncated episodes).
+  const std::vector<float> values = Values(batch.obs.data(), n);
+  const std::vector<float> boot = Values(batch.bootstrap_obs.data(), batch.num_unrolls);
+  const std::vector<float> trunc = Values(batch.truncated_obs.data(), batch.num_truncated());
+  AdvantageInputs in;
+  in.num_unrolls = batch.num_unrolls;
+  in.unroll_length = batch.unroll_length;
+  in.rewards = batch.rewards.data();
+  in.done = batch.done.data();
+  in.truncated = batch.truncated.data();
+  in.values = values.data();
+  in.bootstrap_values = boot.data();
+  in.truncated_values = trunc.data();
+  std::vector<float> returns_v;
+  const std::vector<float> adv_v =
+      ComputeAdvantages(in, ppo_.gamma(), ppo_.gae_lambda(), &returns_v);
+  const torch::Tensor returns = FromVector(returns_v, {n});
+  torch::Tensor advantages = FromVector(adv_v, {n});
+
+  const double critic_lr = actor_lr_ * ppo_.critic_lr_factor();
+  if (ppo_.reset_optimizer_each_iteration() || !impl_->actor_opt) {
+    impl_->actor_opt = std::make_unique<torch::optim::Adam>(
+        impl_->ActorParams(), torch::optim::AdamOptions(actor_lr_));
+    impl_->critic_opt = std::make_unique<torch::optim::Adam>(
+        net.critic->parameters(), torch::optim::AdamOptions(critic_lr));
+  } else {
+    for (auto& g : impl_->actor_opt->param_groups()) {
+      static_cast<torch::optim::AdamOptions&>(g.options()).lr(actor_lr_);
+    }
+    for (auto& g : impl_->critic_opt->param_groups()) {
+      static_cast<torch::optim::AdamOptions&>(g.options()).lr(critic_lr);
+    }
+  }
+
+  const int minibatches = std::max(1, ppo_.num_minibatches());
+  const int64_t mb_size = std::max<int64_t>(1, n / minibatches);
+  UpdateStats stats;
+  stats.samples = n;
+  stats.actor_lr = actor_lr_;
+
+  // Critic: regress V(s) on the returns.
+  int updates = 0;
+  for (int epoch = 0; epoch < ppo_.epochs(); ++epoch) {
+    const torch::Tensor perm = torch::randperm(n, torch::kLong);
+    for (int m = 0; m < minibatches; ++m) {
+      const torch::Tensor idx = perm.slice(0, m * mb_size, std::min(n, (m + 1) * mb_size));
+      const torch::Tensor v = net.Value(obs.index_select(0, idx));
+      const torch::Tensor loss = 0.5 * (v - returns.index_select(0, idx)).pow(2).mean();
+      impl_->critic_opt->zero_grad();
+      loss.backward();
+      ClipGradients(net.critic->parameters(), ppo_.max_grad_norm());
+      impl_->critic_opt->step();
+      stats.value_loss += loss.item<double>();
+      ++updates;
+    }
+  }
+  if (updates) stats.value_loss /= updates;
+
+  if (ppo_.advantages_after_critic()) {
+    torch::NoGradGuard no_grad;
+    advantages = returns - net.Value(obs);
+  }
+  stats.mean_advantage = advantages.mean().item<double>();
+  if (ppo_.normalize_advantages()) {
+    advantages = (advantages - advantages.mean()) / (advantages.std() + 1e-8);
+  }
+
+  // Actor: clipped surrogate + action-magnitude regularizer.
+  updates = 0;
+  const double clip = ppo_.clip();
+  for (int epoch = 0; epoch < ppo_.epochs(); ++epoch) {
+    const torch::Tensor perm = torch::randperm(n, torch::kLong);
+    for (int m = 0; m < minibatches; ++m) {
+      const torch::Tensor idx = perm.slice(0, m * mb_size, std::min(n, (m + 1) * mb_size));
+      const torch::Tensor mean = net.Mean(obs.index_select(0, idx));
+      const torch::Tensor log_prob = net.LogProb(actions.index_select(0, idx), mean);
+      const torch::Tensor old = old_log_probs.index_select(0, idx);
+      const torch::Tensor adv = advantages.index_select(0, idx);
+      const torch::Tensor ratio = torch::exp(log_prob - old);
+      const torch::Tensor surrogate =
+          torch::min(ratio * adv, torch::clamp(ratio, 1 - clip, 1 + clip) * adv);
+      const torch::Tensor loss =
+          -surrogate.mean() + ppo_.action_reg() * mean.pow(2).mean();
+      impl_->actor_opt->zero_grad();
+      loss.backward();
+      ClipGradients(impl_->ActorParams(), ppo_.max_grad_norm());
+      impl_->actor_opt->step();
+      stats.policy_loss += loss.item<double>();
+      stats.approx_kl += (old - log_prob).mean().item<double>();
+      stats.clip_fraction += ((ratio - 1).abs() > clip).to(torch::kFloat32).mean().item<double>();
+      ++updates;
+    }
+  }
+  if (updates) {
+    stats.policy_loss /= updates;
+    stats.approx_kl /= updates;
+    stats.clip_fraction /= updates;
+  }
+
+  actor_lr_ = actor_lr_ > ppo_.min_actor_lr() ? actor_lr_ * ppo_.lr_decay() : ppo_.min_actor_lr();
+  actor_lr_ = std::max(actor_lr_, ppo_.min_actor_lr());
+  if (ppo_.normalize_observations()) {
+    // After the update, so this iteration trained with the statistics the workers used.
+    impl_->normalizer.Update(batch.obs.data(), n);
+    torch::NoGradGuard no_grad;
+    const std::vector<float> mean = impl_->normalizer.Mean();
+    const std::vector<float> inv = impl_->normalizer.InvStd();
+    net.norm_mean.copy_(FromVector(mean, {obs_dim_}));
+    net.norm_inv_std.copy_(FromVector(inv, {obs_dim_}));
+  }
+  ++version_;
+  ++iteration_;
+  return stats;
+}
+
+namespace {
+
+void AppendTensor(const TensorSpec& spec, const torch::Tensor& t, std::vector<TensorSpec>* layout,
+                  std::vector<float>* values) {
+  const torch::Tensor c = t.detach().contiguous();
+  layout->push_back(spec);
+  values->insert(values->end(), c.data_ptr<float>(), c.data_ptr<float>() + c.numel());
+}
+
+}  // namespace
+
+FlatParameters PpoTrainer::ExportPolicy() const {
+  std::vector<TensorSpec> layout;
+  std::vector<float> values;
+  for (const auto& [spec, t] : impl_->net->actor->LayoutTensors()) {
+    AppendTensor(spec, t, &layout, &values);
+  }
+  AppendTensor({"actor.log_std", {act_dim_}}, impl_->net->log_std, &layout, &values);
+  if (ppo_.normalize_observations()) {
+    AppendTensor({"obs_norm.mean", {obs_dim_}}, impl_->net->norm_mean, &layout, &values);
+    AppendTensor({"obs_norm.inv_std", {obs_dim_}}, impl_->net->norm_inv_std, &layout, &values);
+  }
+  return *FlatParameters::Create(version_, std::move(layout), std::move(values));
+}
+
+FlatParameters PpoTrainer::ExportAll() const {
+  FlatParameters policy = ExportPolicy();
+  std::vector<TensorSpec> layout = policy.layout();
+  std::vector<float> values = policy.values();
+  for (const auto& [spec, t] : impl_->net->critic->LayoutTensors()) {
+    AppendTensor(spec, t, &layout, &values);
+  }
+  return *FlatParameters::Create(version_, std::move(layout), std::move(values));
+}
+
+std::map<std::string, std::string> PpoTrainer::SaveState() const {
+  std::map<std::string, std::string> s;
+  s["model"] = ArchiveBytes([&](auto& a) { impl_->net->save(a); });
+  if (impl_->actor_opt) {
+    s["actor_opt"] = ArchiveBytes([&](auto& a) { impl_->actor_opt->save(a); });
+    s["critic_opt"] = ArchiveBytes([&](auto& a) { impl_->critic_opt->save(a); });
+  }
+  s["normalizer"] = impl_->normalizer.Serialize();
+  s["counters"] = absl::StrCat(version_, " ", iteration_, " ", absl::StrFormat("%.17g", actor_lr_));
+  const torch::Tensor rng = at::detail::getDefaultCPUGenerator().get_state();
+  s["torch_rng"] = std::string(static_cast<const char*>(rng.data_ptr()), rng.numel());
+  return s;
+}
+
+absl::Status PpoTrainer::RestoreState(const std::map<std::string, std::string>& sections) {
+  for (const char* required : {"model", "normalizer", "counters", "torch_rng"}) {
+    if (!sections.count(required)) {
+      return absl::DataLossError(absl::StrCat("learner state lacks section '", required, "'"));
+    }
+  }
+  // Parse everything into fresh objects first: on any error the trainer stays as it was.
+  const std::vector<std::string> counters = absl::StrSplit(sections.at("counters"), ' ');
+  int64_t version = 0, iteration = 0;
+  double lr = 0;
+  if (counters.size() != 3 || !absl::SimpleAtoi(counters[0], &version) ||
+      !absl::SimpleAtoi(counters[1], &iteration) || !absl::SimpleAtod(counters[2], &lr)) {
+    return absl::DataLossError("learner state: bad counters");
+  }
+  ASSIGN_OR_RETURN(ObsNormalizer normalizer, ObsNormalizer::Deserialize(sections.at("normalizer")));
+  if (normalizer.dim() != obs_dim_) {
+    return absl::InvalidArgumentError("learner state: normalizer dimension differs");
+  }
+  auto net = std::make_shared<ActorCritic>(impl_->model, obs_dim_, act_dim_);
+  net->normalize = ppo_.normalize_observations();
+  std::unique_ptr<torch::optim::Adam> actor_opt, critic_opt;
+  try {
+    torch::serialize::InputArchive archive;
+    std::istringstream in(sections.at("model"));
+    archive.load_from(in);
+    net->load(archive);
+    if (sections.count("actor_opt")) {
+      Impl probe{impl_->model, net, nullptr, nullptr, {}};
+      actor_opt = std::make_unique<torch::optim::Adam>(probe.ActorParams(),
+                                                       torch::optim::AdamOptions(lr));
+      critic_opt = std::make_unique<torch::optim::Adam>(net->critic->parameters(),
+                                                        torch::optim::AdamOptions(lr));
+      torch::serialize::InputArchive a, c;
+      std::istringstream ain(sections.at("actor_opt")), cin(sections.at("critic_opt"));
+      a.load_from(ain);
+      c.load_from(cin);
+      actor_opt->load(a);
+      critic_opt->load(c);
+    }
+  } catch (const c10::Error& e) {
+    return absl::DataLossError(absl::StrCat("learner state: ", e.what_without_backtrace()));
+  }
+  const std::string& rng = sections.at("torch_rng");
+  torch::Tensor rng_state = torch::empty({int64_t(rng.size())}, torch::kUInt8);
+  std::memcpy(rng_state.data_ptr(), rng.data(), rng.size());
+  try {
+    at::Generator generator = at::detail::getDefaultCPUGenerator();
+    generator.set_state(rng_state);
+  } catch (const c10::Error& e) {
+    return absl::DataLossError(absl::StrCat("learner state: torch RNG: ", e.what_without_backtrace()));
+  }
+  impl_->net = net;
+  impl_->actor_opt = std::move(actor_opt);
+  impl_->critic_opt = std::move(critic_opt);
+  impl_->normalizer = std::move(normalizer);
+  version_ = version;
+  iteration_ = iteration;
+  actor_lr_ = lr;
+  return absl::OkStatus();
+}
+
+}  // namespace juggle

@@ -1,0 +1,77 @@
+// PPO on libtorch for the juggling policy (reference-juggle.md §7): critic epochs, then
+// actor epochs with the clipped surrogate and the action-magnitude regularizer; GAE with
+// termination and truncation kept apart; learning-rate decay per iteration; optional
+// advantage and observation normalization. The torch state is hidden behind a pointer so this
+// header stays cheap to include.
+// Thread-compatible: one thread drives a trainer.
+#ifndef JUGGLE_LEARNER_PPO_TRAINER_H_
+#define JUGGLE_LEARNER_PPO_TRAINER_H_
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "absl/status/statusor.h"
+#include "common/flat_parameters.h"
+#include "common/unroll_batch.h"
+#include "proto/run_config.pb.h"
+
+namespace juggle {
+
+struct UpdateStats {
+  double value_loss = 0;
+  double policy_loss = 0;
+  double approx_kl = 0;
+  double clip_fraction = 0;
+  double mean_advantage = 0;
+  double actor_lr = 0;
+  int64_t samples = 0;
+};
+
+class PpoTrainer {
+ public:
+  // Seeds torch's default generator with `seed` and builds the networks.
+  PpoTrainer(const config::ModelConfig& model, const config::PpoConfig& ppo, int obs_dim,
+             int act_dim, uint64_t seed);
+  ~PpoTrainer();
+
+  // One PPO iteration on `batch`. The batch is validated first (see ValidateUnrollBatch; the
+  // allowed lag is `max_policy_lag`); on error nothing is changed. On success the policy
+  // version and the iteration advance by one.
+  absl::StatusOr<UpdateStats> Update(const UnrollBatch& batch, int64_t max_policy_lag = 0);
+
+  // Actor + log-std + normalizer in the flat format workers load (EigenPolicy).
+  FlatParameters ExportPolicy() const;
+  // Actor and critic (all networks), for parity tests and tools.
+  FlatParameters ExportAll() const;
+
+  int64_t version() const { return version_; }
+  int64_t iteration() const { return iteration_; }
+  double actor_lr() const { return actor_lr_; }
+  int obs_dim() const { return obs_dim_; }
+  int act_dim() const { return act_dim_; }
+
+  // Full learner state (model, optimizers, normalizer, counters, torch RNG) as named byte
+  // sections, and its restoration. Restore: DATA_LOSS / INVALID_ARGUMENT on mismatch; the
+  // trainer is unchanged on error.
+  std::map<std::string, std::string> SaveState() const;
+  absl::Status RestoreState(const std::map<std::string, std::string>& sections);
+
+  // Values V(s) of raw observations [n, obs_dim] (no gradient).
+  std::vector<float> Values(const float* obs, int64_t n) const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+  config::PpoConfig ppo_;
+  int obs_dim_, act_dim_;
+  int64_t version_ = 0;
+  int64_t iteration_ = 0;
+  double actor_lr_;
+};
+
+}  // namespace juggle
+
+#endif  // JUGGLE_LEARNER_PPO_TRAINER_H_

@@ -6,8 +6,12 @@
 namespace juggle {
 
 int RunSimulate(int argc, char** argv, int first, bool as_train);
+int RunTrain(int argc, char** argv, int first);
+int RunEval(int argc, char** argv, int first);
 int RunCheckConfig(int argc, char** argv, int first);
 int RunBenchSim(int argc, char** argv, int first);
+int RunBenchMoe(int argc, char** argv, int first);
+int RunRender(int argc, char** argv, int first);
 
 }  // namespace juggle
 

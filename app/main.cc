@@ -11,11 +11,13 @@ void PrintUsage() {
   std::printf(
       "usage: juggle <command> [flags]   (juggle <command> --help for its flags)\n\n"
       "commands:\n"
-      "  train         run the main job for a config (today: simulation with zero actions;\n"
-      "                the PPO learner arrives with the learner issue)\n"
+      "  train         train a policy with PPO on this machine (checkpoints, metrics.jsonl)\n"
+      "  eval          evaluate a checkpoint (mean action) or the zero-action baseline\n"
       "  simulate      run an env pool with zero or random actions and report episode stats\n"
       "  check-config  load and validate a run config and its model; print a summary\n"
-      "  bench sim     env steps/s on 1 and 2 threads vs bare mj_step, in one run\n");
+      "  render        render a rollout to MP4/PNG (+ contact sheet); record and replay\n"
+      "  bench sim     env steps/s on 1 and 2 threads vs bare mj_step, in one run\n"
+      "  bench moe     layer-wise vs weight-blended MoE, PPO update and Eigen inference speed\n");
 }
 
 }  // namespace
@@ -27,12 +29,15 @@ int main(int argc, char** argv) {
     return argc < 2 ? 2 : 0;
   }
   const std::string command = argv[1];
-  if (command == "train") return juggle::RunSimulate(argc, argv, 2, /*as_train=*/true);
+  if (command == "train") return juggle::RunTrain(argc, argv, 2);
+  if (command == "eval") return juggle::RunEval(argc, argv, 2);
   if (command == "simulate") return juggle::RunSimulate(argc, argv, 2, /*as_train=*/false);
   if (command == "check-config") return juggle::RunCheckConfig(argc, argv, 2);
+  if (command == "render") return juggle::RunRender(argc, argv, 2);
   if (command == "bench") {
     if (argc >= 3 && std::string(argv[2]) == "sim") return juggle::RunBenchSim(argc, argv, 3);
-    std::fprintf(stderr, "juggle bench: expected a benchmark name: sim\n");
+    if (argc >= 3 && std::string(argv[2]) == "moe") return juggle::RunBenchMoe(argc, argv, 3);
+    std::fprintf(stderr, "juggle bench: expected a benchmark name: sim | moe\n");
     return 2;
   }
   std::fprintf(stderr, "juggle: unknown command '%s'\n\n", command.c_str());

@@ -161,14 +161,16 @@ void EigenPolicy::Act(const float* obs, int batch, Rng* rng, float* actions,
                       float* log_probs) const {
   const RowMatrix mean = MeanActions(obs, batch);
   for (int b = 0; b < batch; ++b) {
-    float* a = actions + size_t(b) * act_dim_;
-    for (int i = 0; i < act_dim_; ++i) {
-      const double sample = mean(b, i) + std::exp(double(log_std_[i])) * rng->Normal();
-      a[i] = static_cast<float>(std::clamp(sample, -1.0, 1.0));
-    }
-    log_probs[b] = static_cast<float>(GaussianLogProb(a, mean.row(b).data(), log_std_.data(),
-                                                      act_dim_));
+    log_probs[b] = Sample(mean.row(b).data(), rng, actions + size_t(b) * act_dim_);
   }
+}
+
+float EigenPolicy::Sample(const float* mean, Rng* rng, float* action) const {
+  for (int i = 0; i < act_dim_; ++i) {
+    const double sample = mean[i] + std::exp(double(log_std_[i])) * rng->Normal();
+    action[i] = static_cast<float>(std::clamp(sample, -1.0, 1.0));
+  }
+  return static_cast<float>(GaussianLogProb(action, mean, log_std_.data(), act_dim_));
 }
 
 }  // namespace juggle

@@ -67,6 +67,8 @@ class EigenPolicy {
   // Samples actions clamp(μ + σ·ε, −1, 1) into `actions` [batch, act_dim] and their
   // log-probabilities (of the clamped action, as the learner recomputes it) into `log_probs`.
   void Act(const float* obs, int batch, Rng* rng, float* actions, float* log_probs) const;
+  // One sample from mean `mean` [act_dim]: writes the action and returns its log-probability.
+  float Sample(const float* mean, Rng* rng, float* action) const;
 
   int64_t version() const { return version_; }
   const std::vector<float>& log_std() const { return log_std_; }

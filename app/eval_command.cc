@@ -1,0 +1,135 @@
+// `juggle eval`: runs a trained policy without exploration noise (the mean action) for a fixed
+// set of seeded episodes, or the zero-action baseline, and reports episode statistics. The last
+// line is key=value pairs including mean_completions= and mean_episode_s=.
+#include <cstdio>
+#include <optional>
+#include <vector>
+
+#include "absl/strings/str_cat.h"
+#include "app/commands.h"
+#include "app/flags.h"
+#include "common/config_loader.h"
+#include "common/eigen_policy.h"
+#include "learner/checkpoint.h"
+#include "learner/ppo_trainer.h"
+#include "app/learner_state.h"
+#include "worker/juggle_env.h"
+
+namespace juggle {
+namespace {
+
+int Fail(const absl::Status& s) {
+  std::fprintf(stderr, "error: %s\n", std::string(s.message()).c_str());
+  return 1;
+}
+
+}  // namespace
+
+int RunEval(int argc, char** argv, int first) {
+  const std::vector<FlagSpec> specs = {
+      {"checkpoint", "", "checkpoint file (.jglc) or run directory (newest readable checkpoint)"},
+      {"config", "", "run config (default: the one recorded in the checkpoint)"},
+      {"zero-action", "false", "evaluate the zero-action policy instead (baseline)"},
+      {"episodes", "20", "episodes, one per env seed"},
+      {"seed", "1000", "seed of the episode set"},
+  };
+  absl::StatusOr<Flags> flags = Flags::Parse(argc, argv, first, specs);
+  if (!flags.ok()) return Fail(flags.status());
+  const bool zero = flags->GetBool("zero-action");
+  if (flags->help() || (flags->Get("checkpoint").empty() && !zero)) {
+    std::printf("usage: juggle eval --checkpoint=PATH | --zero-action --config=FILE [flags]\n%s",
+                Flags::Usage(specs).c_str());
+    return flags->help() ? 0 : 2;
+  }
+  Sections sections;
+  if (!zero) {
+    std::string path = flags->Get("checkpoint");
+    absl::StatusOr<Sections> read = ReadCheckpointFile(path);
+    if (!read.ok() && read.status().code() != absl::StatusCode::kDataLoss) {
+      // A directory: take its newest readable checkpoint.
+      absl::StatusOr<CheckpointDir::Loaded> loaded =
+          CheckpointDir(path + "/checkpoints").LoadLatest();
+      if (!loaded.ok()) return Fail(read.status());
+      path = loaded->path;
+      read = std::move(loaded->sections);
+    }
+    if (!read.ok()) return Fail(read.status());
+    sections = std::move(*read);
+    std::printf("checkpoint %s\n", path.c_str());
+  }
+  std::string config_path = flags->Get("config");
+  if (config_path.empty() && sections.count("config_path")) config_path = sections["config_path"];
+  if (config_path.empty()) return Fail(absl::InvalidArgumentError("--config is required"));
+  absl::StatusOr<LoadedConfig> config = LoadRunConfig(config_path);
+  if (!config.ok()) return Fail(config.status());
+  absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = JuggleSpec::Create(*config);
+  if (!spec.ok()) return Fail(spec.status());
+  const int obs_dim = (*spec)->obs_dim();
+
+  std::optional<EigenPolicy> policy;
+  if (!zero) {
+    PpoTrainer trainer(config->run.model(), config->run.ppo(), obs_dim, kNumActions, 0);
+    AdaptiveWalk walk(&(*spec)->graph());
+    if (absl::Status s = RestoreLearnerState(sections, &trainer, &walk); !s.ok()) return Fail(s);
+    absl::StatusOr<EigenPolicy> p =
+        EigenPolicy::Create(config->run.model(), trainer.ExportPolicy(), obs_dim, kNumActions);
+    if (!p.ok()) return Fail(p.status());
+    policy = std::move(*p);
+  }
+
+  // Edge counts at their base weights: the same successor distribution for every policy.
+  const AdaptiveWalk walk(&(*spec)->graph());
+  const int episodes = static_cast<int>(*flags->GetInt("episodes"));
+  const uint64_t seed = *flags->GetInt("seed");
+  std::vector<std::unique_ptr<JuggleEnv>> envs;
+  for (int i = 0; i < episodes; ++i) {
+    envs.push_back(std::make_unique<JuggleEnv>(*spec, Rng::ForStream(seed, 0, i)));
+    envs.back()->Reset(walk);
+  }
+  std::vector<float> obs(size_t(episodes) * obs_dim);
+  std::vector<float> actions(size_t(episodes) * kNumActions, 0.0f);
+  std::vector<double> returns(episodes, 0);
+  std::vector<int> lengths(episodes, 0), completions(episodes, 0);
+  std::vector<Outcome> outcomes(episodes, Outcome::kRunning);
+  int running = episodes;
+  while (running > 0) {
+    for (int i = 0; i < episodes; ++i) envs[i]->WriteObservation(&obs[size_t(i) * obs_dim]);
+    if (policy) {
+      const RowMatrix mean = policy->MeanActions(obs.data(), episodes);
+      std::copy(mean.data(), mean.data() + mean.size(), actions.begin());
+    }
+    for (int i = 0; i < episodes; ++i) {
+      if (outcomes[i] != Outcome::kRunning) continue;
+      const StepResult r = envs[i]->Step(&actions[size_t(i) * kNumActions], walk);
+      returns[i] += r.reward;
+      if (r.outcome != Outcome::kRunning) {
+        outcomes[i] = r.outcome;
+        lengths[i] = envs[i]->steps();
+        completions[i] = envs[i]->cursor().completions;
+        --running;
+      }
+    }
+  }
+  double ret = 0, len = 0, comp = 0;
+  std::vector<int> outcome_counts(static_cast<int>(Outcome::kNumOutcomes), 0);
+  for (int i = 0; i < episodes; ++i) {
+    ret += returns[i];
+    len += lengths[i];
+    comp += completions[i];
+    ++outcome_counts[static_cast<int>(outcomes[i])];
+  }
+  const double dt = (*spec)->control_dt();
+  std::string outcome_text;
+  for (int o = 1; o < static_cast<int>(Outcome::kNumOutcomes); ++o) {
+    if (outcome_counts[o]) {
+      absl::StrAppend(&outcome_text, " ", OutcomeName(static_cast<Outcome>(o)), "=",
+                      outcome_counts[o]);
+    }
+  }
+  std::printf("policy=%s episodes=%d mean_return=%.4f mean_completions=%.3f mean_episode_s=%.3f%s\n",
+              zero ? "zero_action" : "checkpoint", episodes, ret / episodes, comp / episodes,
+              len / episodes * dt, outcome_text.c_str());
+  return 0;
+}
+
+}  // namespace juggle

@@ -1,0 +1,88 @@
+#include "worker/rollout_collector.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace juggle {
+namespace {
+
+// Salt separating action-noise streams from the env streams of the same (seed, worker, env).
+constexpr uint64_t kActionStreamSalt = 0x5DEECE66DULL;
+
+double Since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+RolloutCollector::RolloutCollector(EnvPool* pool, int unroll_length, uint64_t seed,
+                                   uint64_t worker)
+    : pool_(pool), unroll_length_(unroll_length) {
+  for (int i = 0; i < pool->num_envs(); ++i) {
+    rngs_.push_back(Rng::ForStream(seed ^ kActionStreamSalt, worker, i));
+  }
+  actions_.resize(size_t(pool->num_envs()) * kNumActions);
+}
+
+void RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* batch,
+                               std::vector<EdgeEvent>* events) {
+  if (!started_) {
+    pool_->Reset();
+    started_ = true;
+  }
+  const int U = pool_->num_envs(), T = unroll_length_, D = pool_->obs_dim();
+  batch->num_unrolls = U;
+  batch->unroll_length = T;
+  batch->obs_dim = D;
+  batch->act_dim = kNumActions;
+  batch->obs.resize(size_t(U) * T * D);
+  batch->actions.resize(size_t(U) * T * kNumActions);
+  batch->log_probs.resize(size_t(U) * T);
+  batch->rewards.resize(size_t(U) * T);
+  batch->done.assign(size_t(U) * T, 0);
+  batch->truncated.assign(size_t(U) * T, 0);
+  batch->truncated_obs.clear();
+  batch->bootstrap_obs.resize(size_t(U) * D);
+  batch->policy_version.assign(U, policy.version());
+  sim_seconds_ = inference_seconds_ = 0;
+
+  // Truncated final observations arrive step by step but must be stored in (u, t) order.
+  std::vector<std::vector<float>> truncated_per_env(U);
+  for (int t = 0; t < T; ++t) {
+    const PoolStep& out = pool_->output();
+    auto t0 = std::chrono::steady_clock::now();
+    const RowMatrix mean = policy.MeanActions(out.obs.data(), U);
+    for (int u = 0; u < U; ++u) {
+      const size_t i = size_t(u) * T + t;
+      std::copy(out.obs.begin() + size_t(u) * D, out.obs.begin() + size_t(u + 1) * D,
+                batch->obs.begin() + i * D);
+      batch->log_probs[i] = policy.Sample(mean.row(u).data(), &rngs_[u],
+                                          &actions_[size_t(u) * kNumActions]);
+      std::copy(actions_.begin() + size_t(u) * kNumActions,
+                actions_.begin() + size_t(u + 1) * kNumActions,
+                batch->actions.begin() + i * kNumActions);
+    }
+    inference_seconds_ += Since(t0);
+    t0 = std::chrono::steady_clock::now();
+    pool_->Step(actions_.data());
+    sim_seconds_ += Since(t0);
+    for (int u = 0; u < U; ++u) {
+      const size_t i = size_t(u) * T + t;
+      batch->rewards[i] = out.reward[u];
+      batch->done[i] = out.terminated[u];
+      batch->truncated[i] = out.truncated[u];
+      if (out.truncated[u]) {
+        truncated_per_env[u].insert(truncated_per_env[u].end(),
+                                    out.final_obs.begin() + size_t(u) * D,
+                                    out.final_obs.begin() + size_t(u + 1) * D);
+      }
+    }
+    if (events != nullptr) events->insert(events->end(), out.events.begin(), out.events.end());
+  }
+  for (const std::vector<float>& v : truncated_per_env) {
+    batch->truncated_obs.insert(batch->truncated_obs.end(), v.begin(), v.end());
+  }
+  std::copy(pool_->output().obs.begin(), pool_->output().obs.end(), batch->bootstrap_obs.begin());
+}
+
+}  // namespace juggle

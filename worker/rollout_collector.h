@@ -1,0 +1,44 @@
+// Collects fixed-length unrolls from an EnvPool with an Eigen policy: one unroll per env per
+// call, episodes continuing across calls (the env pool resets finished episodes). Produces the
+// wire layout (UnrollBatch) a learner trains on. Thread-compatible.
+#ifndef JUGGLE_WORKER_ROLLOUT_COLLECTOR_H_
+#define JUGGLE_WORKER_ROLLOUT_COLLECTOR_H_
+
+#include <cstdint>
+#include <vector>
+
+#include "common/eigen_policy.h"
+#include "common/rng.h"
+#include "common/unroll_batch.h"
+#include "worker/env_pool.h"
+
+namespace juggle {
+
+class RolloutCollector {
+ public:
+  // REQUIRES: `pool` outlives the collector. Action noise for env i draws from its own stream
+  // derived from (seed, worker, i).
+  RolloutCollector(EnvPool* pool, int unroll_length, uint64_t seed, uint64_t worker = 0);
+
+  // Runs unroll_length steps of every env with `policy` and writes them into `batch` (policy
+  // version stamped from the policy). Edge events of these steps are appended to `events` if
+  // given. The first call resets the pool.
+  void Collect(const EigenPolicy& policy, UnrollBatch* batch,
+               std::vector<EdgeEvent>* events = nullptr);
+
+  // Seconds spent in EnvPool::Step and in policy inference during the last Collect.
+  double last_sim_seconds() const { return sim_seconds_; }
+  double last_inference_seconds() const { return inference_seconds_; }
+
+ private:
+  EnvPool* pool_;
+  int unroll_length_;
+  std::vector<Rng> rngs_;
+  std::vector<float> actions_;
+  bool started_ = false;
+  double sim_seconds_ = 0, inference_seconds_ = 0;
+};
+
+}  // namespace juggle
+
+#endif  // JUGGLE_WORKER_ROLLOUT_COLLECTOR_H_

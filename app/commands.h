@@ -7,6 +7,8 @@ namespace juggle {
 
 int RunSimulate(int argc, char** argv, int first, bool as_train);
 int RunTrain(int argc, char** argv, int first);
+int RunLearner(int argc, char** argv, int first);
+int RunWorkerCommand(int argc, char** argv, int first);
 int RunEval(int argc, char** argv, int first);
 int RunCheckConfig(int argc, char** argv, int first);
 int RunBenchSim(int argc, char** argv, int first);

@@ -12,7 +12,7 @@
 #include "common/eigen_policy.h"
 #include "learner/checkpoint.h"
 #include "learner/ppo_trainer.h"
-#include "app/learner_state.h"
+#include "learner/learner_state.h"
 #include "worker/juggle_env.h"
 
 namespace juggle {

@@ -11,7 +11,9 @@ void PrintUsage() {
   std::printf(
       "usage: juggle <command> [flags]   (juggle <command> --help for its flags)\n\n"
       "commands:\n"
-      "  train         train a policy with PPO on this machine (checkpoints, metrics.jsonl)\n"
+      "  train         train locally: a learner and its workers in one process over loopback\n"
+      "  learner       the learner process of a cluster run (gRPC, /metrics, checkpoints)\n"
+      "  worker        a simulation worker of a cluster run\n"
       "  eval          evaluate a checkpoint (mean action) or the zero-action baseline\n"
       "  simulate      run an env pool with zero or random actions and report episode stats\n"
       "  check-config  load and validate a run config and its model; print a summary\n"
@@ -31,6 +33,8 @@ int main(int argc, char** argv) {
   const std::string command = argv[1];
   if (command == "train") return juggle::RunTrain(argc, argv, 2);
   if (command == "eval") return juggle::RunEval(argc, argv, 2);
+  if (command == "learner") return juggle::RunLearner(argc, argv, 2);
+  if (command == "worker") return juggle::RunWorkerCommand(argc, argv, 2);
   if (command == "simulate") return juggle::RunSimulate(argc, argv, 2, /*as_train=*/false);
   if (command == "check-config") return juggle::RunCheckConfig(argc, argv, 2);
   if (command == "render") return juggle::RunRender(argc, argv, 2);

@@ -41,7 +41,7 @@ absl::StatusOr<SourceLocator> ParseText(const std::string& text, const std::stri
   parser.RecordErrorsTo(&errors);
   parser.WriteLocationsTo(tree.get());
   parser.AllowUnknownField(false);
-  if (!parser.ParseFromString(text, message)) {
+  if (!parser.ParseFromString(text, message) || !errors.errors().empty()) {
     return absl::InvalidArgumentError(errors.errors().empty()
                                           ? absl::StrCat(path, ": could not parse")
                                           : errors.errors());

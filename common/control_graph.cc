@@ -48,6 +48,11 @@ absl::Status ValidateNode(const config::NodeSpec& n, int i, const SourceLocator&
   if (n.contact_window_s() < 0) {
     return Invalid(where, {self, {"contact_window_s"}}, "must be >= 0");
   }
+  if (n.initial() && n.stage() != config::DOWN) {
+    return Invalid(where, {self, {"initial"}},
+                   absl::StrCat("node '", n.name(), "' is not a DOWN node and cannot start an "
+                                "episode (the ball starts at its apex)"));
+  }
   if (n.stage() == config::STALL) {
     if (!n.has_stall() || n.stall().body().empty()) {
       return Invalid(where, {self, {"stall"}},
@@ -81,11 +86,6 @@ absl::Status ValidateNode(const config::NodeSpec& n, int i, const SourceLocator&
       return Invalid(where, {self, {"around_the_world"}, {"max_angle_deg"}},
                      "must be in (0, 180]");
     }
-  }
-  if (n.initial() && n.stage() != config::DOWN) {
-    return Invalid(where, {self, {"initial"}},
-                   absl::StrCat("node '", n.name(), "' is not a DOWN node and cannot start an "
-                                "episode (the ball starts at its apex)"));
   }
   return absl::OkStatus();
 }

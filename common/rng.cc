@@ -41,6 +41,11 @@ uint64_t Rng::NextU64() {
 
 double Rng::Uniform() { return static_cast<double>(NextU64() >> 11) * 0x1.0p-53; }
 
+double Rng::Uniform(double lo, double hi) {
+  const double x = lo + (hi - lo) * Uniform();
+  return x < hi ? x : std::nextafter(hi, lo);  // rounding can reach hi
+}
+
 uint64_t Rng::UniformInt(uint64_t n) {
   // Rejection sampling removes modulo bias.
   const uint64_t limit = UINT64_MAX - UINT64_MAX % n;

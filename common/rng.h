@@ -19,7 +19,7 @@ class Rng {
   // Uniform in [0, 1).
   double Uniform();
   // Uniform in [lo, hi).
-  double Uniform(double lo, double hi) { return lo + (hi - lo) * Uniform(); }
+  double Uniform(double lo, double hi);
   // Uniform integer in [0, n); n > 0.
   uint64_t UniformInt(uint64_t n);
   // Standard normal (Box–Muller, no cached second value so the state stays a pure function of

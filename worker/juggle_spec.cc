@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "absl/strings/str_cat.h"
 #include "common/status_macros.h"
@@ -81,6 +82,29 @@ absl::StatusOr<std::shared_ptr<const JuggleSpec>> JuggleSpec::Create(const Loade
         config.env_locator.Where({{"model_file"}}), ": cannot load MJCF '", model_path, "': ",
         error));
   }
+  return Build(config, model);
+}
+
+absl::StatusOr<std::shared_ptr<const JuggleSpec>> JuggleSpec::CreateFromCompiled(
+    const LoadedConfig& config, const std::string& model_mjb) {
+  mju_user_warning = SilentWarning;
+  auto vfs = std::make_unique<mjVFS>();
+  mj_defaultVFS(vfs.get());
+  const char* kName = "model.mjb";
+  if (mj_makeEmptyFileVFS(vfs.get(), kName, static_cast<int>(model_mjb.size())) != 0) {
+    return absl::InternalError("cannot allocate the model in MuJoCo's virtual file system");
+  }
+  const int index = mj_findFileVFS(vfs.get(), kName);
+  std::memcpy(vfs->filedata[index], model_mjb.data(), model_mjb.size());
+  mjModel* model = mj_loadModel(kName, vfs.get());
+  mj_deleteVFS(vfs.get());
+  if (model == nullptr) return absl::InvalidArgumentError("cannot load the compiled model");
+  return Build(config, model);
+}
+
+absl::StatusOr<std::shared_ptr<const JuggleSpec>> JuggleSpec::Build(const LoadedConfig& config,
+                                                                   mjModel* model) {
+  const config::EnvConfig& env = config.run.env();
   std::shared_ptr<JuggleSpec> spec(new JuggleSpec(config, model));
   if (std::abs(model->opt.timestep - env.sim_dt()) > 1e-12) {
     return Invalid(config.env_locator, {{"sim_dt"}},

@@ -16,6 +16,7 @@
 #include "common/config_loader.h"
 #include "common/control_graph.h"
 #include "common/graph_cursor.h"
+#include "common/juggle_dims.h"
 
 namespace juggle {
 
@@ -28,8 +29,6 @@ extern const char* const kJointNames[kNumJoints];
 
 constexpr int kCharacterNq = 43;   // root 7 + 8 ball joints × 4 + 4 hinges
 constexpr int kCharacterNv = 34;   // root 6 + 8 × 3 + 4
-constexpr int kNumActions = 28;    // actuated DoF
-constexpr int kObsBase = 88;       // observation size before the three node one-hots
 
 using CharacterPose = std::array<double, kCharacterNq>;
 
@@ -63,6 +62,9 @@ class JuggleSpec {
   // Compiles the model named by the config and resolves everything against it. Errors
   // (INVALID_ARGUMENT / NOT_FOUND) name the config file, line and field, or the MJCF error.
   static absl::StatusOr<std::shared_ptr<const JuggleSpec>> Create(const LoadedConfig& config);
+  // As Create, from a model compiled elsewhere (mj_saveModel bytes, as the learner ships it).
+  static absl::StatusOr<std::shared_ptr<const JuggleSpec>> CreateFromCompiled(
+      const LoadedConfig& config, const std::string& model_mjb);
   ~JuggleSpec();
   JuggleSpec(const JuggleSpec&) = delete;
   JuggleSpec& operator=(const JuggleSpec&) = delete;
@@ -76,7 +78,7 @@ class JuggleSpec {
   const NodeRuntime& node_runtime(int n) const { return nodes_[n]; }
   const CharacterPose& rest_pose() const { return rest_pose_; }
 
-  int obs_dim() const { return kObsBase + 3 * graph().num_nodes(); }
+  int obs_dim() const { return ObservationSize(graph().num_nodes()); }
   double control_dt() const { return env().sim_dt() * env().substeps(); }
   int root_body() const { return root_body_; }
   int ball_body() const { return ball_body_; }
@@ -86,6 +88,8 @@ class JuggleSpec {
 
  private:
   JuggleSpec(LoadedConfig config, mjModel* model);
+  static absl::StatusOr<std::shared_ptr<const JuggleSpec>> Build(const LoadedConfig& config,
+                                                                mjModel* model);
 
   LoadedConfig config_;
   mjModel* model_;  // owned

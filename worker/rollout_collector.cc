@@ -25,7 +25,7 @@ RolloutCollector::RolloutCollector(EnvPool* pool, int unroll_length, uint64_t se
 }
 
 void RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* batch,
-                               std::vector<EdgeEvent>* events) {
+                               std::vector<EdgeEvent>* events, std::vector<int32_t>* nodes) {
   if (!started_) {
     pool_->Reset();
     started_ = true;
@@ -45,6 +45,7 @@ void RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* batch,
   batch->bootstrap_obs.resize(size_t(U) * D);
   batch->policy_version.assign(U, policy.version());
   sim_seconds_ = inference_seconds_ = 0;
+  if (nodes != nullptr) nodes->assign(size_t(U) * T, 0);
 
   // Truncated final observations arrive step by step but must be stored in (u, t) order.
   std::vector<std::vector<float>> truncated_per_env(U);
@@ -69,6 +70,7 @@ void RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* batch,
     for (int u = 0; u < U; ++u) {
       const size_t i = size_t(u) * T + t;
       batch->rewards[i] = out.reward[u];
+      if (nodes != nullptr) (*nodes)[i] = out.node[u];
       batch->done[i] = out.terminated[u];
       batch->truncated[i] = out.truncated[u];
       if (out.truncated[u]) {

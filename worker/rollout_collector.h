@@ -24,7 +24,7 @@ class RolloutCollector {
   // version stamped from the policy). Edge events of these steps are appended to `events` if
   // given. The first call resets the pool.
   void Collect(const EigenPolicy& policy, UnrollBatch* batch,
-               std::vector<EdgeEvent>* events = nullptr);
+               std::vector<EdgeEvent>* events = nullptr, std::vector<int32_t>* nodes = nullptr);
 
   // Seconds spent in EnvPool::Step and in policy inference during the last Collect.
   double last_sim_seconds() const { return sim_seconds_; }

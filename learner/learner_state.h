@@ -1,7 +1,7 @@
 // What a checkpoint holds besides the trainer's own state: the RunConfig it was trained with
 // and the adaptive-walk edge counts. Shared by `train`, `eval` and (later) the learner service.
-#ifndef JUGGLE_APP_LEARNER_STATE_H_
-#define JUGGLE_APP_LEARNER_STATE_H_
+#ifndef JUGGLE_LEARNER_LEARNER_STATE_H_
+#define JUGGLE_LEARNER_LEARNER_STATE_H_
 
 #include "absl/status/status.h"
 #include "common/adaptive_walk.h"
@@ -19,4 +19,4 @@ absl::Status RestoreLearnerState(const Sections& sections, PpoTrainer* trainer,
 
 }  // namespace juggle
 
-#endif  // JUGGLE_APP_LEARNER_STATE_H_
+#endif  // JUGGLE_LEARNER_LEARNER_STATE_H_

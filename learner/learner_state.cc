@@ -1,4 +1,4 @@
-#include "app/learner_state.h"
+#include "learner/learner_state.h"
 
 #include <cstring>
 

@@ -1,0 +1,160 @@
+#include "common/chunk_codec.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+#include "common/status_macros.h"
+
+namespace juggle {
+
+void EpisodeCounters::Add(const EpisodeCounters& o) {
+  episodes += o.episodes;
+  return_sum += o.return_sum;
+  length_sum += o.length_sum;
+  completions_sum += o.completions_sum;
+  if (outcomes.size() < o.outcomes.size()) outcomes.resize(o.outcomes.size(), 0);
+  for (size_t i = 0; i < o.outcomes.size(); ++i) outcomes[i] += o.outcomes[i];
+}
+
+namespace {
+
+template <typename T, typename Field>
+void CopyRange(const std::vector<T>& src, size_t begin, size_t end, Field* dst) {
+  dst->Reserve(static_cast<int>(end - begin));
+  for (size_t i = begin; i < end; ++i) dst->Add(src[i]);
+}
+
+}  // namespace
+
+std::vector<rpc::TrajectoryChunk> EncodeContribution(const Contribution& c, uint64_t incarnation,
+                                                     int64_t sequence, size_t max_bytes) {
+  const UnrollBatch& b = c.batch;
+  const int U = b.num_unrolls, T = b.unroll_length, D = b.obs_dim, A = b.act_dim;
+  const size_t per_unroll = size_t(T) * (D + A + 4) * 4 + size_t(D) * 4;
+  const int per_chunk = std::max<int>(1, static_cast<int>(max_bytes / std::max<size_t>(per_unroll, 1)));
+  const int parts = (U + per_chunk - 1) / per_chunk;
+  std::vector<rpc::TrajectoryChunk> chunks(parts);
+  // Index of the first truncated observation of each unroll.
+  std::vector<size_t> trunc_start(U + 1, 0);
+  for (int u = 0; u < U; ++u) {
+    int n = 0;
+    for (int t = 0; t < T; ++t) n += b.truncated[size_t(u) * T + t];
+    trunc_start[u + 1] = trunc_start[u] + n;
+  }
+  for (int p = 0; p < parts; ++p) {
+    rpc::TrajectoryChunk& ch = chunks[p];
+    const int u0 = p * per_chunk, u1 = std::min(U, u0 + per_chunk);
+    ch.set_incarnation(incarnation);
+    ch.set_policy_version(b.policy_version.empty() ? 0 : b.policy_version[0]);
+    ch.set_sequence(sequence);
+    ch.set_part(p);
+    ch.set_num_parts(parts);
+    ch.set_num_unrolls(u1 - u0);
+    ch.set_unroll_length(T);
+    ch.set_obs_dim(D);
+    ch.set_act_dim(A);
+    const size_t s0 = size_t(u0) * T, s1 = size_t(u1) * T;
+    CopyRange(b.obs, s0 * D, s1 * D, ch.mutable_obs());
+    CopyRange(b.actions, s0 * A, s1 * A, ch.mutable_actions());
+    CopyRange(b.log_probs, s0, s1, ch.mutable_log_probs());
+    CopyRange(b.rewards, s0, s1, ch.mutable_rewards());
+    ch.set_done(std::string(b.done.begin() + s0, b.done.begin() + s1));
+    ch.set_truncated(std::string(b.truncated.begin() + s0, b.truncated.begin() + s1));
+    CopyRange(b.truncated_obs, trunc_start[u0] * D, trunc_start[u1] * D, ch.mutable_truncated_obs());
+    CopyRange(b.bootstrap_obs, size_t(u0) * D, size_t(u1) * D, ch.mutable_bootstrap_obs());
+    CopyRange(c.node, s0, s1, ch.mutable_node());
+  }
+  // Events and episode statistics travel with the last part.
+  rpc::TrajectoryChunk& last = chunks.back();
+  for (const EdgeEvent& e : c.events) {
+    last.mutable_edge_events()->add_edge(e.edge);
+    last.mutable_edge_events()->add_type(static_cast<int>(e.type));
+  }
+  last.set_episodes(c.stats.episodes);
+  last.set_episode_return_sum(c.stats.return_sum);
+  last.set_episode_length_sum(c.stats.length_sum);
+  last.set_completions_sum(c.stats.completions_sum);
+  for (int64_t o : c.stats.outcomes) last.add_outcomes(o);
+  return chunks;
+}
+
+absl::StatusOr<Contribution> DecodeChunk(const rpc::TrajectoryChunk& ch, int obs_dim, int act_dim,
+                                         int num_nodes, int num_edges) {
+  auto invalid = [](const std::string& what) { return absl::InvalidArgumentError(what); };
+  if (ch.num_parts() < 1 || ch.part() < 0 || ch.part() >= ch.num_parts()) {
+    return invalid(absl::StrCat("chunk part ", ch.part(), " of ", ch.num_parts(), " is invalid"));
+  }
+  Contribution c;
+  UnrollBatch& b = c.batch;
+  b.num_unrolls = ch.num_unrolls();
+  b.unroll_length = ch.unroll_length();
+  b.obs_dim = ch.obs_dim();
+  b.act_dim = ch.act_dim();
+  b.obs.assign(ch.obs().begin(), ch.obs().end());
+  b.actions.assign(ch.actions().begin(), ch.actions().end());
+  b.log_probs.assign(ch.log_probs().begin(), ch.log_probs().end());
+  b.rewards.assign(ch.rewards().begin(), ch.rewards().end());
+  b.done.assign(ch.done().begin(), ch.done().end());
+  b.truncated.assign(ch.truncated().begin(), ch.truncated().end());
+  b.truncated_obs.assign(ch.truncated_obs().begin(), ch.truncated_obs().end());
+  b.bootstrap_obs.assign(ch.bootstrap_obs().begin(), ch.bootstrap_obs().end());
+  b.policy_version.assign(std::max(0, b.num_unrolls), ch.policy_version());
+  // Shapes, flags and finiteness; the version is checked by the learner against its own.
+  RETURN_IF_ERROR(ValidateUnrollBatch(b, obs_dim, act_dim, ch.policy_version(), 0));
+  if (ch.node_size() != b.num_samples()) {
+    return invalid(absl::StrCat("chunk field 'node' has ", ch.node_size(), " entries, expected ",
+                                b.num_samples()));
+  }
+  for (int i = 0; i < ch.node_size(); ++i) {
+    if (ch.node(i) < 0 || ch.node(i) >= num_nodes) {
+      return invalid(absl::StrCat("chunk has unknown node id ", ch.node(i), " at step ", i,
+                                  " (the graph has ", num_nodes, " nodes)"));
+    }
+  }
+  c.node.assign(ch.node().begin(), ch.node().end());
+  const rpc::EdgeEvents& ev = ch.edge_events();
+  if (ev.edge_size() != ev.type_size()) return invalid("edge_events: edge and type sizes differ");
+  for (int i = 0; i < ev.edge_size(); ++i) {
+    if (ev.edge(i) < 0 || ev.edge(i) >= num_edges || ev.type(i) < 0 || ev.type(i) > 2) {
+      return invalid(absl::StrCat("edge event ", i, " (edge ", ev.edge(i), ", type ", ev.type(i),
+                                  ") is outside the graph's ", num_edges, " edges"));
+    }
+    c.events.push_back({ev.edge(i), static_cast<EdgeEventType>(ev.type(i))});
+  }
+  if (!std::isfinite(ch.episode_return_sum()) || ch.episodes() < 0) {
+    return invalid("chunk episode statistics are invalid");
+  }
+  c.stats.episodes = ch.episodes();
+  c.stats.return_sum = ch.episode_return_sum();
+  c.stats.length_sum = ch.episode_length_sum();
+  c.stats.completions_sum = ch.completions_sum();
+  c.stats.outcomes.assign(ch.outcomes().begin(), ch.outcomes().end());
+  return c;
+}
+
+void AppendContribution(Contribution* into, const Contribution& part) {
+  UnrollBatch& a = into->batch;
+  const UnrollBatch& b = part.batch;
+  if (a.num_unrolls == 0) {
+    a.unroll_length = b.unroll_length;
+    a.obs_dim = b.obs_dim;
+    a.act_dim = b.act_dim;
+  }
+  a.num_unrolls += b.num_unrolls;
+  auto append = [](auto* x, const auto& y) { x->insert(x->end(), y.begin(), y.end()); };
+  append(&a.obs, b.obs);
+  append(&a.actions, b.actions);
+  append(&a.log_probs, b.log_probs);
+  append(&a.rewards, b.rewards);
+  append(&a.done, b.done);
+  append(&a.truncated, b.truncated);
+  append(&a.truncated_obs, b.truncated_obs);
+  append(&a.bootstrap_obs, b.bootstrap_obs);
+  append(&a.policy_version, b.policy_version);
+  append(&into->node, part.node);
+  append(&into->events, part.events);
+  into->stats.Add(part.stats);
+}
+
+}  // namespace juggle

@@ -1,0 +1,49 @@
+// UnrollBatch <-> rpc::TrajectoryChunk: a worker's contribution (one unroll per env) split into
+// chunks below a byte budget, and the learner-side decoding with validation of everything the
+// wire can get wrong. Stateless functions.
+#ifndef JUGGLE_COMMON_CHUNK_CODEC_H_
+#define JUGGLE_COMMON_CHUNK_CODEC_H_
+
+#include <cstdint>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "common/adaptive_walk.h"
+#include "common/unroll_batch.h"
+#include "proto/rollout.pb.h"
+
+namespace juggle {
+
+// Episode statistics a contribution reports (over the episodes that ended during it).
+struct EpisodeCounters {
+  int64_t episodes = 0;
+  double return_sum = 0;
+  int64_t length_sum = 0;
+  int64_t completions_sum = 0;
+  std::vector<int64_t> outcomes;  // by Outcome value
+  void Add(const EpisodeCounters& o);
+};
+
+struct Contribution {
+  UnrollBatch batch;              // its unrolls (policy_version set per unroll)
+  std::vector<int32_t> node;      // [U, T]
+  std::vector<EdgeEvent> events;
+  EpisodeCounters stats;
+};
+
+// Splits `c` into chunks of at most ~max_bytes payload each (at least one unroll per chunk).
+std::vector<rpc::TrajectoryChunk> EncodeContribution(const Contribution& c, uint64_t incarnation,
+                                                     int64_t sequence, size_t max_bytes);
+
+// Decodes one chunk. INVALID_ARGUMENT (naming the field) for inconsistent sizes, flags other
+// than 0/1, non-finite values, node ids outside [0, num_nodes), edge events outside
+// [0, num_edges) or of unknown type, obs/act dims other than expected.
+absl::StatusOr<Contribution> DecodeChunk(const rpc::TrajectoryChunk& chunk, int obs_dim,
+                                         int act_dim, int num_nodes, int num_edges);
+
+// Appends `part`'s unrolls, nodes, events and stats to `into` (dims must match).
+void AppendContribution(Contribution* into, const Contribution& part);
+
+}  // namespace juggle
+
+#endif  // JUGGLE_COMMON_CHUNK_CODEC_H_

@@ -1,0 +1,120 @@
+#include "learner/contribution_assembler.h"
+
+#include <algorithm>
+#include <set>
+
+namespace juggle {
+
+void ContributionAssembler::Add(ChunkPart part) {
+  const auto key = std::make_pair(part.incarnation, part.sequence);
+  std::vector<ChunkPart>& parts = partial_[key];
+  for (const ChunkPart& p : parts) {
+    if (p.part == part.part) return;  // duplicate part: ignore
+  }
+  const int num_parts = part.num_parts;
+  parts.push_back(std::move(part));
+  if (static_cast<int>(parts.size()) < num_parts) return;
+  std::sort(parts.begin(), parts.end(), [](const ChunkPart& a, const ChunkPart& b) { return a.part < b.part; });
+  Complete c{parts[0].slot, parts[0].version, Contribution()};
+  for (const ChunkPart& p : parts) AppendContribution(&c.data, p.data);
+  complete_.push_back(std::move(c));
+  partial_.erase(key);
+}
+
+int ContributionAssembler::DropIncarnation(uint64_t incarnation) {
+  int dropped = 0;
+  for (auto it = partial_.begin(); it != partial_.end();) {
+    if (it->first.first == incarnation) {
+      dropped += static_cast<int>(it->second.size());
+      it = partial_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  return dropped;
+}
+
+int ContributionAssembler::DropAllBut(const std::vector<uint64_t>& live) {
+  const std::set<uint64_t> keep(live.begin(), live.end());
+  int dropped = 0;
+  for (auto it = partial_.begin(); it != partial_.end();) {
+    if (!keep.count(it->first.first)) {
+      dropped += static_cast<int>(it->second.size());
+      it = partial_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  return dropped;
+}
+
+std::optional<Contribution> ContributionAssembler::TakeSync(int64_t version,
+                                                            const std::vector<int>& live_slots,
+                                                            int64_t* dropped_unrolls) {
+  // Discard what can never be used.
+  for (auto it = complete_.begin(); it != complete_.end();) {
+    if (it->version < version) {
+      *dropped_unrolls += it->data.batch.num_unrolls;
+      it = complete_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  if (live_slots.empty()) return std::nullopt;
+  std::set<int> have;
+  for (const Complete& c : complete_) {
+    if (c.version == version) have.insert(c.slot);
+  }
+  for (int slot : live_slots) {
+    if (!have.count(slot)) return std::nullopt;
+  }
+  // Every live slot is in: take all of this version's contributions (dead workers' complete
+  // ones included), in slot order. One contribution per slot: the first that arrived.
+  std::vector<Complete> chosen;
+  std::set<int> taken;
+  for (auto it = complete_.begin(); it != complete_.end();) {
+    if (it->version == version && !taken.count(it->slot)) {
+      taken.insert(it->slot);
+      chosen.push_back(std::move(*it));
+      it = complete_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  std::sort(chosen.begin(), chosen.end(), [](const Complete& a, const Complete& b) { return a.slot < b.slot; });
+  Contribution batch;
+  for (const Complete& c : chosen) AppendContribution(&batch, c.data);
+  return batch;
+}
+
+std::optional<Contribution> ContributionAssembler::TakeAsync(int64_t version, int64_t max_lag,
+                                                             int unrolls,
+                                                             int64_t* dropped_unrolls) {
+  int available = 0;
+  for (auto it = complete_.begin(); it != complete_.end();) {
+    if (it->version < version - max_lag) {
+      *dropped_unrolls += it->data.batch.num_unrolls;
+      it = complete_.erase(it);
+    } else {
+      available += it->data.batch.num_unrolls;
+      ++it;
+    }
+  }
+  if (available < unrolls || complete_.empty()) return std::nullopt;
+  Contribution batch;
+  int taken = 0;
+  while (!complete_.empty() && taken < unrolls) {
+    taken += complete_.front().data.batch.num_unrolls;
+    AppendContribution(&batch, complete_.front().data);
+    complete_.erase(complete_.begin());
+  }
+  return batch;
+}
+
+int ContributionAssembler::pending_parts() const {
+  int n = 0;
+  for (const auto& [key, parts] : partial_) n += static_cast<int>(parts.size());
+  return n;
+}
+
+}  // namespace juggle

@@ -1,0 +1,252 @@
+#include "worker/worker_client.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+#include <grpcpp/grpcpp.h>
+
+#include "absl/strings/str_cat.h"
+#include "common/chunk_codec.h"
+#include "common/config_loader.h"
+#include "common/eigen_policy.h"
+#include "common/flat_parameters.h"
+#include "proto/rollout.grpc.pb.h"
+#include "worker/env_pool.h"
+#include "worker/juggle_spec.h"
+#include "worker/rollout_collector.h"
+
+namespace juggle {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr size_t kChunkBytes = 2 << 20;
+
+absl::Status FromGrpc(const grpc::Status& s, const std::string& what) {
+  return absl::Status(static_cast<absl::StatusCode>(s.error_code()),
+                      absl::StrCat(what, ": ", s.error_message()));
+}
+
+void SetDeadline(grpc::ClientContext* ctx, double seconds) {
+  ctx->set_deadline(std::chrono::system_clock::now() +
+                    std::chrono::milliseconds(static_cast<int64_t>(seconds * 1000)));
+}
+
+// Sleeps up to `seconds`, waking early when *stop is set.
+void InterruptibleSleep(double seconds, const std::atomic<bool>* stop) {
+  const auto until = Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(seconds * 1000));
+  while (Clock::now() < until && !stop->load()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+}
+
+struct Snapshot {
+  int64_t version = -1;
+  std::string params;
+  std::vector<double> edge_counts;
+};
+
+absl::StatusOr<Snapshot> FetchPolicy(rpc::Rollout::Stub* stub, uint64_t incarnation,
+                                     int64_t min_version, double timeout_s) {
+  grpc::ClientContext ctx;
+  SetDeadline(&ctx, timeout_s + 5);
+  rpc::PolicyRequest req;
+  req.set_incarnation(incarnation);
+  req.set_min_version(min_version);
+  std::unique_ptr<grpc::ClientReader<rpc::PolicyChunk>> reader = stub->GetPolicy(&ctx, req);
+  Snapshot snap;
+  rpc::PolicyChunk chunk;
+  bool first = true;
+  while (reader->Read(&chunk)) {
+    if (first) {
+      snap.version = chunk.version();
+      snap.edge_counts.assign(chunk.edge_counts().begin(), chunk.edge_counts().end());
+      snap.params.reserve(chunk.total_bytes());
+      first = false;
+    }
+    snap.params += chunk.data();
+  }
+  const grpc::Status status = reader->Finish();
+  if (!status.ok()) return FromGrpc(status, "GetPolicy");
+  if (first) return absl::DataLossError("GetPolicy returned no snapshot");
+  return snap;
+}
+
+// One connected session: from Register until an RPC fails or *stop. Returns OK on stop.
+class Session {
+ public:
+  Session(const WorkerOptions& o, std::shared_ptr<grpc::Channel> channel)
+      : o_(o), stub_(rpc::Rollout::NewStub(channel)) {}
+
+  absl::Status Run() {
+    rpc::RegisterResponse reg;
+    {
+      grpc::ClientContext ctx;
+      SetDeadline(&ctx, 10);
+      rpc::RegisterRequest req;
+      req.set_requested_slot(o_.requested_slot);
+      req.set_num_envs(o_.num_envs);
+      char host[256] = "";
+      ::gethostname(host, sizeof(host) - 1);
+      req.set_hostname(host);
+      const grpc::Status s = stub_->Register(&ctx, req, &reg);
+      if (!s.ok()) return FromGrpc(s, "Register");
+    }
+    registered_ = true;
+    incarnation_ = reg.incarnation();
+    absl::StatusOr<LoadedConfig> config = ParseRunConfig(reg.run_config(), "<from learner>");
+    if (!config.ok()) return config.status();
+    absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec =
+        JuggleSpec::CreateFromCompiled(*config, reg.model_mjb());
+    if (!spec.ok()) return spec.status();
+    const config::RunConfig& run = config->run;
+    absl::StatusOr<std::unique_ptr<EnvPool>> pool =
+        EnvPool::Create(*spec, o_.num_envs, o_.num_threads, run.seed(), reg.slot());
+    if (!pool.ok()) return pool.status();
+    (*pool)->set_apply_events_locally(false);  // the learner owns the edge counts
+    RolloutCollector collector(pool->get(), reg.unroll_length(), run.seed(), reg.slot());
+    if (o_.verbose) {
+      std::printf("worker: registered as slot %d (incarnation %lx), %d envs on %d threads, %s mode\n",
+                  reg.slot(), static_cast<unsigned long>(incarnation_), o_.num_envs,
+                  o_.num_threads, reg.synchronous() ? "synchronous" : "asynchronous");
+      std::fflush(stdout);
+    }
+
+    std::atomic<bool> session_over{false};
+    std::atomic<bool> unknown{false};
+    std::atomic<double> steps_per_s{0};
+    std::atomic<int64_t> version_seen{-1};
+    std::thread heartbeat([&] {
+      while (!session_over && !o_.stop->load()) {
+        grpc::ClientContext ctx;
+        SetDeadline(&ctx, 2);
+        rpc::HeartbeatRequest req;
+        rpc::HeartbeatResponse resp;
+        req.set_incarnation(incarnation_);
+        req.set_policy_version(version_seen);
+        req.set_env_steps_per_s(steps_per_s);
+        if (stub_->Heartbeat(&ctx, req, &resp).ok() && !resp.known()) unknown = true;
+        InterruptibleSleep(1.0, &session_over);
+      }
+    });
+    const absl::Status result = Loop(reg, run, pool->get(), &collector, &unknown, &steps_per_s, &version_seen);
+    session_over = true;
+    heartbeat.join();
+    return result;
+  }
+
+  bool registered() const { return registered_; }
+
+ private:
+  absl::Status Loop(const rpc::RegisterResponse& reg, const config::RunConfig& run, EnvPool* pool,
+                    RolloutCollector* collector, const std::atomic<bool>* unknown,
+                    std::atomic<double>* steps_per_s, std::atomic<int64_t>* version_seen) {
+    absl::StatusOr<Snapshot> snap = FetchPolicy(stub_.get(), incarnation_, -1, 10);
+    if (!snap.ok()) return snap.status();
+    grpc::ClientContext stream_ctx;
+    std::unique_ptr<grpc::ClientReaderWriter<rpc::TrajectoryChunk, rpc::ChunkAck>> stream =
+        stub_->StreamTrajectories(&stream_ctx);
+    Contribution contribution;
+    int64_t sequence = 0;
+    const int obs_dim = pool->obs_dim();
+    while (!o_.stop->load()) {
+      if (*unknown) return absl::FailedPreconditionError("the learner forgot this worker");
+      absl::StatusOr<FlatParameters> params = FlatParameters::Deserialize(snap->params);
+      if (!params.ok()) return params.status();
+      absl::StatusOr<EigenPolicy> policy =
+          EigenPolicy::Create(run.model(), *params, obs_dim, kNumActions);
+      if (!policy.ok()) return policy.status();
+      if (absl::Status s = pool->walk()->SetCounts(snap->edge_counts); !s.ok()) return s;
+      *version_seen = snap->version;
+
+      // One contribution: an unroll of every env with this policy.
+      const auto t0 = Clock::now();
+      contribution.events.clear();
+      collector->Collect(*policy, &contribution.batch, &contribution.events, &contribution.node);
+      if (o_.stop->load()) break;
+      const EpisodeStats stats = pool->TakeStats();
+      contribution.stats = EpisodeCounters();
+      contribution.stats.episodes = stats.episodes;
+      contribution.stats.return_sum = stats.return_sum;
+      contribution.stats.length_sum = stats.length_sum;
+      contribution.stats.completions_sum = stats.completions_sum;
+      contribution.stats.outcomes.assign(std::begin(stats.outcomes), std::end(stats.outcomes));
+      *steps_per_s = contribution.batch.num_samples() /
+                     std::max(1e-9, std::chrono::duration<double>(Clock::now() - t0).count());
+
+      int64_t latest = snap->version;
+      for (const rpc::TrajectoryChunk& chunk :
+           EncodeContribution(contribution, incarnation_, sequence, kChunkBytes)) {
+        rpc::ChunkAck ack;
+        if (!stream->Write(chunk) || !stream->Read(&ack)) {
+          return FromGrpc(stream->Finish(), "StreamTrajectories");
+        }
+        latest = std::max(latest, ack.latest_version());
+        if (!ack.accepted()) {
+          if (o_.verbose) {
+            std::fprintf(stderr, "worker: chunk rejected (%d): %s\n", ack.code(), ack.message().c_str());
+          }
+          if (ack.code() == static_cast<int>(absl::StatusCode::kFailedPrecondition) &&
+              ack.message().find("unregistered") != std::string::npos) {
+            return absl::FailedPreconditionError(ack.message());
+          }
+          break;  // the rest of this contribution is useless
+        }
+      }
+      ++sequence;
+      // Synchronous: wait for the next version. Asynchronous: refresh only when newer.
+      if (reg.synchronous() || latest > snap->version) {
+        const int64_t have = snap->version;
+        do {
+          snap = FetchPolicy(stub_.get(), incarnation_, reg.synchronous() ? have : -1, 20);
+          if (!snap.ok()) return snap.status();
+        } while (reg.synchronous() && snap->version <= have && !o_.stop->load() && !*unknown);
+      }
+    }
+    stream->WritesDone();
+    stream_ctx.TryCancel();
+    return absl::OkStatus();
+  }
+
+  const WorkerOptions& o_;
+  std::unique_ptr<rpc::Rollout::Stub> stub_;
+  uint64_t incarnation_ = 0;
+  bool registered_ = false;
+};
+
+}  // namespace
+
+absl::Status RunWorker(const WorkerOptions& options) {
+  grpc::ChannelArguments args;
+  args.SetMaxReceiveMessageSize(64 << 20);
+  args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 100);
+  args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 2000);
+  double backoff = 0.1;
+  auto unreachable_since = Clock::now();
+  while (!options.stop->load()) {
+    auto channel = grpc::CreateCustomChannel(options.learner_address,
+                                             grpc::InsecureChannelCredentials(), args);
+    Session session(options, channel);
+    const absl::Status status = session.Run();
+    if (options.stop->load()) break;
+    if (session.registered()) {
+      backoff = 0.1;
+      unreachable_since = Clock::now();
+    }
+    if (options.give_up_after_s > 0 &&
+        std::chrono::duration<double>(Clock::now() - unreachable_since).count() > options.give_up_after_s) {
+      return absl::UnavailableError(absl::StrCat("learner at ", options.learner_address,
+                                                 " unreachable: ", status.message()));
+    }
+    if (options.verbose) {
+      std::fprintf(stderr, "worker: %s; reconnecting in %.1f s\n",
+                   std::string(status.message()).c_str(), backoff);
+    }
+    InterruptibleSleep(backoff, options.stop);
+    backoff = std::min(backoff * 2, 10.0);
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace juggle

@@ -1,0 +1,33 @@
+// The worker process's main loop: register with the learner, run the env pool with Eigen
+// inference on the latest policy snapshot, stream contributions (one unroll per env), follow
+// new snapshots, send heartbeats, reconnect with exponential backoff while the learner is
+// away, and stop cleanly when `stop` is set. Holds no state that matters: killing it loses
+// nothing the learner accepted.
+#ifndef JUGGLE_WORKER_WORKER_CLIENT_H_
+#define JUGGLE_WORKER_WORKER_CLIENT_H_
+
+#include <atomic>
+#include <cstdint>
+#include <string>
+
+#include "absl/status/status.h"
+
+namespace juggle {
+
+struct WorkerOptions {
+  std::string learner_address;  // host:port
+  int num_envs = 16;
+  int num_threads = 2;
+  int requested_slot = -1;       // -1: the learner picks
+  const std::atomic<bool>* stop = nullptr;
+  bool verbose = true;
+  // Give up after this long without reaching the learner (0: never).
+  double give_up_after_s = 0;
+};
+
+// Runs until *stop (OK) or give_up_after_s without a learner (UNAVAILABLE).
+absl::Status RunWorker(const WorkerOptions& options);
+
+}  // namespace juggle
+
+#endif  // JUGGLE_WORKER_WORKER_CLIENT_H_

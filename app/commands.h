@@ -13,6 +13,9 @@ int RunEval(int argc, char** argv, int first);
 int RunCheckConfig(int argc, char** argv, int first);
 int RunBenchSim(int argc, char** argv, int first);
 int RunBenchMoe(int argc, char** argv, int first);
+int RunBenchIngest(int argc, char** argv, int first);
+int RunBenchBroadcast(int argc, char** argv, int first);
+int RunBenchLocal(int argc, char** argv, int first);
 int RunRender(int argc, char** argv, int first);
 
 }  // namespace juggle

@@ -19,7 +19,10 @@ void PrintUsage() {
       "  check-config  load and validate a run config and its model; print a summary\n"
       "  render        render a rollout to MP4/PNG (+ contact sheet); record and replay\n"
       "  bench sim     env steps/s on 1 and 2 threads vs bare mj_step, in one run\n"
-      "  bench moe     layer-wise vs weight-blended MoE, PPO update and Eigen inference speed\n");
+      "  bench moe     layer-wise vs weight-blended MoE, PPO update and Eigen inference speed\n"
+      "  bench ingest  unrolls/s one learner ingests from synthetic workers over loopback\n"
+      "  bench broadcast  snapshot broadcast time to 32 connected workers\n"
+      "  bench local   local-mode iteration time vs sampling alone + update alone\n");
 }
 
 }  // namespace
@@ -40,8 +43,12 @@ int main(int argc, char** argv) {
   if (command == "render") return juggle::RunRender(argc, argv, 2);
   if (command == "bench") {
     if (argc >= 3 && std::string(argv[2]) == "sim") return juggle::RunBenchSim(argc, argv, 3);
-    if (argc >= 3 && std::string(argv[2]) == "moe") return juggle::RunBenchMoe(argc, argv, 3);
-    std::fprintf(stderr, "juggle bench: expected a benchmark name: sim | moe\n");
+    const std::string name = argc >= 3 ? argv[2] : "";
+    if (name == "moe") return juggle::RunBenchMoe(argc, argv, 3);
+    if (name == "ingest") return juggle::RunBenchIngest(argc, argv, 3);
+    if (name == "broadcast") return juggle::RunBenchBroadcast(argc, argv, 3);
+    if (name == "local") return juggle::RunBenchLocal(argc, argv, 3);
+    std::fprintf(stderr, "juggle bench: expected a benchmark: sim | moe | ingest | broadcast | local\n");
     return 2;
   }
   std::fprintf(stderr, "juggle: unknown command '%s'\n\n", command.c_str());

@@ -72,6 +72,7 @@ struct LearnerServer::State {
   std::unique_ptr<HttpServer> http;
   int port = 0;
   bool shut_down = false;
+  std::atomic<int64_t> chunks_ingested{0};
 
   void PublishSnapshot() {
     auto snap = std::make_shared<PolicySnapshot>();
@@ -344,6 +345,8 @@ absl::Status LearnerServer::Train(const std::atomic<bool>* stop) {
       break;
     }
     if (std::optional<ChunkPart> part = s.queue->Pop(Clock::now() + std::chrono::milliseconds(100))) {
+      ++s.chunks_ingested;
+      if (s.options.discard_data) continue;
       assembler.Add(std::move(*part));
     }
     s.metrics.Set("juggle_queue_depth", static_cast<double>(s.queue->size()));
@@ -455,6 +458,7 @@ void LearnerServer::Shutdown() {
 int LearnerServer::port() const { return state_->port; }
 int LearnerServer::metrics_port() const { return state_->http ? state_->http->port() : 0; }
 int64_t LearnerServer::version() const { return state_->current_version(); }
+int64_t LearnerServer::chunks_ingested() const { return state_->chunks_ingested.load(); }
 const Metrics& LearnerServer::metrics() const { return state_->metrics; }
 
 }  // namespace juggle

@@ -51,6 +51,8 @@ struct LearnerOptions {
   int64_t max_iterations = 0;   // 0: the config's ppo.iterations (0 = until stopped)
   double max_minutes = 0;
   std::function<void(const IterationReport&)> on_iteration;
+  // Benchmarks only: accept and count chunks but never train (measures ingestion alone).
+  bool discard_data = false;
 };
 
 class LearnerServer {
@@ -70,6 +72,8 @@ class LearnerServer {
   int port() const;
   int metrics_port() const;
   int64_t version() const;
+  // Chunks taken off the ingestion queue so far (including discarded ones).
+  int64_t chunks_ingested() const;
   const Metrics& metrics() const;
 
   struct State;

@@ -11,6 +11,7 @@ PACKAGES=(
   libgrpc++-dev protobuf-compiler-grpc
   libtorch-dev libopenblas0-openmp
   libgtest-dev libgmock-dev libbenchmark-dev
+  ffmpeg libegl-dev libopengl-dev libegl1 libegl-mesa0 libgl1-mesa-dri zlib1g-dev
 )
 
 missing=()

@@ -1,0 +1,259 @@
+#include "common/chunk_codec.h"
+
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "absl/strings/str_cat.h"
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+
+namespace juggle {
+namespace {
+
+using ::testing::HasSubstr;
+
+constexpr int kU = 5, kT = 6, kD = 7, kA = 3;
+constexpr int kNodes = 3, kEdges = 4;
+constexpr int64_t kVersion = 3;
+constexpr uint64_t kIncarnation = 0x1234'0000'0007ull;
+// Bytes per unroll as EncodeContribution estimates them.
+constexpr size_t kUnrollBytes = size_t(kT) * (kD + kA + 4) * 4 + size_t(kD) * 4;
+
+// Random data (fixed seed); truncated steps in unrolls 0, 2 (twice) and 4, done steps in 1 and 3.
+Contribution RandomContribution() {
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<float> uni(-2.0f, 2.0f);
+  auto fill = [&](std::vector<float>* v, size_t n) {
+    v->resize(n);
+    for (float& x : *v) x = uni(rng);
+  };
+  Contribution c;
+  UnrollBatch& b = c.batch;
+  b.num_unrolls = kU;
+  b.unroll_length = kT;
+  b.obs_dim = kD;
+  b.act_dim = kA;
+  const size_t n = size_t(kU) * kT;
+  fill(&b.obs, n * kD);
+  fill(&b.actions, n * kA);
+  fill(&b.log_probs, n);
+  fill(&b.rewards, n);
+  b.done.assign(n, 0);
+  b.truncated.assign(n, 0);
+  for (auto [u, t] : {std::pair{0, 2}, {2, 1}, {2, 4}, {4, 5}}) b.truncated[u * kT + t] = 1;
+  for (auto [u, t] : {std::pair{1, 3}, {3, 0}}) b.done[u * kT + t] = 1;
+  fill(&b.truncated_obs, size_t(b.num_truncated()) * kD);
+  fill(&b.bootstrap_obs, size_t(kU) * kD);
+  b.policy_version.assign(kU, kVersion);
+  c.node.resize(n);
+  for (int32_t& x : c.node) x = static_cast<int32_t>(rng() % kNodes);
+  c.events = {{0, EdgeEventType::kChosen}, {3, EdgeEventType::kCompleted},
+              {1, EdgeEventType::kFailed}, {2, EdgeEventType::kChosen}};
+  c.stats.episodes = 3;
+  c.stats.return_sum = 12.25;
+  c.stats.length_sum = 40;
+  c.stats.completions_sum = 5;
+  c.stats.outcomes = {1, 0, 2};
+  return c;
+}
+
+void ExpectSameContribution(const Contribution& got, const Contribution& want) {
+  const UnrollBatch& g = got.batch;
+  const UnrollBatch& w = want.batch;
+  EXPECT_EQ(g.num_unrolls, w.num_unrolls);
+  EXPECT_EQ(g.unroll_length, w.unroll_length);
+  EXPECT_EQ(g.obs_dim, w.obs_dim);
+  EXPECT_EQ(g.act_dim, w.act_dim);
+  EXPECT_EQ(g.obs, w.obs);
+  EXPECT_EQ(g.actions, w.actions);
+  EXPECT_EQ(g.log_probs, w.log_probs);
+  EXPECT_EQ(g.rewards, w.rewards);
+  EXPECT_EQ(g.done, w.done);
+  EXPECT_EQ(g.truncated, w.truncated);
+  EXPECT_EQ(g.truncated_obs, w.truncated_obs);
+  EXPECT_EQ(g.bootstrap_obs, w.bootstrap_obs);
+  EXPECT_EQ(g.policy_version, w.policy_version);
+  EXPECT_EQ(got.node, want.node);
+  EXPECT_EQ(got.events, want.events);
+  EXPECT_EQ(got.stats.episodes, want.stats.episodes);
+  EXPECT_EQ(got.stats.return_sum, want.stats.return_sum);
+  EXPECT_EQ(got.stats.length_sum, want.stats.length_sum);
+  EXPECT_EQ(got.stats.completions_sum, want.stats.completions_sum);
+  EXPECT_EQ(got.stats.outcomes, want.stats.outcomes);
+}
+
+Contribution DecodeAll(const std::vector<rpc::TrajectoryChunk>& chunks) {
+  Contribution all;
+  for (const rpc::TrajectoryChunk& ch : chunks) {
+    absl::StatusOr<Contribution> part = DecodeChunk(ch, kD, kA, kNodes, kEdges);
+    EXPECT_TRUE(part.ok()) << "part " << ch.part() << ": " << part.status();
+    if (part.ok()) AppendContribution(&all, *part);
+  }
+  return all;
+}
+
+TEST(ChunkCodecTest, RoundTripInSeveralPartsReproducesTheContribution) {
+  const Contribution c = RandomContribution();
+  // Two unrolls per chunk: parts of 2, 2 and 1 unrolls, each holding a truncated unroll.
+  const std::vector<rpc::TrajectoryChunk> chunks =
+      EncodeContribution(c, kIncarnation, 9, 2 * kUnrollBytes);
+  ASSERT_EQ(chunks.size(), 3u);
+  const int unrolls[] = {2, 2, 1};
+  const int truncated[] = {1, 2, 1};
+  for (int p = 0; p < 3; ++p) {
+    const rpc::TrajectoryChunk& ch = chunks[p];
+    EXPECT_EQ(ch.incarnation(), kIncarnation);
+    EXPECT_EQ(ch.sequence(), 9);
+    EXPECT_EQ(ch.policy_version(), kVersion);
+    EXPECT_EQ(ch.part(), p);
+    EXPECT_EQ(ch.num_parts(), 3);
+    EXPECT_EQ(ch.num_unrolls(), unrolls[p]);
+    EXPECT_EQ(ch.truncated_obs_size(), truncated[p] * kD) << "part " << p;
+  }
+  // Events and statistics travel with the last part only.
+  EXPECT_EQ(chunks[0].edge_events().edge_size(), 0);
+  EXPECT_EQ(chunks[0].episodes(), 0);
+  EXPECT_EQ(chunks[2].edge_events().edge_size(), 4);
+  EXPECT_EQ(chunks[2].episodes(), 3);
+  ExpectSameContribution(DecodeAll(chunks), c);
+}
+
+TEST(ChunkCodecTest, RoundTripInOnePartReproducesTheContribution) {
+  const Contribution c = RandomContribution();
+  const std::vector<rpc::TrajectoryChunk> chunks =
+      EncodeContribution(c, kIncarnation, 0, size_t(1) << 20);
+  ASSERT_EQ(chunks.size(), 1u);
+  EXPECT_EQ(chunks[0].num_parts(), 1);
+  EXPECT_EQ(chunks[0].num_unrolls(), kU);
+  ExpectSameContribution(DecodeAll(chunks), c);
+}
+
+TEST(ChunkCodecTest, BudgetBelowOneUnrollStillSendsOneUnrollPerPart) {
+  const Contribution c = RandomContribution();
+  const std::vector<rpc::TrajectoryChunk> chunks = EncodeContribution(c, kIncarnation, 0, 1);
+  ASSERT_EQ(chunks.size(), size_t(kU));
+  for (const rpc::TrajectoryChunk& ch : chunks) EXPECT_EQ(ch.num_unrolls(), 1);
+  ExpectSameContribution(DecodeAll(chunks), c);
+}
+
+// One valid single-part chunk to corrupt.
+rpc::TrajectoryChunk GoodChunk() {
+  return EncodeContribution(RandomContribution(), kIncarnation, 0, size_t(1) << 20).at(0);
+}
+
+void ExpectInvalid(const rpc::TrajectoryChunk& ch, const std::string& message) {
+  const absl::StatusOr<Contribution> c = DecodeChunk(ch, kD, kA, kNodes, kEdges);
+  EXPECT_EQ(c.status().code(), absl::StatusCode::kInvalidArgument) << c.status();
+  EXPECT_THAT(std::string(c.status().message()), HasSubstr(message));
+}
+
+TEST(ChunkCodecTest, GoodChunkDecodes) {
+  EXPECT_TRUE(DecodeChunk(GoodChunk(), kD, kA, kNodes, kEdges).ok());
+}
+
+TEST(ChunkCodecTest, RejectsObsDimOtherThanTheLearners) {
+  rpc::TrajectoryChunk ch = GoodChunk();
+  ch.set_obs_dim(kD + 1);
+  ExpectInvalid(ch, "obs_dim 8 and act_dim 3; the policy expects 7 and 3");
+}
+
+TEST(ChunkCodecTest, RejectsObsOfTheWrongSize) {
+  rpc::TrajectoryChunk ch = GoodChunk();
+  ch.mutable_obs()->RemoveLast();
+  ExpectInvalid(ch, absl::StrCat("'obs' has ", kU * kT * kD - 1, " entries, expected ",
+                                 kU * kT * kD));
+}
+
+TEST(ChunkCodecTest, RejectsNanReward) {
+  rpc::TrajectoryChunk ch = GoodChunk();
+  ch.set_rewards(4, std::numeric_limits<float>::quiet_NaN());
+  ExpectInvalid(ch, "'rewards' has a non-finite value at index 4");
+}
+
+TEST(ChunkCodecTest, RejectsDoneFlagOtherThanZeroOrOne) {
+  rpc::TrajectoryChunk ch = GoodChunk();
+  (*ch.mutable_done())[5] = 2;
+  ExpectInvalid(ch, "flag at step 5 is not 0 or 1");
+}
+
+TEST(ChunkCodecTest, RejectsNodeIdBeyondTheGraph) {
+  rpc::TrajectoryChunk ch = GoodChunk();
+  ch.set_node(7, kNodes);
+  ExpectInvalid(ch, "unknown node id 3 at step 7 (the graph has 3 nodes)");
+}
+
+TEST(ChunkCodecTest, RejectsNegativeNodeId) {
+  rpc::TrajectoryChunk ch = GoodChunk();
+  ch.set_node(2, -1);
+  ExpectInvalid(ch, "unknown node id -1 at step 2");
+}
+
+TEST(ChunkCodecTest, RejectsNodeArrayOfTheWrongSize) {
+  rpc::TrajectoryChunk ch = GoodChunk();
+  ch.mutable_node()->RemoveLast();
+  ExpectInvalid(ch, absl::StrCat("'node' has ", kU * kT - 1, " entries, expected ", kU * kT));
+}
+
+TEST(ChunkCodecTest, RejectsEdgeEventForAnEdgeOutsideTheGraph) {
+  rpc::TrajectoryChunk ch = GoodChunk();
+  ch.mutable_edge_events()->set_edge(1, kEdges);
+  ExpectInvalid(ch, "edge event 1 (edge 4, type 1) is outside the graph's 4 edges");
+}
+
+TEST(ChunkCodecTest, RejectsEdgeEventOfUnknownType) {
+  rpc::TrajectoryChunk ch = GoodChunk();
+  ch.mutable_edge_events()->set_type(2, 3);
+  ExpectInvalid(ch, "edge event 2 (edge 1, type 3)");
+}
+
+TEST(ChunkCodecTest, RejectsEdgeEventsWithDifferentEdgeAndTypeCounts) {
+  rpc::TrajectoryChunk ch = GoodChunk();
+  ch.mutable_edge_events()->add_edge(0);
+  ExpectInvalid(ch, "edge_events: edge and type sizes differ");
+}
+
+TEST(ChunkCodecTest, RejectsPartNotBelowNumParts) {
+  rpc::TrajectoryChunk ch = GoodChunk();
+  ch.set_num_parts(2);
+  ch.set_part(2);
+  ExpectInvalid(ch, "chunk part 2 of 2 is invalid");
+}
+
+TEST(ChunkCodecTest, RejectsZeroParts) {
+  rpc::TrajectoryChunk ch = GoodChunk();
+  ch.set_num_parts(0);
+  ch.set_part(0);
+  ExpectInvalid(ch, "chunk part 0 of 0 is invalid");
+}
+
+TEST(ChunkCodecTest, RejectsStepBothDoneAndTruncated) {
+  rpc::TrajectoryChunk ch = GoodChunk();
+  // Step (0, 2) is truncated in RandomContribution.
+  (*ch.mutable_done())[2] = 1;
+  ExpectInvalid(ch, "step 2 is both done and truncated");
+}
+
+TEST(ChunkCodecTest, RejectsNonFiniteEpisodeReturn) {
+  rpc::TrajectoryChunk ch = GoodChunk();
+  ch.set_episode_return_sum(std::numeric_limits<double>::infinity());
+  ExpectInvalid(ch, "chunk episode statistics are invalid");
+}
+
+TEST(ChunkCodecTest, AppendAddsEpisodeCountersAndWidensOutcomes) {
+  Contribution a, b;
+  a.stats.episodes = 1;
+  a.stats.outcomes = {1};
+  b.stats.episodes = 2;
+  b.stats.return_sum = 0.5;
+  b.stats.outcomes = {2, 3};
+  AppendContribution(&a, b);
+  EXPECT_EQ(a.stats.episodes, 3);
+  EXPECT_EQ(a.stats.return_sum, 0.5);
+  EXPECT_EQ(a.stats.outcomes, (std::vector<int64_t>{3, 3}));
+}
+
+}  // namespace
+}  // namespace juggle

@@ -1,0 +1,73 @@
+// `juggle render` as a library call: simulate a zero-action rollout with JuggleEnv (or read a
+// recorded one), then write any of an MP4, a single PNG frame, a contact sheet and a recording.
+//
+// Frames are rendered at video time t = k / fps from the control-step samples (50 Hz):
+// between two samples of an episode the pose is interpolated (trajectory.h, PoseAt), so the
+// video runs in real time whatever the control rate, and a replay renders exactly the frames
+// of the live run.
+#ifndef JUGGLE_RENDER_RENDER_JOB_H_
+#define JUGGLE_RENDER_RENDER_JOB_H_
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "render/image.h"
+#include "render/renderer.h"
+#include "render/trajectory.h"
+#include "worker/juggle_spec.h"
+
+namespace juggle {
+
+struct RenderJobOptions {
+  // Run config. With `replay`, empty means the config named in the recording.
+  std::string config_path;
+  double seconds = 4;        // simulated seconds (live only; a replay renders all of it)
+  int64_t seed = -1;         // -1: the config's seed. Env stream (seed, worker 0, env 0).
+  std::string start_node;    // DOWN node every episode starts at; empty: random initial node
+  std::string out;           // FILE.mp4 (video) or FILE.png (one frame); empty: none
+  double png_time = -1;      // time (s) of the PNG frame; < 0: the end of the rollout
+  std::string sheet;         // contact sheet PNG of the first episode; empty: none
+  int sheet_columns = 4;
+  int sheet_rows = 3;
+  int sheet_downscale = 2;   // tiles are frames shrunk by this factor
+  std::string record;        // write the trajectory here; empty: none
+  std::string replay;        // render this recording instead of simulating
+  int fps = 30;
+  RenderOptions render;      // size and quality; the camera tracks the root
+};
+
+struct RenderJobReport {
+  std::string config_path;
+  std::string gl_renderer;    // empty if nothing was rendered
+  int episodes = 0;
+  std::vector<Outcome> episode_outcomes;  // how each episode ended (kRunning: cut by the end)
+  double duration = 0;        // s of rollout
+  int frames = 0;             // frames rendered (video + png + sheet)
+  double render_seconds = 0;  // wall time in pose + render + readback (not encoding)
+  double frames_per_second() const { return render_seconds > 0 ? frames / render_seconds : 0; }
+};
+
+// Runs the job. Errors: INVALID_ARGUMENT for bad options (unknown output extension, nothing to
+// do, unknown or non-initial --node, --record with --replay, recording/config mismatch);
+// config and model errors from LoadRunConfig / JuggleSpec::Create; FAILED_PRECONDITION for a
+// missing GL provider or ffmpeg (naming the package); PERMISSION_DENIED / NOT_FOUND for an
+// output path that cannot be written. Every output path is checked before simulating.
+absl::StatusOr<RenderJobReport> RunRenderJob(const RenderJobOptions& options);
+
+// Simulates `seconds` of zero-action control (rounded up to whole control steps) from env
+// stream (seed, 0, 0), resetting at episode ends (at `start_node` if >= 0, else a random
+// initial node). The first sample is the reset state at time 0.
+Trajectory SimulateZeroAction(std::shared_ptr<const JuggleSpec> spec, double seconds,
+                              uint64_t seed, int start_node);
+
+// Renders the frame at `time` of `trajectory` with its caption (node, phase, episode time,
+// episode and how it ends). `scratch` is a work mjData of `spec`'s model.
+absl::Status RenderFrame(const JuggleSpec& spec, const Trajectory& trajectory, double time,
+                         mjData* scratch, Renderer* renderer, Image* out);
+
+}  // namespace juggle
+
+#endif  // JUGGLE_RENDER_RENDER_JOB_H_

@@ -1,0 +1,115 @@
+// Helpers for multi-process service tests: run the juggle binary as a child process with its
+// output in a file, find a free loopback port, poll the learner's /metrics.
+#ifndef JUGGLE_TESTS_SERVICE_TEST_UTIL_H_
+#define JUGGLE_TESTS_SERVICE_TEST_UTIL_H_
+
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <fcntl.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <functional>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "common/http_server.h"
+
+namespace juggle::testing {
+
+// A child process running `juggle <args>`; killed (SIGKILL) on destruction if still running.
+class ChildProcess {
+ public:
+  ChildProcess(const std::vector<std::string>& args, const std::string& log_path) {
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      const int fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+      ::dup2(fd, 1);
+      ::dup2(fd, 2);
+      std::vector<char*> argv;
+      std::string binary = JUGGLE_BINARY;
+      argv.push_back(binary.data());
+      std::vector<std::string> copy = args;
+      for (std::string& a : copy) argv.push_back(a.data());
+      argv.push_back(nullptr);
+      ::execv(binary.c_str(), argv.data());
+      ::_exit(127);
+    }
+  }
+  ~ChildProcess() {
+    if (running()) Kill(SIGKILL);
+    Wait();
+  }
+  void Kill(int sig) { if (pid_ > 0) ::kill(pid_, sig); }
+  bool running() {
+    if (pid_ <= 0 || exited_) return false;
+    int status;
+    if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+      exited_ = true;
+      status_ = status;
+      return false;
+    }
+    return true;
+  }
+  // Waits up to `seconds` for exit; returns the exit code (-1 if still running or signalled).
+  int Wait(double seconds = 30) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(int(seconds * 1000));
+    while (running() && std::chrono::steady_clock::now() < until) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    if (!exited_) return -1;
+    return WIFEXITED(status_) ? WEXITSTATUS(status_) : -1;
+  }
+  int pid() const { return pid_; }
+
+ private:
+  int pid_ = -1;
+  bool exited_ = false;
+  int status_ = 0;
+};
+
+inline int FreePort() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  addr.sin_port = 0;
+  ::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr));
+  socklen_t len = sizeof(addr);
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
+  ::close(fd);
+  return ntohs(addr.sin_port);
+}
+
+// The value of an unlabelled metric (or a full `name{labels}` series) from /metrics; nullopt
+// if the server does not answer or lacks the series.
+inline std::optional<double> ScrapeMetric(int port, const std::string& series) {
+  absl::StatusOr<std::string> body = HttpGet(port, "/metrics");
+  if (!body.ok()) return std::nullopt;
+  std::istringstream in(*body);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind(series + " ", 0) == 0) return std::stod(line.substr(series.size() + 1));
+  }
+  return std::nullopt;
+}
+
+// Polls `predicate` every 100 ms for up to `seconds`.
+inline bool WaitFor(const std::function<bool()>& predicate, double seconds) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(int(seconds * 1000));
+  while (std::chrono::steady_clock::now() < until) {
+    if (predicate()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return predicate();
+}
+
+}  // namespace juggle::testing
+
+#endif  // JUGGLE_TESTS_SERVICE_TEST_UTIL_H_

@@ -10,8 +10,6 @@
 #include "app/flags.h"
 #include "common/config_loader.h"
 #include "common/eigen_policy.h"
-#include "learner/checkpoint.h"
-#include "learner/ppo_trainer.h"
 #include "learner/learner_state.h"
 #include "worker/juggle_env.h"
 
@@ -41,38 +39,24 @@ int RunEval(int argc, char** argv, int first) {
                 Flags::Usage(specs).c_str());
     return flags->help() ? 0 : 2;
   }
-  Sections sections;
+  std::optional<LoadedCheckpoint> checkpoint;
   if (!zero) {
-    std::string path = flags->Get("checkpoint");
-    absl::StatusOr<Sections> read = ReadCheckpointFile(path);
-    if (!read.ok() && read.status().code() != absl::StatusCode::kDataLoss) {
-      // A directory: take its newest readable checkpoint.
-      absl::StatusOr<CheckpointDir::Loaded> loaded =
-          CheckpointDir(path + "/checkpoints").LoadLatest();
-      if (!loaded.ok()) return Fail(read.status());
-      path = loaded->path;
-      read = std::move(loaded->sections);
-    }
-    if (!read.ok()) return Fail(read.status());
-    sections = std::move(*read);
-    std::printf("checkpoint %s\n", path.c_str());
+    absl::StatusOr<LoadedCheckpoint> loaded = LoadCheckpoint(flags->Get("checkpoint"));
+    if (!loaded.ok()) return Fail(loaded.status());
+    checkpoint = std::move(*loaded);
+    std::printf("checkpoint %s\n", checkpoint->path.c_str());
   }
   std::string config_path = flags->Get("config");
-  if (config_path.empty() && sections.count("config_path")) config_path = sections["config_path"];
+  if (config_path.empty() && checkpoint) config_path = checkpoint->config_path;
   if (config_path.empty()) return Fail(absl::InvalidArgumentError("--config is required"));
   absl::StatusOr<LoadedConfig> config = LoadRunConfig(config_path);
   if (!config.ok()) return Fail(config.status());
   absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = JuggleSpec::Create(*config);
   if (!spec.ok()) return Fail(spec.status());
   const int obs_dim = (*spec)->obs_dim();
-
   std::optional<EigenPolicy> policy;
-  if (!zero) {
-    PpoTrainer trainer(config->run.model(), config->run.ppo(), obs_dim, kNumActions, 0);
-    AdaptiveWalk walk(&(*spec)->graph());
-    if (absl::Status s = RestoreLearnerState(sections, &trainer, &walk); !s.ok()) return Fail(s);
-    absl::StatusOr<EigenPolicy> p =
-        EigenPolicy::Create(config->run.model(), trainer.ExportPolicy(), obs_dim, kNumActions);
+  if (checkpoint) {
+    absl::StatusOr<EigenPolicy> p = PolicyFromCheckpoint(checkpoint->sections, *config);
     if (!p.ok()) return Fail(p.status());
     policy = std::move(*p);
   }

@@ -7,6 +7,7 @@
 #include "absl/strings/str_cat.h"
 #include "app/commands.h"
 #include "app/flags.h"
+#include "learner/learner_state.h"
 #include "render/render_job.h"
 
 namespace juggle {
@@ -16,8 +17,8 @@ const std::vector<FlagSpec>& RenderFlags() {
   static const auto* specs = new std::vector<FlagSpec>{
       {"config", "", "run config (default configs/right_foot.textproto; with --replay: the "
                      "recording's)"},
-      {"zero-action", "false", "zero feed-forward torques (the only policy until the learner)"},
-      {"checkpoint", "", "policy checkpoint (arrives with the learner)"},
+      {"zero-action", "false", "zero feed-forward torques (the default without --checkpoint)"},
+      {"checkpoint", "", "policy checkpoint file or run directory (mean action, no noise)"},
       {"seconds", "4", "simulated seconds (video length)"},
       {"seed", "-1", "env seed (-1: the config's seed)"},
       {"node", "", "DOWN node every episode starts at (default: a random initial node)"},
@@ -53,10 +54,6 @@ int RunRender(int argc, char** argv, int first) {
     return Fail(absl::InvalidArgumentError(
         absl::StrCat("unexpected argument '", flags->positional()[0], "'")));
   }
-  if (!flags->Get("checkpoint").empty()) {
-    return Fail(absl::UnimplementedError(
-        "policy checkpoints arrive with the learner (issue 3); use --zero-action"));
-  }
   auto seconds = flags->GetDouble("seconds");
   auto seed = flags->GetInt("seed");
   auto at = flags->GetDouble("at");
@@ -74,6 +71,23 @@ int RunRender(int argc, char** argv, int first) {
   RenderJobOptions o;
   o.replay = flags->Get("replay");
   o.config_path = flags->Get("config");
+  if (!flags->Get("checkpoint").empty()) {
+    if (!o.replay.empty()) {
+      return Fail(absl::InvalidArgumentError("--checkpoint and --replay exclude each other"));
+    }
+    absl::StatusOr<LoadedCheckpoint> checkpoint = LoadCheckpoint(flags->Get("checkpoint"));
+    if (!checkpoint.ok()) return Fail(checkpoint.status());
+    if (o.config_path.empty()) o.config_path = checkpoint->config_path;
+    if (o.config_path.empty()) {
+      return Fail(absl::InvalidArgumentError("the checkpoint names no config: pass --config"));
+    }
+    absl::StatusOr<LoadedConfig> config = LoadRunConfig(o.config_path);
+    if (!config.ok()) return Fail(config.status());
+    absl::StatusOr<EigenPolicy> policy = PolicyFromCheckpoint(checkpoint->sections, *config);
+    if (!policy.ok()) return Fail(policy.status());
+    o.policy = std::make_shared<const EigenPolicy>(std::move(*policy));
+    std::printf("policy from %s\n", checkpoint->path.c_str());
+  }
   if (o.config_path.empty() && o.replay.empty()) o.config_path = "configs/right_foot.textproto";
   o.seconds = *seconds;
   o.seed = *seed;

@@ -1,6 +1,10 @@
 #include "learner/learner_state.h"
 
+#include <sys/stat.h>
+
 #include <cstring>
+
+#include "common/juggle_dims.h"
 
 #include "absl/strings/str_cat.h"
 #include "google/protobuf/text_format.h"
@@ -37,6 +41,37 @@ absl::Status RestoreLearnerState(const Sections& sections, PpoTrainer* trainer,
   if (absl::Status s = trainer->RestoreState(sections); !s.ok()) return s;
   *walk = probe;
   return absl::OkStatus();
+}
+
+absl::StatusOr<LoadedCheckpoint> LoadCheckpoint(const std::string& file_or_run_dir) {
+  LoadedCheckpoint out;
+  struct stat st;
+  if (::stat(file_or_run_dir.c_str(), &st) != 0) {
+    return absl::NotFoundError(absl::StrCat(file_or_run_dir, ": no such checkpoint or run directory"));
+  }
+  if (S_ISDIR(st.st_mode)) {
+    absl::StatusOr<CheckpointDir::Loaded> loaded =
+        CheckpointDir(file_or_run_dir + "/checkpoints").LoadLatest();
+    if (!loaded.ok()) return loaded.status();
+    out.path = loaded->path;
+    out.sections = std::move(loaded->sections);
+  } else {
+    absl::StatusOr<Sections> sections = ReadCheckpointFile(file_or_run_dir);
+    if (!sections.ok()) return sections.status();
+    out.path = file_or_run_dir;
+    out.sections = std::move(*sections);
+  }
+  if (out.sections.count("config_path")) out.config_path = out.sections["config_path"];
+  return out;
+}
+
+absl::StatusOr<EigenPolicy> PolicyFromCheckpoint(const Sections& sections,
+                                                 const LoadedConfig& config) {
+  const int obs_dim = ObservationSize(config.graph->num_nodes());
+  PpoTrainer trainer(config.run.model(), config.run.ppo(), obs_dim, kNumActions, 0);
+  AdaptiveWalk walk(config.graph.get());
+  if (absl::Status s = RestoreLearnerState(sections, &trainer, &walk); !s.ok()) return s;
+  return EigenPolicy::Create(config.run.model(), trainer.ExportPolicy(), obs_dim, kNumActions);
 }
 
 }  // namespace juggle

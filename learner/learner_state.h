@@ -6,6 +6,7 @@
 #include "absl/status/status.h"
 #include "common/adaptive_walk.h"
 #include "common/config_loader.h"
+#include "common/eigen_policy.h"
 #include "learner/checkpoint.h"
 #include "learner/ppo_trainer.h"
 
@@ -16,6 +17,19 @@ Sections SaveLearnerState(const LoadedConfig& config, const PpoTrainer& trainer,
 // Restores trainer and walk; on error neither changes.
 absl::Status RestoreLearnerState(const Sections& sections, PpoTrainer* trainer,
                                  AdaptiveWalk* walk);
+
+// A checkpoint file, or the newest readable checkpoint of a run directory
+// (<dir>/checkpoints). NOT_FOUND / DATA_LOSS with the path in the message.
+struct LoadedCheckpoint {
+  std::string path;
+  Sections sections;
+  std::string config_path;  // the run config it was trained with (may be empty: old files)
+};
+absl::StatusOr<LoadedCheckpoint> LoadCheckpoint(const std::string& file_or_run_dir);
+
+// The checkpoint's policy for `config` (which must describe the same graph and model).
+absl::StatusOr<EigenPolicy> PolicyFromCheckpoint(const Sections& sections,
+                                                 const LoadedConfig& config);
 
 }  // namespace juggle
 

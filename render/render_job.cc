@@ -44,8 +44,8 @@ absl::Status TimedFrame(const JuggleSpec& spec, const Trajectory& t, double time
 
 }  // namespace
 
-Trajectory SimulateZeroAction(std::shared_ptr<const JuggleSpec> spec, double seconds,
-                              uint64_t seed, int start_node) {
+Trajectory SimulateRollout(std::shared_ptr<const JuggleSpec> spec, double seconds,
+                           uint64_t seed, int start_node, const EigenPolicy* policy) {
   Trajectory t;
   t.config_path = spec->config().config_path;
   t.control_dt = spec->control_dt();
@@ -68,9 +68,15 @@ Trajectory SimulateZeroAction(std::shared_ptr<const JuggleSpec> spec, double sec
   int episode = 0;
   reset();
   t.samples.push_back(CaptureSample(env));
-  const float zero_action[kNumActions] = {0};
+  float action[kNumActions] = {0};
+  std::vector<float> obs(spec->obs_dim());
   for (int step = 1; step <= total_steps; ++step) {
-    const StepResult r = env.Step(zero_action, walk);
+    if (policy != nullptr) {
+      env.WriteObservation(obs.data());
+      const RowMatrix mean = policy->MeanActions(obs.data(), 1);
+      std::copy(mean.data(), mean.data() + kNumActions, action);
+    }
+    const StepResult r = env.Step(action, walk);
     TrajectorySample s = CaptureSample(env);
     s.time = step * t.control_dt;
     s.episode = episode;
@@ -181,7 +187,7 @@ absl::StatusOr<RenderJobReport> RunRenderJob(const RenderJobOptions& o) {
   }
   if (o.replay.empty()) {
     const uint64_t seed = o.seed >= 0 ? static_cast<uint64_t>(o.seed) : config.run.seed();
-    trajectory = SimulateZeroAction(spec, o.seconds, seed, start_node);
+    trajectory = SimulateRollout(spec, o.seconds, seed, start_node, o.policy.get());
   }
 
   RenderJobReport report;

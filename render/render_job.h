@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "common/eigen_policy.h"
 #include "render/image.h"
 #include "render/renderer.h"
 #include "render/trajectory.h"
@@ -37,6 +38,8 @@ struct RenderJobOptions {
   std::string replay;        // render this recording instead of simulating
   int fps = 30;
   RenderOptions render;      // size and quality; the camera tracks the root
+  // Policy acting with its mean action (no exploration noise); null: zero action.
+  std::shared_ptr<const EigenPolicy> policy;
 };
 
 struct RenderJobReport {
@@ -57,11 +60,12 @@ struct RenderJobReport {
 // output path that cannot be written. Every output path is checked before simulating.
 absl::StatusOr<RenderJobReport> RunRenderJob(const RenderJobOptions& options);
 
-// Simulates `seconds` of zero-action control (rounded up to whole control steps) from env
-// stream (seed, 0, 0), resetting at episode ends (at `start_node` if >= 0, else a random
-// initial node). The first sample is the reset state at time 0.
-Trajectory SimulateZeroAction(std::shared_ptr<const JuggleSpec> spec, double seconds,
-                              uint64_t seed, int start_node);
+// Simulates `seconds` of control (rounded up to whole control steps) from env stream
+// (seed, 0, 0) with `policy`'s mean action (zero action if null), resetting at episode ends
+// (at `start_node` if >= 0, else a random initial node). The first sample is the reset state
+// at time 0.
+Trajectory SimulateRollout(std::shared_ptr<const JuggleSpec> spec, double seconds,
+                           uint64_t seed, int start_node, const EigenPolicy* policy = nullptr);
 
 // Renders the frame at `time` of `trajectory` with its caption (node, phase, episode time,
 // episode and how it ends). `scratch` is a work mjData of `spec`'s model.

@@ -161,7 +161,7 @@ TEST_F(RenderTest, Mp4OfTwoSecondsHasSixtyFrames) {
 TEST_F(RenderTest, ReplayedTrajectoryRendersTheFramesOfTheLiveSimulation) {
   std::unique_ptr<Renderer> renderer = MakeRenderer(320, 240);
   ASSERT_NE(renderer, nullptr);
-  const Trajectory live = SimulateZeroAction(spec_, 1.0, 7, down_);
+  const Trajectory live = SimulateRollout(spec_, 1.0, 7, down_);
   const std::string path = TempPath("live.traj");
   ASSERT_TRUE(WriteTrajectory(live, path).ok());
   absl::StatusOr<Trajectory> replay = ReadTrajectory(path);
@@ -271,7 +271,7 @@ TEST_F(RenderTest, UnknownOutputExtensionIsRejected) {
 }
 
 TEST_F(RenderTest, TruncatedRecordingIsRejected) {
-  const Trajectory t = SimulateZeroAction(spec_, 0.1, 1, down_);
+  const Trajectory t = SimulateRollout(spec_, 0.1, 1, down_);
   const std::string path = TempPath("truncated.traj");
   ASSERT_TRUE(WriteTrajectory(t, path).ok());
   ASSERT_EQ(truncate(path.c_str(), ReadAll(path).size() - 3), 0);
@@ -279,6 +279,49 @@ TEST_F(RenderTest, TruncatedRecordingIsRejected) {
   std::remove(path.c_str());
   EXPECT_EQ(r.status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_THAT(r.status().message(), HasSubstr("truncated"));
+}
+
+}  // namespace
+}  // namespace juggle
+
+namespace juggle {
+namespace {
+
+// A policy with constant, clearly non-zero mean actions: an MLP whose output bias is 0.5.
+std::shared_ptr<const EigenPolicy> ConstantPolicy(int obs_dim) {
+  config::ModelConfig model;
+  model.set_architecture(config::MLP);
+  model.add_mlp_hidden(4);
+  std::vector<TensorSpec> layout = NetworkLayout(model, "actor", obs_dim, kNumActions);
+  layout.push_back({"actor.log_std", {kNumActions}});
+  int64_t total = 0;
+  for (const TensorSpec& t : layout) total += t.numel();
+  std::vector<float> values(total, 0.0f);
+  // Output bias (second to last tensor before log_std) = 0.5 → tanh(0.5) for every action.
+  int64_t offset = 0;
+  for (size_t i = 0; i + 1 < layout.size(); ++i) {
+    if (layout[i].name == "actor.b1") {
+      std::fill(values.begin() + offset, values.begin() + offset + kNumActions, 0.5f);
+    }
+    offset += layout[i].numel();
+  }
+  auto params = FlatParameters::Create(1, layout, values);
+  return std::make_shared<const EigenPolicy>(*EigenPolicy::Create(model, *params, obs_dim, kNumActions));
+}
+
+TEST_F(RenderTest, PolicyRolloutDiffersFromZeroActionRollout) {
+  const Trajectory zero = SimulateRollout(spec_, 0.3, 7, down_);
+  const auto policy = ConstantPolicy(spec_->obs_dim());
+  const Trajectory acted = SimulateRollout(spec_, 0.3, 7, down_, policy.get());
+  ASSERT_GT(zero.samples.size(), 10u);
+  ASSERT_GT(acted.samples.size(), 10u);
+  // Same start, different motion once the policy's torques act (0.2 s in).
+  EXPECT_EQ(zero.samples.front().qpos, acted.samples.front().qpos);
+  double diff = 0;
+  for (size_t i = 0; i < zero.samples[10].qpos.size(); ++i) {
+    diff += std::abs(zero.samples[10].qpos[i] - acted.samples[10].qpos[i]);
+  }
+  EXPECT_GT(diff, 0.05);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "app/commands.h"
 #include "app/flags.h"
 #include "common/config_loader.h"
@@ -76,11 +77,17 @@ int RunEval(int argc, char** argv, int first) {
   std::vector<int> lengths(episodes, 0), completions(episodes, 0);
   std::vector<Outcome> outcomes(episodes, Outcome::kRunning);
   int running = episodes;
+  std::vector<Eigen::RowVectorXf> gate_rows;
   while (running > 0) {
     for (int i = 0; i < episodes; ++i) envs[i]->WriteObservation(&obs[size_t(i) * obs_dim]);
     if (policy) {
       const RowMatrix mean = policy->MeanActions(obs.data(), episodes);
       std::copy(mean.data(), mean.data() + mean.size(), actions.begin());
+      // Gate statistics (paper Eq. 4) over the steps of running episodes.
+      const RowMatrix g = policy->Gates(obs.data(), episodes);
+      for (int i = 0; i < episodes && g.cols() > 0; ++i) {
+        if (outcomes[i] == Outcome::kRunning) gate_rows.push_back(g.row(i));
+      }
     }
     for (int i = 0; i < episodes; ++i) {
       if (outcomes[i] != Outcome::kRunning) continue;
@@ -109,6 +116,13 @@ int RunEval(int argc, char** argv, int first) {
       absl::StrAppend(&outcome_text, " ", OutcomeName(static_cast<Outcome>(o)), "=",
                       outcome_counts[o]);
     }
+  }
+  if (!gate_rows.empty()) {
+    RowMatrix gates(gate_rows.size(), gate_rows[0].size());
+    for (size_t i = 0; i < gate_rows.size(); ++i) gates.row(i) = gate_rows[i];
+    const GateStatistics g = ComputeGateStatistics(gates);
+    absl::StrAppend(&outcome_text, absl::StrFormat(" gate_specialization=%.3f gate_utilization=%.3f",
+                                                   g.specialization, g.utilization));
   }
   std::printf("policy=%s episodes=%d mean_return=%.4f mean_completions=%.3f mean_episode_s=%.3f%s\n",
               zero ? "zero_action" : "checkpoint", episodes, ret / episodes, comp / episodes,

@@ -81,7 +81,7 @@ int RunSimulate(int argc, char** argv, int first, bool as_train) {
   std::vector<float> actions(size_t(num_envs) * kNumActions, 0.0f);
   Rng action_rng(run_seed ^ 0xA5A5A5A5ULL);
   (*pool)->Reset();
-  EpisodeStats total;
+  EpisodeCounters total;
   const auto start = std::chrono::steady_clock::now();
   for (int step = 1; step <= total_steps; ++step) {
     if (policy == "random") {
@@ -89,15 +89,7 @@ int RunSimulate(int argc, char** argv, int first, bool as_train) {
     }
     (*pool)->Step(actions.data());
     if (step % report_every == 0 || step == total_steps) {
-      const EpisodeStats s = (*pool)->TakeStats();
-      total.episodes += s.episodes;
-      total.steps += s.steps;
-      total.return_sum += s.return_sum;
-      total.length_sum += s.length_sum;
-      total.completions_sum += s.completions_sum;
-      for (int o = 0; o < static_cast<int>(Outcome::kNumOutcomes); ++o) {
-        total.outcomes[o] += s.outcomes[o];
-      }
+      total.Add((*pool)->TakeStats());
       const double wall =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::printf("t=%6.1fs  steps/s %8.0f  sim s/s %6.1f  episodes %5ld  mean_return %.3f  "
@@ -110,7 +102,7 @@ int RunSimulate(int argc, char** argv, int first, bool as_train) {
   }
   std::string outcomes;
   for (int o = 1; o < static_cast<int>(Outcome::kNumOutcomes); ++o) {
-    absl::StrAppend(&outcomes, " ", OutcomeName(static_cast<Outcome>(o)), "=", total.outcomes[o]);
+    absl::StrAppend(&outcomes, " ", OutcomeName(static_cast<Outcome>(o)), "=", total.outcome(o));
   }
   std::printf("episodes=%ld mean_return=%.4f mean_length=%.2f mean_completions=%.3f%s\n",
               static_cast<long>(total.episodes), total.mean_return(), total.mean_length(),

@@ -8,15 +8,6 @@
 
 namespace juggle {
 
-void EpisodeCounters::Add(const EpisodeCounters& o) {
-  episodes += o.episodes;
-  return_sum += o.return_sum;
-  length_sum += o.length_sum;
-  completions_sum += o.completions_sum;
-  if (outcomes.size() < o.outcomes.size()) outcomes.resize(o.outcomes.size(), 0);
-  for (size_t i = 0; i < o.outcomes.size(); ++i) outcomes[i] += o.outcomes[i];
-}
-
 namespace {
 
 template <typename T, typename Field>
@@ -116,13 +107,20 @@ absl::StatusOr<Contribution> DecodeChunk(const rpc::TrajectoryChunk& ch, int obs
   const rpc::EdgeEvents& ev = ch.edge_events();
   if (ev.edge_size() != ev.type_size()) return invalid("edge_events: edge and type sizes differ");
   for (int i = 0; i < ev.edge_size(); ++i) {
-    if (ev.edge(i) < 0 || ev.edge(i) >= num_edges || ev.type(i) < 0 || ev.type(i) > 2) {
+    if (ev.edge(i) < 0 || ev.edge(i) >= num_edges) {
       return invalid(absl::StrCat("edge event ", i, " (edge ", ev.edge(i), ", type ", ev.type(i),
                                   ") is outside the graph's ", num_edges, " edges"));
     }
+    if (ev.type(i) < 0 || ev.type(i) > 2) {
+      return invalid(absl::StrCat("edge event ", i, " (edge ", ev.edge(i), ", type ", ev.type(i),
+                                  ") has an unknown type (expected 0, 1 or 2)"));
+    }
     c.events.push_back({ev.edge(i), static_cast<EdgeEventType>(ev.type(i))});
   }
-  if (!std::isfinite(ch.episode_return_sum()) || ch.episodes() < 0) {
+  bool negative = ch.episodes() < 0 || ch.episode_length_sum() < 0 || ch.completions_sum() < 0 ||
+                  ch.outcomes_size() > 64;
+  for (int64_t o : ch.outcomes()) negative |= o < 0;
+  if (!std::isfinite(ch.episode_return_sum()) || negative) {
     return invalid("chunk episode statistics are invalid");
   }
   c.stats.episodes = ch.episodes();

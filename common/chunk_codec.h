@@ -9,20 +9,11 @@
 
 #include "absl/status/statusor.h"
 #include "common/adaptive_walk.h"
+#include "common/episode_counters.h"
 #include "common/unroll_batch.h"
 #include "proto/rollout.pb.h"
 
 namespace juggle {
-
-// Episode statistics a contribution reports (over the episodes that ended during it).
-struct EpisodeCounters {
-  int64_t episodes = 0;
-  double return_sum = 0;
-  int64_t length_sum = 0;
-  int64_t completions_sum = 0;
-  std::vector<int64_t> outcomes;  // by Outcome value
-  void Add(const EpisodeCounters& o);
-};
 
 struct Contribution {
   UnrollBatch batch;              // its unrolls (policy_version set per unroll)

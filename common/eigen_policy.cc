@@ -153,6 +153,22 @@ RowMatrix EigenPolicy::Normalize(const float* obs, int batch) const {
   return x;
 }
 
+GateStatistics ComputeGateStatistics(const RowMatrix& gates) {
+  GateStatistics s;
+  const double n = static_cast<double>(gates.rows());
+  if (n == 0) return s;
+  s.specialization = gates.cast<double>().array().square().sum() / n;
+  const Eigen::RowVectorXd mean = gates.cast<double>().colwise().sum() / n;
+  s.utilization = mean.squaredNorm();
+  return s;
+}
+
+RowMatrix EigenPolicy::Gates(const float* obs, int batch) const {
+  RowMatrix gate;
+  actor_.Forward(Normalize(obs, batch), &gate);
+  return gate;
+}
+
 RowMatrix EigenPolicy::MeanActions(const float* obs, int batch) const {
   return actor_.Forward(Normalize(obs, batch));
 }

@@ -54,6 +54,16 @@ class EigenNetwork {
   std::vector<std::vector<Dense>> experts_;     // [layer][expert] (MLP: one "expert")
 };
 
+// Specialization and utilization of a mixture of experts over N gate vectors (paper Eq. 4):
+// spec = (1/N) Σ_i Σ_k g_ik² (1 = one expert at a time; higher is more specialized),
+// util = Σ_k ((1/N) Σ_i g_ik)² (1/K = all experts used equally; lower is better).
+struct GateStatistics {
+  double specialization = 0;
+  double utilization = 0;
+};
+// gates: [N, K], rows summing to 1. N = 0 gives zeros.
+GateStatistics ComputeGateStatistics(const RowMatrix& gates);
+
 // The actor plus the observation normalizer and log-std: what a worker needs to act.
 class EigenPolicy {
  public:
@@ -72,6 +82,9 @@ class EigenPolicy {
 
   int64_t version() const { return version_; }
   const std::vector<float>& log_std() const { return log_std_; }
+
+  // The actor's gate weights [batch, K] (empty for an MLP).
+  RowMatrix Gates(const float* obs, int batch) const;
 
   // Normalized observations (identity if the parameters carry no normalizer).
   RowMatrix Normalize(const float* obs, int batch) const;

@@ -150,7 +150,11 @@ std::vector<std::string> CheckpointDir::List() const {
 }
 
 absl::StatusOr<std::string> CheckpointDir::Save(int64_t iteration, const Sections& sections) {
-  ::mkdir(dir_.c_str(), 0755);
+  // Create the directory and its parents.
+  for (size_t slash = dir_.find('/', 1); ; slash = dir_.find('/', slash + 1)) {
+    ::mkdir(dir_.substr(0, slash).c_str(), 0755);
+    if (slash == std::string::npos) break;
+  }
   const std::string path = absl::StrFormat("%s/ckpt-%010d.jglc", dir_, iteration);
   if (absl::Status s = WriteCheckpointFile(path, sections); !s.ok()) return s;
   const std::vector<std::string> all = List();

@@ -3,28 +3,43 @@
 #include <algorithm>
 #include <set>
 
+#include "absl/strings/str_cat.h"
+
 namespace juggle {
 
-void ContributionAssembler::Add(ChunkPart part) {
-  const auto key = std::make_pair(part.incarnation, part.sequence);
+absl::Status ContributionAssembler::Add(ChunkPart part) {
+  auto done = completed_.find(part.incarnation);
+  if (done != completed_.end() && part.sequence <= done->second) return absl::OkStatus();
+  const auto key = std::make_tuple(part.incarnation, part.version, part.sequence);
   std::vector<ChunkPart>& parts = partial_[key];
   for (const ChunkPart& p : parts) {
-    if (p.part == part.part) return;  // duplicate part: ignore
+    if (p.part == part.part) return absl::OkStatus();  // duplicate part: ignore
+    const UnrollBatch& a = p.data.batch;
+    const UnrollBatch& b = part.data.batch;
+    if (p.num_parts != part.num_parts || a.unroll_length != b.unroll_length ||
+        a.obs_dim != b.obs_dim || a.act_dim != b.act_dim) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "part ", part.part, " of contribution ", part.sequence,
+          " disagrees with its other parts (num_parts, unroll length or dimensions)"));
+    }
   }
   const int num_parts = part.num_parts;
   parts.push_back(std::move(part));
-  if (static_cast<int>(parts.size()) < num_parts) return;
+  if (static_cast<int>(parts.size()) < num_parts) return absl::OkStatus();
   std::sort(parts.begin(), parts.end(), [](const ChunkPart& a, const ChunkPart& b) { return a.part < b.part; });
   Complete c{parts[0].slot, parts[0].version, Contribution()};
   for (const ChunkPart& p : parts) AppendContribution(&c.data, p.data);
   complete_.push_back(std::move(c));
   partial_.erase(key);
+  int64_t& last = completed_[std::get<0>(key)];
+  last = std::max(last, std::get<2>(key));
+  return absl::OkStatus();
 }
 
 int ContributionAssembler::DropIncarnation(uint64_t incarnation) {
   int dropped = 0;
   for (auto it = partial_.begin(); it != partial_.end();) {
-    if (it->first.first == incarnation) {
+    if (std::get<0>(it->first) == incarnation) {
       dropped += static_cast<int>(it->second.size());
       it = partial_.erase(it);
     } else {
@@ -38,7 +53,7 @@ int ContributionAssembler::DropAllBut(const std::vector<uint64_t>& live) {
   const std::set<uint64_t> keep(live.begin(), live.end());
   int dropped = 0;
   for (auto it = partial_.begin(); it != partial_.end();) {
-    if (!keep.count(it->first.first)) {
+    if (!keep.count(std::get<0>(it->first))) {
       dropped += static_cast<int>(it->second.size());
       it = partial_.erase(it);
     } else {

@@ -15,6 +15,7 @@
 #include <tuple>
 #include <vector>
 
+#include "absl/status/status.h"
 #include "common/chunk_codec.h"
 
 namespace juggle {
@@ -32,7 +33,10 @@ struct ChunkPart {
 class ContributionAssembler {
  public:
   // Adds a part; when it completes its contribution, the contribution becomes available.
-  void Add(ChunkPart part);
+  // INVALID_ARGUMENT (nothing kept) if the part disagrees with the parts already held for its
+  // contribution (num_parts, unroll length, dims). Parts of a contribution that already
+  // completed, and duplicate parts, are ignored.
+  absl::Status Add(ChunkPart part);
   // Discards the partial contributions of `incarnation`; returns how many parts were dropped.
   int DropIncarnation(uint64_t incarnation);
   // Discards the partial contributions of every incarnation not in `live`.
@@ -56,8 +60,10 @@ class ContributionAssembler {
     int64_t version;
     Contribution data;
   };
-  // (incarnation, sequence) -> parts received so far.
-  std::map<std::pair<uint64_t, int64_t>, std::vector<ChunkPart>> partial_;
+  // (incarnation, version, sequence) -> parts received so far.
+  std::map<std::tuple<uint64_t, int64_t, int64_t>, std::vector<ChunkPart>> partial_;
+  // Highest completed sequence per incarnation: later copies of its parts are ignored.
+  std::map<uint64_t, int64_t> completed_;
   std::vector<Complete> complete_;  // arrival order
 };
 

@@ -2,7 +2,9 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <random>
@@ -19,6 +21,7 @@
 #include "common/chunk_codec.h"
 #include "common/http_server.h"
 #include "common/juggle_dims.h"
+#include "common/outcome.h"
 #include "common/status_macros.h"
 #include "google/protobuf/text_format.h"
 #include "learner/checkpoint.h"
@@ -140,7 +143,7 @@ class RolloutServiceImpl final : public rpc::Rollout::Service {
   grpc::Status GetPolicy(grpc::ServerContext* ctx, const rpc::PolicyRequest* req,
                          grpc::ServerWriter<rpc::PolicyChunk>* writer) override {
     if (!s_->registry->Find(req->incarnation())) {
-      s_->metrics.Add("juggle_chunks_rejected_total", 1, {{"reason", "unregistered"}});
+      s_->metrics.Add("juggle_policy_requests_rejected_total", 1, {{"reason", "unregistered"}});
       return ToGrpc(absl::FailedPreconditionError(absl::StrCat(
           "unregistered incarnation ", req->incarnation(), ": call Register first")));
     }
@@ -205,6 +208,11 @@ class RolloutServiceImpl final : public rpc::Rollout::Service {
                                          " is more than ", lag, " behind the learner's ",
                                          current)));
     }
+    if (chunk.unroll_length() != s_->run->ppo().unroll_length()) {
+      return Reject("invalid", absl::InvalidArgumentError(absl::StrCat(
+                                   "chunk unroll_length ", chunk.unroll_length(),
+                                   " differs from the run's ", s_->run->ppo().unroll_length())));
+    }
     absl::StatusOr<Contribution> decoded =
         DecodeChunk(chunk, s_->obs_dim, kNumActions, s_->num_nodes, s_->num_edges);
     if (!decoded.ok()) return Reject("invalid", decoded.status());
@@ -250,6 +258,7 @@ void DeclareMetrics(Metrics* m) {
              {0, 1, 2, 3, 5, 10});
   m->Declare("juggle_chunks_rejected_total", "counter", "Chunks rejected, by reason.");
   m->Declare("juggle_unrolls_dropped_total", "counter", "Accepted unrolls never trained on, by reason.");
+  m->Declare("juggle_policy_requests_rejected_total", "counter", "GetPolicy calls refused, by reason.");
   m->Declare("juggle_workers_connected", "gauge", "Live workers.");
   m->Declare("juggle_worker_heartbeat_age_seconds", "gauge", "Seconds since each worker's last sign of life.");
   m->Declare("juggle_worker_env_steps_per_second", "gauge", "Env steps per second reported by each worker.");
@@ -284,6 +293,9 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
   s->trainer = std::make_unique<PpoTrainer>(config.run.model(), config.run.ppo(), s->obs_dim,
                                             kNumActions, config.run.seed());
   s->walk = std::make_unique<AdaptiveWalk>(config.graph.get());
+  if (std::system(absl::StrCat("mkdir -p '", s->options.run_dir, "'").c_str()) != 0) {
+    return absl::PermissionDeniedError(absl::StrCat("cannot create run directory ", s->options.run_dir));
+  }
   s->checkpoints = std::make_unique<CheckpointDir>(s->options.run_dir + "/checkpoints");
   if (s->options.resume) {
     absl::StatusOr<CheckpointDir::Loaded> loaded = s->checkpoints->LoadLatest();
@@ -336,6 +348,7 @@ absl::Status LearnerServer::Train(const std::atomic<bool>* stop) {
       s.options.max_iterations > 0 ? s.options.max_iterations : s.run->ppo().iterations();
   const auto start = Clock::now();
   ContributionAssembler assembler;
+  std::vector<int> reported_slots;
   auto last_end = Clock::now();
   int64_t total_samples = 0;
   while (!stop->load()) {
@@ -347,7 +360,10 @@ absl::Status LearnerServer::Train(const std::atomic<bool>* stop) {
     if (std::optional<ChunkPart> part = s.queue->Pop(Clock::now() + std::chrono::milliseconds(100))) {
       ++s.chunks_ingested;
       if (s.options.discard_data) continue;
-      assembler.Add(std::move(*part));
+      if (absl::Status added = assembler.Add(std::move(*part)); !added.ok()) {
+        s.metrics.Add("juggle_chunks_rejected_total", 1, {{"reason", "inconsistent_parts"}});
+        std::fprintf(stderr, "warning: %s\n", std::string(added.message()).c_str());
+      }
     }
     s.metrics.Set("juggle_queue_depth", static_cast<double>(s.queue->size()));
     const auto now = Clock::now();
@@ -370,6 +386,14 @@ absl::Status LearnerServer::Train(const std::atomic<bool>* stop) {
       s.metrics.Set("juggle_worker_env_steps_per_second", w.env_steps_per_s, {{"slot", slot}});
     }
     assembler.DropAllBut(live_incarnations);
+    // Forget the per-slot series of workers that are gone.
+    for (int slot : reported_slots) {
+      if (std::find(live_slots.begin(), live_slots.end(), slot) == live_slots.end()) {
+        s.metrics.Erase("juggle_worker_heartbeat_age_seconds", "slot", absl::StrCat(slot));
+        s.metrics.Erase("juggle_worker_env_steps_per_second", "slot", absl::StrCat(slot));
+      }
+    }
+    reported_slots = live_slots;
     s.metrics.Set("juggle_workers_connected", static_cast<double>(live.size()));
 
     const int64_t version = s.trainer->version();
@@ -433,7 +457,7 @@ absl::Status LearnerServer::Train(const std::atomic<bool>* stop) {
     s.metrics.Set("juggle_mean_return", r.mean_return);
     s.metrics.Set("juggle_completions_per_episode", r.completions_per_episode);
     for (size_t o = 0; o < ep.outcomes.size(); ++o) {
-      if (ep.outcomes[o]) s.metrics.Add("juggle_episodes_total", static_cast<double>(ep.outcomes[o]), {{"outcome", absl::StrCat(o)}});
+      if (ep.outcomes[o]) s.metrics.Add("juggle_episodes_total", static_cast<double>(ep.outcomes[o]), {{"outcome", OutcomeName(static_cast<Outcome>(o))}});
     }
     if (s.options.on_iteration) s.options.on_iteration(r);
     if (svc.checkpoint_every() > 0 && r.iteration % svc.checkpoint_every() == 0) {

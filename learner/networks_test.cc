@@ -133,5 +133,41 @@ TEST(NetworksTest, GateRowsAreDistributionsOverExperts) {
   EXPECT_GE(g.min().item<float>(), 0.0f);
 }
 
+TEST(NetworksTest, GateStatisticsMatchTheirDefinitionOnTorchGates) {
+  // One-hot gates: specialization 1; all experts equally used: utilization 1/K.
+  RowMatrix onehot = RowMatrix::Zero(8, 4);
+  for (int i = 0; i < 8; ++i) onehot(i, i % 4) = 1;
+  GateStatistics s = ComputeGateStatistics(onehot);
+  EXPECT_NEAR(s.specialization, 1.0, 1e-12);
+  EXPECT_NEAR(s.utilization, 0.25, 1e-12);
+  // Uniform gates: specialization 1/K, utilization 1/K.
+  s = ComputeGateStatistics(RowMatrix::Constant(5, 4, 0.25f));
+  EXPECT_NEAR(s.specialization, 0.25, 1e-7);
+  EXPECT_NEAR(s.utilization, 0.25, 1e-7);
+
+  // The Eigen policy's gates equal libtorch's, and Eq. 4 on them equals a direct torch sum.
+  config::ModelConfig model = Model(config::LAYERWISE_MOE);
+  config::PpoConfig ppo;
+  PpoTrainer trainer(model, ppo, 12, 5, 8);
+  const FlatParameters params = trainer.ExportPolicy();
+  ActorCritic reference(model, 12, 5);
+  {
+    torch::NoGradGuard no_grad;
+    for (auto& [spec, t] : reference.actor->LayoutTensors()) {
+      const float* v = *params.Find(spec.name, spec.shape);
+      t.copy_(torch::from_blob(const_cast<float*>(v), t.sizes(), torch::kFloat32));
+    }
+  }
+  const torch::Tensor x = torch::randn({40, 12}).contiguous();
+  const torch::Tensor g = reference.actor->Gate(x).detach();
+  const double torch_spec = g.pow(2).sum(1).mean().item<double>();
+  const double torch_util = g.mean(0).pow(2).sum().item<double>();
+  auto policy = EigenPolicy::Create(model, params, 12, 5);
+  ASSERT_TRUE(policy.ok());
+  const GateStatistics eigen = ComputeGateStatistics(policy->Gates(x.data_ptr<float>(), 40));
+  EXPECT_NEAR(eigen.specialization, torch_spec, 1e-5);
+  EXPECT_NEAR(eigen.utilization, torch_util, 1e-5);
+}
+
 }  // namespace
 }  // namespace juggle

@@ -133,7 +133,7 @@ void EnvPool::Step(const float* actions) {
       stats_.return_sum += episode_return_[i];
       stats_.length_sum += finished_length_[i];
       stats_.completions_sum += finished_completions_[i];
-      ++stats_.outcomes[static_cast<int>(out_.outcome[i])];
+      stats_.CountOutcome(static_cast<int>(out_.outcome[i]));
       episode_return_[i] = 0;
     }
   }
@@ -142,9 +142,9 @@ void EnvPool::Step(const float* actions) {
   }
 }
 
-EpisodeStats EnvPool::TakeStats() {
-  EpisodeStats s = stats_;
-  stats_ = EpisodeStats();
+EpisodeCounters EnvPool::TakeStats() {
+  EpisodeCounters s = stats_;
+  stats_ = EpisodeCounters();
   return s;
 }
 

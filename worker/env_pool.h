@@ -17,6 +17,7 @@
 
 #include "absl/status/statusor.h"
 #include "common/adaptive_walk.h"
+#include "common/episode_counters.h"
 #include "worker/juggle_env.h"
 #include "worker/juggle_spec.h"
 
@@ -32,19 +33,6 @@ struct PoolStep {
   std::vector<Outcome> outcome;    // [num_envs]
   std::vector<int32_t> node;       // [num_envs] node at the start of the step
   std::vector<EdgeEvent> events;   // this step's edge events, in env order
-};
-
-// Counters over finished episodes since the last TakeStats().
-struct EpisodeStats {
-  int64_t episodes = 0;
-  int64_t steps = 0;
-  double return_sum = 0;
-  int64_t length_sum = 0;
-  int64_t completions_sum = 0;
-  int64_t outcomes[static_cast<int>(Outcome::kNumOutcomes)] = {0};
-  double mean_return() const { return episodes ? return_sum / episodes : 0; }
-  double mean_length() const { return episodes ? double(length_sum) / episodes : 0; }
-  double mean_completions() const { return episodes ? double(completions_sum) / episodes : 0; }
 };
 
 class EnvPool {
@@ -64,7 +52,8 @@ class EnvPool {
   const PoolStep& output() const { return out_; }
   AdaptiveWalk* walk() { return &walk_; }
   void set_apply_events_locally(bool v) { apply_events_locally_ = v; }
-  EpisodeStats TakeStats();
+  // Counters over the episodes finished since the last call.
+  EpisodeCounters TakeStats();
 
   int num_envs() const { return static_cast<int>(envs_.size()); }
   int obs_dim() const { return spec_->obs_dim(); }
@@ -87,7 +76,7 @@ class EnvPool {
   std::vector<int> finished_length_;
   std::vector<int> finished_completions_;
   PoolStep out_;
-  EpisodeStats stats_;
+  EpisodeCounters stats_;
   bool apply_events_locally_ = true;
   const float* actions_ = nullptr;
 

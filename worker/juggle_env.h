@@ -18,26 +18,12 @@
 #include <mujoco/mujoco.h>
 
 #include "common/adaptive_walk.h"
+#include "common/outcome.h"
 #include "common/graph_cursor.h"
 #include "common/rng.h"
 #include "worker/juggle_spec.h"
 
 namespace juggle {
-
-// Why an episode ended (kRunning while it has not).
-enum class Outcome : uint8_t {
-  kRunning = 0,
-  kFell,            // root tilt or height beyond the limits
-  kBallLost,        // ball too low or too far from its target
-  kBadContact,      // ball touched a body not allowed in the node (or the floor)
-  kContactTiming,   // ball touched an allowed body outside the contact window
-  kAroundTheWorld,  // foot–ball angle constraint violated
-  kStallLost,       // ball left the stalling body
-  kDiverged,        // simulator warning or non-finite state
-  kTimeLimit,       // truncated at max_episode_steps (not a failure)
-  kNumOutcomes
-};
-const char* OutcomeName(Outcome o);
 
 struct StepResult {
   float reward = 0;

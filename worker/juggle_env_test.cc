@@ -148,8 +148,8 @@ TEST_F(JuggleEnvTest, HugeTorquesDivergeAndAreCountedByThePool) {
   EXPECT_EQ((*pool)->output().outcome[0], Outcome::kDiverged);
   EXPECT_EQ((*pool)->output().terminated[0], 1);
   for (float v : (*pool)->output().obs) ASSERT_TRUE(std::isfinite(v));
-  const EpisodeStats stats = (*pool)->TakeStats();
-  EXPECT_EQ(stats.outcomes[static_cast<int>(Outcome::kDiverged)], 1);
+  const EpisodeCounters stats = (*pool)->TakeStats();
+  EXPECT_EQ(stats.outcome(static_cast<int>(Outcome::kDiverged)), 1);
   EXPECT_EQ(stats.episodes, 1);
 }
 

@@ -165,17 +165,12 @@ class Session {
       contribution.events.clear();
       collector->Collect(*policy, &contribution.batch, &contribution.events, &contribution.node);
       if (o_.stop->load()) break;
-      const EpisodeStats stats = pool->TakeStats();
-      contribution.stats = EpisodeCounters();
-      contribution.stats.episodes = stats.episodes;
-      contribution.stats.return_sum = stats.return_sum;
-      contribution.stats.length_sum = stats.length_sum;
-      contribution.stats.completions_sum = stats.completions_sum;
-      contribution.stats.outcomes.assign(std::begin(stats.outcomes), std::end(stats.outcomes));
+      contribution.stats = pool->TakeStats();
       *steps_per_s = contribution.batch.num_samples() /
                      std::max(1e-9, std::chrono::duration<double>(Clock::now() - t0).count());
 
       int64_t latest = snap->version;
+      bool all_accepted = true;
       for (const rpc::TrajectoryChunk& chunk :
            EncodeContribution(contribution, incarnation_, sequence, kChunkBytes)) {
         rpc::ChunkAck ack;
@@ -191,17 +186,22 @@ class Session {
               ack.message().find("unregistered") != std::string::npos) {
             return absl::FailedPreconditionError(ack.message());
           }
+          all_accepted = false;
           break;  // the rest of this contribution is useless
         }
       }
       ++sequence;
-      // Synchronous: wait for the next version. Asynchronous: refresh only when newer.
-      if (reg.synchronous() || latest > snap->version) {
+      // Synchronous: after an accepted contribution, wait for the next version (the learner
+      // trains when every worker's is in). A refused one (stale, full queue) is redone with the
+      // current policy, or the learner would wait for it forever. Asynchronous: refresh only
+      // when a newer version exists.
+      const bool wait_for_next = reg.synchronous() && all_accepted;
+      if (wait_for_next || latest > snap->version || !all_accepted) {
         const int64_t have = snap->version;
         do {
-          snap = FetchPolicy(stub_.get(), incarnation_, reg.synchronous() ? have : -1, 20);
+          snap = FetchPolicy(stub_.get(), incarnation_, wait_for_next ? have : -1, 20);
           if (!snap.ok()) return snap.status();
-        } while (reg.synchronous() && snap->version <= have && !o_.stop->load() && !*unknown);
+        } while (wait_for_next && snap->version <= have && !o_.stop->load() && !*unknown);
       }
     }
     stream->WritesDone();

@@ -1,0 +1,359 @@
+// The rollout protocol against a real in-process learner (configs/right_foot.textproto) over
+// loopback gRPC, driven by a raw stub instead of the worker client: registration, policy
+// download, chunks rejected with the documented ack codes and counted in /metrics by reason,
+// and a valid contribution still trained on afterwards. Also the gRPC health service.
+#include <stdlib.h>
+#include <sys/stat.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <functional>
+#include <future>
+#include <limits>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <grpcpp/generic/generic_stub.h>
+#include <grpcpp/grpcpp.h>
+
+#include "absl/strings/str_cat.h"
+#include "common/chunk_codec.h"
+#include "common/config_loader.h"
+#include "common/flat_parameters.h"
+#include "common/http_server.h"
+#include "common/juggle_dims.h"
+#include "gmock/gmock.h"
+#include "google/protobuf/text_format.h"
+#include "google/protobuf/unknown_field_set.h"
+#include "gtest/gtest.h"
+#include "learner/learner_server.h"
+#include "proto/rollout.grpc.pb.h"
+
+namespace juggle {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::Not;
+using Clock = std::chrono::steady_clock;
+
+constexpr int kNodes = 2;                         // configs/graphs/right_foot.textproto
+constexpr int kObsDim = ObservationSize(kNodes);  // 94
+constexpr int kInvalidArgument = 3;               // google.rpc.Code numbering
+constexpr int kFailedPrecondition = 9;
+
+// Polls `predicate` every 50 ms for up to `seconds`.
+bool WaitFor(const std::function<bool()>& predicate, double seconds) {
+  const auto until = Clock::now() + std::chrono::milliseconds(int(seconds * 1000));
+  while (Clock::now() < until) {
+    if (predicate()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return predicate();
+}
+
+void SetDeadline(grpc::ClientContext* ctx, int seconds = 10) {
+  ctx->set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(seconds));
+}
+
+// One well-formed contribution for the right-foot learner: `num_unrolls` unrolls of
+// `unroll_length` steps with finite data, nodes alternating 0/1, one truncated step.
+Contribution ValidContribution(int num_unrolls, int unroll_length, int64_t version) {
+  Contribution c;
+  UnrollBatch& b = c.batch;
+  b.num_unrolls = num_unrolls;
+  b.unroll_length = unroll_length;
+  b.obs_dim = kObsDim;
+  b.act_dim = kNumActions;
+  const size_t n = size_t(num_unrolls) * unroll_length;
+  b.obs.resize(n * kObsDim);
+  for (size_t i = 0; i < b.obs.size(); ++i) b.obs[i] = 0.01f * float(i % 97) - 0.5f;
+  b.actions.assign(n * kNumActions, 0.05f);
+  b.log_probs.assign(n, -10.0f);
+  b.rewards.assign(n, 0.25f);
+  b.done.assign(n, 0);
+  b.truncated.assign(n, 0);
+  b.truncated[unroll_length / 2] = 1;
+  b.truncated_obs.assign(kObsDim, 0.1f);
+  b.bootstrap_obs.assign(size_t(num_unrolls) * kObsDim, 0.2f);
+  b.policy_version.assign(num_unrolls, version);
+  c.node.resize(n);
+  for (size_t i = 0; i < n; ++i) c.node[i] = static_cast<int32_t>(i % kNodes);
+  c.events = {{0, EdgeEventType::kChosen}, {0, EdgeEventType::kCompleted}};
+  c.stats.episodes = 1;
+  c.stats.return_sum = 3.5;
+  c.stats.length_sum = unroll_length / 2 + 1;
+  c.stats.outcomes = {0, 1};
+  return c;
+}
+
+class RolloutProtocolTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    char tmpl[] = "/tmp/juggle_protocol_XXXXXX";
+    ASSERT_NE(::mkdtemp(tmpl), nullptr);
+    dir_ = tmpl;
+    absl::StatusOr<LoadedConfig> config = LoadRunConfig("configs/right_foot.textproto");
+    ASSERT_TRUE(config.ok()) << config.status();
+    ASSERT_TRUE(config->run.service().synchronous()) << "these tests assume synchronous mode";
+    // One libtorch thread: on a shared 2-core machine OpenMP spin-waiting with the config's
+    // two threads makes the network's orthogonal init and the update take seconds.
+    config->run.mutable_ppo()->set_torch_threads(1);
+    LearnerOptions options;
+    options.config = *std::move(config);
+    // LearnerServer does not create its run directory (`juggle learner` does, before Start).
+    options.run_dir = dir_ + "/run";
+    ASSERT_EQ(::mkdir(options.run_dir.c_str(), 0755), 0);
+    options.port = 0;
+    options.metrics_port = 0;  // a free port
+    options.listen_all_interfaces = false;
+    absl::StatusOr<std::unique_ptr<LearnerServer>> server = LearnerServer::Start(std::move(options));
+    ASSERT_TRUE(server.ok()) << server.status();
+    server_ = *std::move(server);
+    ASSERT_GT(server_->port(), 0);
+    ASSERT_GT(server_->metrics_port(), 0);
+    train_thread_ = std::thread([this] { train_status_ = server_->Train(&stop_); });
+    channel_ = grpc::CreateChannel(absl::StrCat("127.0.0.1:", server_->port()),
+                                   grpc::InsecureChannelCredentials());
+    stub_ = rpc::Rollout::NewStub(channel_);
+  }
+
+  void TearDown() override {
+    stop_ = true;
+    if (train_thread_.joinable()) train_thread_.join();
+    if (server_) {
+      server_->Shutdown();
+      EXPECT_TRUE(train_status_.ok()) << train_status_;
+    }
+    if (!dir_.empty()) std::system(("rm -rf " + dir_).c_str());
+  }
+
+  rpc::RegisterResponse Register(int num_envs = 1) {
+    grpc::ClientContext ctx;
+    SetDeadline(&ctx);
+    rpc::RegisterRequest req;
+    req.set_requested_slot(-1);
+    req.set_num_envs(num_envs);
+    req.set_hostname("protocol-test");
+    rpc::RegisterResponse resp;
+    const grpc::Status s = stub_->Register(&ctx, req, &resp);
+    EXPECT_TRUE(s.ok()) << s.error_message();
+    return resp;
+  }
+
+  // GetPolicy reassembled: version, edge counts, params bytes; or the RPC's status.
+  struct Policy {
+    grpc::Status status;
+    int64_t version = -1;
+    int64_t total_bytes = -1;
+    std::vector<double> edge_counts;
+    std::string params;
+  };
+  Policy GetPolicy(uint64_t incarnation, int64_t min_version) {
+    grpc::ClientContext ctx;
+    SetDeadline(&ctx);
+    rpc::PolicyRequest req;
+    req.set_incarnation(incarnation);
+    req.set_min_version(min_version);
+    std::unique_ptr<grpc::ClientReader<rpc::PolicyChunk>> reader = stub_->GetPolicy(&ctx, req);
+    Policy p;
+    rpc::PolicyChunk chunk;
+    bool first = true;
+    while (reader->Read(&chunk)) {
+      if (first) {
+        p.version = chunk.version();
+        p.total_bytes = chunk.total_bytes();
+        p.edge_counts.assign(chunk.edge_counts().begin(), chunk.edge_counts().end());
+        first = false;
+      }
+      p.params += chunk.data();
+    }
+    p.status = reader->Finish();
+    return p;
+  }
+
+  // The single chunk of a valid one-unroll contribution for `reg`'s incarnation.
+  rpc::TrajectoryChunk ValidChunk(const rpc::RegisterResponse& reg, int64_t sequence) {
+    const std::vector<rpc::TrajectoryChunk> chunks = EncodeContribution(
+        ValidContribution(1, reg.unroll_length(), 0), reg.incarnation(), sequence, size_t(4) << 20);
+    EXPECT_EQ(chunks.size(), 1u);
+    return chunks.at(0);
+  }
+
+  std::string Metrics() {
+    absl::StatusOr<std::string> body = HttpGet(server_->metrics_port(), "/metrics");
+    EXPECT_TRUE(body.ok()) << body.status();
+    return body.ok() ? *body : "";
+  }
+
+  std::string dir_;
+  std::unique_ptr<LearnerServer> server_;
+  std::atomic<bool> stop_{false};
+  absl::Status train_status_;
+  std::thread train_thread_;
+  std::shared_ptr<grpc::Channel> channel_;
+  std::unique_ptr<rpc::Rollout::Stub> stub_;
+};
+
+TEST_F(RolloutProtocolTest, RegisterReturnsSlotIncarnationConfigAndModel) {
+  const rpc::RegisterResponse first = Register();
+  EXPECT_EQ(first.slot(), 0);
+  EXPECT_NE(first.incarnation(), 0u);
+  EXPECT_FALSE(first.model_mjb().empty());
+  EXPECT_TRUE(first.synchronous());
+  EXPECT_EQ(first.unroll_length(), 100);  // the schema's default; right_foot sets none
+  ASSERT_FALSE(first.run_config().empty());
+  config::RunConfig run;
+  ASSERT_TRUE(google::protobuf::TextFormat::ParseFromString(first.run_config(), &run));
+  EXPECT_EQ(run.name(), "right_foot");
+  EXPECT_FALSE(run.has_graph_file()) << "workers have no files: the graph travels inline";
+  EXPECT_EQ(run.graph().node_size(), kNodes);
+
+  const rpc::RegisterResponse second = Register();
+  EXPECT_EQ(second.slot(), 1);
+  EXPECT_NE(second.incarnation(), first.incarnation());
+}
+
+TEST_F(RolloutProtocolTest, GetPolicyReturnsTheCurrentSnapshotThatDeserializes) {
+  const rpc::RegisterResponse reg = Register();
+  const Policy p = GetPolicy(reg.incarnation(), -1);
+  ASSERT_TRUE(p.status.ok()) << p.status.error_message();
+  EXPECT_EQ(p.version, 0);
+  EXPECT_EQ(p.total_bytes, static_cast<int64_t>(p.params.size()));
+  EXPECT_EQ(p.edge_counts.size(), 2u);  // the right-foot graph's two edges
+  absl::StatusOr<FlatParameters> params = FlatParameters::Deserialize(p.params);
+  ASSERT_TRUE(params.ok()) << params.status();
+  EXPECT_EQ(params->version(), 0);
+  EXPECT_FALSE(params->layout().empty());
+  EXPECT_FALSE(params->values().empty());
+}
+
+TEST_F(RolloutProtocolTest, GetPolicyForAnUnregisteredIncarnationFailsWithFailedPrecondition) {
+  const rpc::RegisterResponse reg = Register();
+  const Policy p = GetPolicy(reg.incarnation() + 1000, -1);
+  EXPECT_EQ(p.status.error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+  EXPECT_THAT(p.status.error_message(),
+              HasSubstr(absl::StrCat("unregistered incarnation ", reg.incarnation() + 1000)));
+  EXPECT_TRUE(p.params.empty());
+}
+
+TEST_F(RolloutProtocolTest, RejectsBadChunksWithTheirCodesCountsThemAndStillTrains) {
+  const rpc::RegisterResponse reg = Register();
+  ASSERT_GT(reg.unroll_length(), 0);
+  grpc::ClientContext ctx;
+  SetDeadline(&ctx, 30);
+  std::unique_ptr<grpc::ClientReaderWriter<rpc::TrajectoryChunk, rpc::ChunkAck>> stream =
+      stub_->StreamTrajectories(&ctx);
+  auto send = [&](const rpc::TrajectoryChunk& chunk) {
+    rpc::ChunkAck ack;
+    EXPECT_TRUE(stream->Write(chunk));
+    EXPECT_TRUE(stream->Read(&ack));
+    return ack;
+  };
+  struct Case {
+    const char* name;
+    std::function<void(rpc::TrajectoryChunk*)> corrupt;
+    int code;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {"obs of a 3-node graph",
+       [](rpc::TrajectoryChunk* c) {
+         c->set_obs_dim(ObservationSize(3));
+         c->mutable_obs()->Resize(c->num_unrolls() * c->unroll_length() * ObservationSize(3), 0);
+       },
+       kInvalidArgument, "obs_dim 97 and act_dim 28; the policy expects 94 and 28"},
+      {"NaN reward",
+       [](rpc::TrajectoryChunk* c) { c->set_rewards(7, std::numeric_limits<float>::quiet_NaN()); },
+       kInvalidArgument, "'rewards' has a non-finite value at index 7"},
+      {"unknown node id", [](rpc::TrajectoryChunk* c) { c->set_node(3, kNodes); },
+       kInvalidArgument, "unknown node id 2 at step 3 (the graph has 2 nodes)"},
+      {"unregistered incarnation",
+       [](rpc::TrajectoryChunk* c) { c->set_incarnation(c->incarnation() + 1000); },
+       kFailedPrecondition,
+       absl::StrCat("unregistered incarnation ", reg.incarnation() + 1000)},
+      {"policy version beyond the learner's",
+       [](rpc::TrajectoryChunk* c) {
+         c->set_policy_version(1);
+       },
+       kFailedPrecondition, "chunk policy version 1 is newer than the learner's 0"},
+  };
+  int64_t sequence = 0;
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    rpc::TrajectoryChunk chunk = ValidChunk(reg, sequence++);
+    c.corrupt(&chunk);
+    const rpc::ChunkAck ack = send(chunk);
+    EXPECT_FALSE(ack.accepted());
+    EXPECT_EQ(ack.code(), c.code);
+    EXPECT_THAT(ack.message(), HasSubstr(c.message));
+    EXPECT_EQ(ack.latest_version(), 0);
+  }
+
+  const std::string metrics = Metrics();
+  EXPECT_THAT(metrics, HasSubstr("\njuggle_chunks_rejected_total{reason=\"invalid\"} 3\n"));
+  EXPECT_THAT(metrics, HasSubstr("\njuggle_chunks_rejected_total{reason=\"unregistered\"} 1\n"));
+  EXPECT_THAT(metrics, HasSubstr("\njuggle_chunks_rejected_total{reason=\"unknown_version\"} 1\n"));
+  EXPECT_THAT(metrics, Not(HasSubstr("reason=\"stale_version\"")));
+  EXPECT_THAT(metrics, Not(HasSubstr("reason=\"queue_full\"")));
+  EXPECT_EQ(server_->version(), 0) << "a rejected chunk was trained on";
+
+  // A valid contribution after all that: the one live worker's contribution completes the
+  // synchronous batch of version 0, so the learner trains once.
+  const rpc::ChunkAck ok = send(ValidChunk(reg, sequence++));
+  EXPECT_TRUE(ok.accepted()) << ok.code() << ": " << ok.message();
+  EXPECT_EQ(ok.code(), 0);
+  EXPECT_TRUE(ok.message().empty()) << ok.message();
+  EXPECT_TRUE(WaitFor([&] { return server_->version() >= 1; }, 8))
+      << "the learner did not train on the valid contribution";
+  EXPECT_EQ(server_->version(), 1);
+  EXPECT_EQ(server_->metrics().Get("juggle_iterations_total"), 1);
+  EXPECT_EQ(server_->metrics().Get("juggle_samples_total"), reg.unroll_length());
+  EXPECT_THAT(Metrics(), HasSubstr("\njuggle_policy_version 1\n"));
+
+  // The new policy is served, and a chunk of the old version is now stale (sync: lag 0).
+  const Policy p = GetPolicy(reg.incarnation(), 0);
+  ASSERT_TRUE(p.status.ok()) << p.status.error_message();
+  EXPECT_EQ(p.version, 1);
+  const rpc::ChunkAck stale = send(ValidChunk(reg, sequence++));
+  EXPECT_FALSE(stale.accepted());
+  EXPECT_EQ(stale.code(), kFailedPrecondition);
+  EXPECT_THAT(stale.message(), HasSubstr("chunk policy version 0 is more than 0 behind"));
+  EXPECT_EQ(stale.latest_version(), 1);
+
+  stream->WritesDone();
+  const grpc::Status finished = stream->Finish();
+  EXPECT_TRUE(finished.ok()) << finished.error_message();
+}
+
+TEST_F(RolloutProtocolTest, HealthServiceReportsServing) {
+  // No generated grpc.health.v1 stub is installed: call Check through the generic stub.
+  // HealthCheckRequest{service: ""} encodes to no bytes.
+  grpc::GenericStub generic(channel_);
+  grpc::ClientContext ctx;
+  SetDeadline(&ctx);
+  grpc::Slice empty("");
+  const grpc::ByteBuffer request(&empty, 1);
+  grpc::ByteBuffer response;
+  std::promise<grpc::Status> done;
+  generic.UnaryCall(&ctx, "/grpc.health.v1.Health/Check", grpc::StubOptions(), &request,
+                    &response, [&done](grpc::Status s) { done.set_value(std::move(s)); });
+  const grpc::Status status = done.get_future().get();
+  ASSERT_TRUE(status.ok()) << status.error_code() << ": " << status.error_message();
+  std::vector<grpc::Slice> slices;
+  ASSERT_TRUE(response.Dump(&slices).ok());
+  std::string bytes;
+  for (const grpc::Slice& s : slices) bytes.append(reinterpret_cast<const char*>(s.begin()), s.size());
+  // HealthCheckResponse{status = 1 (SERVING)}: field 1, varint.
+  google::protobuf::UnknownFieldSet fields;
+  ASSERT_TRUE(fields.ParseFromString(bytes));
+  ASSERT_EQ(fields.field_count(), 1);
+  EXPECT_EQ(fields.field(0).number(), 1);
+  ASSERT_EQ(fields.field(0).type(), google::protobuf::UnknownField::TYPE_VARINT);
+  EXPECT_EQ(fields.field(0).varint(), 1u) << "1 = SERVING";
+}
+
+}  // namespace
+}  // namespace juggle

@@ -2,6 +2,7 @@
 BUILD_DIR ?= build/release
 PRESET    ?= release
 CONFIG    ?= configs/right_foot.textproto
+MINUTES   ?= 30
 JOBS      ?= $(shell nproc)
 
 .PHONY: deps configure build train test bench clean
@@ -15,8 +16,9 @@ configure: deps
 build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
 
+# Trains for MINUTES of wall time (0: until Ctrl-C); continue later with --resume.
 train: build
-	$(BUILD_DIR)/juggle train --config=$(CONFIG)
+	$(BUILD_DIR)/juggle train --config=$(CONFIG) --minutes=$(MINUTES)
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)

@@ -5,7 +5,7 @@
 
 namespace juggle {
 
-int RunSimulate(int argc, char** argv, int first, bool as_train);
+int RunSimulate(int argc, char** argv, int first);
 int RunTrain(int argc, char** argv, int first);
 int RunLearner(int argc, char** argv, int first);
 int RunWorkerCommand(int argc, char** argv, int first);
@@ -17,6 +17,7 @@ int RunBenchIngest(int argc, char** argv, int first);
 int RunBenchBroadcast(int argc, char** argv, int first);
 int RunBenchLocal(int argc, char** argv, int first);
 int RunRender(int argc, char** argv, int first);
+int RunSiteswap(int argc, char** argv, int first);
 
 }  // namespace juggle
 

@@ -18,6 +18,7 @@ void PrintUsage() {
       "  simulate      run an env pool with zero or random actions and report episode stats\n"
       "  check-config  load and validate a run config and its model; print a summary\n"
       "  render        render a rollout to MP4/PNG (+ contact sheet); record and replay\n"
+      "  siteswap      toss-juggling siteswaps: validity, state, throw schedule, transitions\n"
       "  bench sim     env steps/s on 1 and 2 threads vs bare mj_step, in one run\n"
       "  bench moe     layer-wise vs weight-blended MoE, PPO update and Eigen inference speed\n"
       "  bench ingest  unrolls/s one learner ingests from synthetic workers over loopback\n"
@@ -38,9 +39,10 @@ int main(int argc, char** argv) {
   if (command == "eval") return juggle::RunEval(argc, argv, 2);
   if (command == "learner") return juggle::RunLearner(argc, argv, 2);
   if (command == "worker") return juggle::RunWorkerCommand(argc, argv, 2);
-  if (command == "simulate") return juggle::RunSimulate(argc, argv, 2, /*as_train=*/false);
+  if (command == "simulate") return juggle::RunSimulate(argc, argv, 2);
   if (command == "check-config") return juggle::RunCheckConfig(argc, argv, 2);
   if (command == "render") return juggle::RunRender(argc, argv, 2);
+  if (command == "siteswap") return juggle::RunSiteswap(argc, argv, 2);
   if (command == "bench") {
     if (argc >= 3 && std::string(argv[2]) == "sim") return juggle::RunBenchSim(argc, argv, 3);
     const std::string name = argc >= 3 ? argv[2] : "";

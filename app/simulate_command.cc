@@ -1,5 +1,5 @@
-// `juggle simulate` (and, until the learner exists, `juggle train`): steps an env pool with a
-// fixed action policy and prints progress and episode statistics.
+// `juggle simulate`: steps an env pool with a fixed action policy (zero or uniform random) and
+// prints progress and episode statistics.
 #include <chrono>
 #include <cstdio>
 #include <vector>
@@ -34,12 +34,11 @@ int Fail(const absl::Status& status) {
 
 }  // namespace
 
-int RunSimulate(int argc, char** argv, int first, bool as_train) {
+int RunSimulate(int argc, char** argv, int first) {
   absl::StatusOr<Flags> flags = Flags::Parse(argc, argv, first, SimulateFlags());
   if (!flags.ok()) return Fail(flags.status());
   if (flags->help()) {
-    std::printf("usage: juggle %s [flags]\n%s", as_train ? "train" : "simulate",
-                Flags::Usage(SimulateFlags()).c_str());
+    std::printf("usage: juggle simulate [flags]\n%s", Flags::Usage(SimulateFlags()).c_str());
     return 0;
   }
   absl::StatusOr<LoadedConfig> config = LoadRunConfig(flags->Get("config"));
@@ -68,12 +67,6 @@ int RunSimulate(int argc, char** argv, int first, bool as_train) {
   const double control_dt = (*spec)->control_dt();
   const int total_steps = static_cast<int>(*seconds / control_dt + 0.5);
   const int report_every = std::max(1, static_cast<int>(1.0 / control_dt));  // 1 sim second
-  if (as_train) {
-    std::printf("juggle train: config %s (%d nodes, obs %d, act %d); the learner is not built "
-                "yet, so this runs the simulation with zero actions\n",
-                config->config_path.c_str(), (*spec)->graph().num_nodes(), (*spec)->obs_dim(),
-                kNumActions);
-  }
   std::printf("simulating %d envs on %d threads for %.1f s each (%d control steps), seed %lu\n",
               num_envs, num_threads, *seconds, total_steps,
               static_cast<unsigned long>(run_seed));

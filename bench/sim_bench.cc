@@ -20,27 +20,44 @@ double Seconds(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// mj_step calls per second from the env's initial state, restoring it every `restore_every`
-// steps so the contact load stays that of a standing character with a ball.
-double BareMjStepRate(const JuggleSpec& spec, int total_steps, int restore_every) {
-  JuggleEnv env(std::shared_ptr<const JuggleSpec>(&spec, [](const JuggleSpec*) {}), Rng(7));
-  AdaptiveWalk walk(&spec.graph());
+// A state the env visited at the start of a control step, with the torques it applied.
+struct VisitedState {
+  std::vector<double> qpos, qvel, qfrc_applied;
+};
+
+// Records the states one env visits over `steps` zero-action control steps (with resets).
+std::vector<VisitedState> RecordEnvStates(std::shared_ptr<const JuggleSpec> spec, int steps) {
+  JuggleEnv env(spec, Rng(7));
+  AdaptiveWalk walk(&spec->graph());
   env.Reset(walk);
+  const mjModel* m = spec->model();
+  const float zero[kNumActions] = {0};
+  std::vector<VisitedState> states;
+  for (int i = 0; i < steps; ++i) {
+    const mjData* d = env.data();
+    states.push_back({std::vector<double>(d->qpos, d->qpos + m->nq),
+                      std::vector<double>(d->qvel, d->qvel + m->nv),
+                      std::vector<double>(d->qfrc_applied, d->qfrc_applied + m->nv)});
+    if (env.Step(zero, walk).outcome != Outcome::kRunning) env.Reset(walk);
+  }
+  return states;
+}
+
+// Bare mj_step calls per second over the same states: each recorded control step is replayed
+// as `substeps` mj_steps from its state with its torques held — the physics of the env's own
+// trajectory without any of the env's code.
+double BareMjStepRate(const JuggleSpec& spec, const std::vector<VisitedState>& states) {
   const mjModel* m = spec.model();
   mjData* d = mj_makeData(m);
-  std::vector<double> qpos(env.data()->qpos, env.data()->qpos + m->nq);
-  auto restore = [&] {
-    mju_copy(d->qpos, qpos.data(), m->nq);
-    mju_zero(d->qvel, m->nv);
-    mju_zero(d->qfrc_applied, m->nv);
-  };
-  restore();
+  const int substeps = spec.env().substeps();
   const auto start = Clock::now();
-  for (int i = 0; i < total_steps; ++i) {
-    if (i % restore_every == 0) restore();
-    mj_step(m, d);
+  for (const VisitedState& s : states) {
+    mju_copy(d->qpos, s.qpos.data(), m->nq);
+    mju_copy(d->qvel, s.qvel.data(), m->nv);
+    mju_copy(d->qfrc_applied, s.qfrc_applied.data(), m->nv);
+    for (int k = 0; k < substeps; ++k) mj_step(m, d);
   }
-  const double rate = total_steps / Seconds(start);
+  const double rate = double(states.size()) * substeps / Seconds(start);
   mj_deleteData(d);
   return rate;
 }
@@ -86,9 +103,10 @@ int RunBenchSim(int argc, char** argv, int first) {
   const int repeats = static_cast<int>(*flags->GetInt("repeats"));
   const int substeps = (*spec)->env().substeps();
 
+  const std::vector<VisitedState> states = RecordEnvStates(*spec, steps * envs / 4);
   double mj = 0, env1 = 0, env2 = 0;
   for (int r = 0; r < repeats; ++r) {  // interleave so machine noise hits all three alike
-    mj = std::max(mj, BareMjStepRate(**spec, steps * envs * substeps / 4, 10 * substeps));
+    mj = std::max(mj, BareMjStepRate(**spec, states));
     env1 = std::max(env1, EnvStepRate(*spec, envs, 1, steps));
     env2 = std::max(env2, EnvStepRate(*spec, envs, 2, steps));
     std::printf("repeat %d: mj_step/s %.0f  env steps/s 1 thread %.0f  2 threads %.0f\n", r + 1,

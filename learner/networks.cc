@@ -80,16 +80,21 @@ torch::Tensor TorchNetwork::forward(const torch::Tensor& x) {
     for (size_t l = 0; l < layers; ++l) h = activate(torch::addmm(b_[l], h, w_[l]), l);
     return h;
   }
-  const torch::Tensor g = Gate(x).t().unsqueeze(-1);  // [K, B, 1]
+  const torch::Tensor gate = Gate(x);  // [B, K]
   if (architecture_ == config::LAYERWISE_MOE) {
+    // One GEMM per layer over all experts side by side: [B, in] · [in, K·out] → [B, K, out],
+    // then blend by the gate: h_{l+1} = act(Σ_k g_k · (h·W_k + b_k)).
+    const torch::Tensor g = gate.unsqueeze(-1);  // [B, K, 1]
     torch::Tensor h = x;
     for (size_t l = 0; l < layers; ++l) {
-      // [K, B, out] = h·W_k + b_k for every expert, blended by the gate.
-      torch::Tensor y = torch::baddbmm(b_[l].unsqueeze(1), h.unsqueeze(0).expand({w_[l].size(0), -1, -1}), w_[l]);
-      h = activate((y * g).sum(0), l);
+      const int64_t k = w_[l].size(0), in = w_[l].size(1), out = w_[l].size(2);
+      const torch::Tensor side_by_side = w_[l].permute({1, 0, 2}).reshape({in, k * out});
+      const torch::Tensor y = h.mm(side_by_side).view({-1, k, out}) + b_[l].unsqueeze(0);
+      h = activate((y * g).sum(1), l);
     }
     return h;
   }
+  const torch::Tensor g = gate.t().unsqueeze(-1);  // [K, B, 1]
   // Output-blended: K whole expert MLPs, blended at the output.
   torch::Tensor h = x.unsqueeze(0).expand({w_[0].size(0), -1, -1});
   for (size_t l = 0; l < layers; ++l) {

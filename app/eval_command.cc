@@ -12,6 +12,7 @@
 #include "common/config_loader.h"
 #include "common/eigen_policy.h"
 #include "learner/learner_state.h"
+#include "render/trajectory.h"
 #include "worker/juggle_env.h"
 
 namespace juggle {
@@ -31,6 +32,7 @@ int RunEval(int argc, char** argv, int first) {
       {"zero-action", "false", "evaluate the zero-action policy instead (baseline)"},
       {"episodes", "20", "episodes, one per env seed"},
       {"seed", "1000", "seed of the episode set"},
+      {"record", "", "write every episode, one after another, as a trajectory (docs/recording.md)"},
   };
   absl::StatusOr<Flags> flags = Flags::Parse(argc, argv, first, specs);
   if (!flags.ok()) return Fail(flags.status());
@@ -76,6 +78,9 @@ int RunEval(int argc, char** argv, int first) {
   std::vector<double> returns(episodes, 0);
   std::vector<int> lengths(episodes, 0), completions(episodes, 0);
   std::vector<Outcome> outcomes(episodes, Outcome::kRunning);
+  const bool record = !flags->Get("record").empty();
+  std::vector<std::vector<TrajectorySample>> recorded(record ? episodes : 0);
+  for (int i = 0; record && i < episodes; ++i) recorded[i].push_back(CaptureSample(*envs[i]));
   int running = episodes;
   std::vector<Eigen::RowVectorXf> gate_rows;
   while (running > 0) {
@@ -93,6 +98,12 @@ int RunEval(int argc, char** argv, int first) {
       if (outcomes[i] != Outcome::kRunning) continue;
       const StepResult r = envs[i]->Step(&actions[size_t(i) * kNumActions], walk);
       returns[i] += r.reward;
+      if (record) {
+        TrajectorySample sample = CaptureSample(*envs[i]);
+        sample.episode_time = envs[i]->steps() * (*spec)->control_dt();
+        sample.outcome = r.outcome;
+        recorded[i].push_back(sample);
+      }
       if (r.outcome != Outcome::kRunning) {
         outcomes[i] = r.outcome;
         lengths[i] = envs[i]->steps();
@@ -110,6 +121,27 @@ int RunEval(int argc, char** argv, int first) {
     ++outcome_counts[static_cast<int>(outcomes[i])];
   }
   const double dt = (*spec)->control_dt();
+  if (record) {
+    // Episodes one after another on the recording's clock.
+    Trajectory t;
+    t.config_path = config_path;
+    t.control_dt = dt;
+    for (int n = 0; n < (*spec)->graph().num_nodes(); ++n) {
+      t.node_names.push_back((*spec)->graph().node(n).name);
+    }
+    double offset = 0;
+    for (int i = 0; i < episodes; ++i) {
+      for (TrajectorySample sample : recorded[i]) {
+        sample.episode = i;
+        sample.time = offset + sample.episode_time;
+        t.samples.push_back(sample);
+      }
+      offset += recorded[i].back().episode_time;
+    }
+    if (absl::Status s = WriteTrajectory(t, flags->Get("record")); !s.ok()) return Fail(s);
+    std::printf("recorded %d episodes (%.2f s) to %s\n", episodes, offset,
+                flags->Get("record").c_str());
+  }
   std::string outcome_text;
   for (int o = 1; o < static_cast<int>(Outcome::kNumOutcomes); ++o) {
     if (outcome_counts[o]) {

@@ -1,0 +1,42 @@
+// `juggle eval` as a user runs it: the zero-action baseline's key=value line, and --record
+// writing every episode one after another as a replayable trajectory.
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "render/trajectory.h"
+#include "tests/service_test_util.h"
+
+namespace juggle {
+namespace {
+
+TEST(EvalCliTest, ZeroActionBaselineRecordsEachEpisodeInTurn) {
+  char tmpl[] = "/tmp/juggle_eval_XXXXXX";
+  const std::string dir = ::mkdtemp(tmpl);
+  testing::ChildProcess eval({"eval", "--zero-action", "--config=configs/right_foot.textproto",
+                              "--episodes=3", "--record=" + dir + "/eval.traj"},
+                             dir + "/eval.log");
+  ASSERT_EQ(eval.Wait(60), 0);
+  std::ifstream log(dir + "/eval.log");
+  std::string line, last;
+  while (std::getline(log, line)) last = line;
+  EXPECT_THAT(last, ::testing::HasSubstr("policy=zero_action episodes=3"));
+  EXPECT_THAT(last, ::testing::HasSubstr("mean_completions=1.000"));
+  EXPECT_THAT(last, ::testing::HasSubstr("mean_episode_s=0.500"));
+
+  absl::StatusOr<Trajectory> t = ReadTrajectory(dir + "/eval.traj");
+  ASSERT_TRUE(t.ok()) << t.status();
+  ASSERT_FALSE(t->samples.empty());
+  EXPECT_EQ(t->samples.back().episode, 2);
+  EXPECT_NEAR(Duration(*t), 3 * 0.5, 1e-9);  // three 0.5 s episodes back to back
+  for (size_t i = 1; i < t->samples.size(); ++i) {
+    EXPECT_GE(t->samples[i].time, t->samples[i - 1].time);
+  }
+  std::system(("rm -rf " + dir).c_str());
+}
+
+}  // namespace
+}  // namespace juggle

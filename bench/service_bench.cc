@@ -18,6 +18,7 @@
 #include "common/config_loader.h"
 #include "common/juggle_dims.h"
 #include "common/rng.h"
+#include "common/temp_dir.h"
 #include "learner/learner_server.h"
 #include "learner/ppo_trainer.h"
 #include "proto/rollout.grpc.pb.h"
@@ -68,13 +69,12 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> StartLearner(const LoadedConfig& 
                                                             std::function<void(const IterationReport&)> cb = nullptr) {
   LearnerOptions o;
   o.config = config;
-  o.run_dir = "/tmp/juggle_bench_run";
+  o.run_dir = MakeTempDir("juggle_bench_run_");
   o.port = 0;
   o.metrics_port = -1;
   o.listen_all_interfaces = false;
   o.discard_data = discard;
   o.on_iteration = std::move(cb);
-  std::system("mkdir -p /tmp/juggle_bench_run");
   return LearnerServer::Start(std::move(o));
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "gmock/gmock.h"
+#include "common/temp_dir.h"
 #include "gtest/gtest.h"
 #include "learner/ppo_trainer.h"
 #include "learner/testing/point_mass.h"
@@ -19,8 +20,7 @@ using ::testing::HasSubstr;
 class CheckpointTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    char tmpl[] = "/tmp/juggle_ckpt_XXXXXX";
-    dir_ = mkdtemp(tmpl);
+    dir_ = MakeTempDir("juggle_ckpt_");
   }
   void TearDown() override { std::system(("rm -rf " + dir_).c_str()); }
   static std::string Slurp(const std::string& path) {

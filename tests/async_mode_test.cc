@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "absl/strings/str_cat.h"
+#include "common/temp_dir.h"
 #include "gtest/gtest.h"
 #include "learner/learner_server.h"
 #include "worker/worker_client.h"
@@ -26,8 +27,7 @@ AsyncRun RunAsync(int max_policy_lag, int iterations) {
   svc->set_synchronous(false);
   svc->set_max_policy_lag(max_policy_lag);
   svc->set_unrolls_per_iteration(4);  // one worker's contribution: train as soon as one arrives
-  char tmpl[] = "/tmp/juggle_async_XXXXXX";
-  const std::string dir = ::mkdtemp(tmpl);
+  const std::string dir = MakeTempDir("juggle_async_");
   LearnerOptions o;
   o.config = *config;
   o.run_dir = dir;

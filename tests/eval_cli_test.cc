@@ -6,6 +6,7 @@
 #include <string>
 
 #include "gmock/gmock.h"
+#include "common/temp_dir.h"
 #include "gtest/gtest.h"
 #include "render/trajectory.h"
 #include "tests/service_test_util.h"
@@ -14,8 +15,7 @@ namespace juggle {
 namespace {
 
 TEST(EvalCliTest, ZeroActionBaselineRecordsEachEpisodeInTurn) {
-  char tmpl[] = "/tmp/juggle_eval_XXXXXX";
-  const std::string dir = ::mkdtemp(tmpl);
+  const std::string dir = MakeTempDir("juggle_eval_");
   testing::ChildProcess eval({"eval", "--zero-action", "--config=configs/right_foot.textproto",
                               "--episodes=3", "--record=" + dir + "/eval.traj"},
                              dir + "/eval.log");

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "gmock/gmock.h"
+#include "common/temp_dir.h"
 #include "gtest/gtest.h"
 #include "learner/checkpoint.h"
 #include "tests/service_test_util.h"
@@ -20,8 +21,7 @@ using testing::WaitFor;
 class MultiProcessTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    char tmpl[] = "/tmp/juggle_mp_XXXXXX";
-    dir_ = ::mkdtemp(tmpl);
+    dir_ = MakeTempDir("juggle_mp_");
     port_ = FreePort();
     metrics_port_ = FreePort();
   }

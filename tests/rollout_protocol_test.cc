@@ -28,6 +28,7 @@
 #include "gmock/gmock.h"
 #include "google/protobuf/text_format.h"
 #include "google/protobuf/unknown_field_set.h"
+#include "common/temp_dir.h"
 #include "gtest/gtest.h"
 #include "learner/learner_server.h"
 #include "proto/rollout.grpc.pb.h"
@@ -92,9 +93,8 @@ Contribution ValidContribution(int num_unrolls, int unroll_length, int64_t versi
 class RolloutProtocolTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    char tmpl[] = "/tmp/juggle_protocol_XXXXXX";
-    ASSERT_NE(::mkdtemp(tmpl), nullptr);
-    dir_ = tmpl;
+    dir_ = MakeTempDir("juggle_protocol_");
+    ASSERT_FALSE(dir_.empty());
     absl::StatusOr<LoadedConfig> config = LoadRunConfig("configs/right_foot.textproto");
     ASSERT_TRUE(config.ok()) << config.status();
     ASSERT_TRUE(config->run.service().synchronous()) << "these tests assume synchronous mode";

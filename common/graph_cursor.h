@@ -70,7 +70,6 @@ class GraphCursor {
   // Half-cycle duration (s) of `node` under apex height `apex`.
   double HalfCycleSeconds(int node, double apex) const;
 
-  double control_dt() const { return control_dt_; }
 
  private:
   double SampleApex(int node, Rng* rng) const;

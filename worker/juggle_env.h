@@ -61,7 +61,6 @@ class JuggleEnv {
   const mjData* data() const { return data_; }
   // Reference pose the PD tracked during the last step (or set at reset).
   const CharacterPose& reference_pose() const { return reference_; }
-  // Fraction of the last step's physics time spent in mj_step is not tracked here (bench/).
 
  private:
   void ApplyTorques(const double* feedforward);

@@ -1,17 +1,12 @@
 #include "worker/rollout_collector.h"
 
 #include <algorithm>
-#include <chrono>
 
 namespace juggle {
 namespace {
 
 // Salt separating action-noise streams from the env streams of the same (seed, worker, env).
 constexpr uint64_t kActionStreamSalt = 0x5DEECE66DULL;
-
-double Since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 }  // namespace
 
@@ -44,14 +39,12 @@ void RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* batch,
   batch->truncated_obs.clear();
   batch->bootstrap_obs.resize(size_t(U) * D);
   batch->policy_version.assign(U, policy.version());
-  sim_seconds_ = inference_seconds_ = 0;
   if (nodes != nullptr) nodes->assign(size_t(U) * T, 0);
 
   // Truncated final observations arrive step by step but must be stored in (u, t) order.
   std::vector<std::vector<float>> truncated_per_env(U);
   for (int t = 0; t < T; ++t) {
     const PoolStep& out = pool_->output();
-    auto t0 = std::chrono::steady_clock::now();
     const RowMatrix mean = policy.MeanActions(out.obs.data(), U);
     for (int u = 0; u < U; ++u) {
       const size_t i = size_t(u) * T + t;
@@ -63,10 +56,7 @@ void RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* batch,
                 actions_.begin() + size_t(u + 1) * kNumActions,
                 batch->actions.begin() + i * kNumActions);
     }
-    inference_seconds_ += Since(t0);
-    t0 = std::chrono::steady_clock::now();
     pool_->Step(actions_.data());
-    sim_seconds_ += Since(t0);
     for (int u = 0; u < U; ++u) {
       const size_t i = size_t(u) * T + t;
       batch->rewards[i] = out.reward[u];

@@ -26,17 +26,12 @@ class RolloutCollector {
   void Collect(const EigenPolicy& policy, UnrollBatch* batch,
                std::vector<EdgeEvent>* events = nullptr, std::vector<int32_t>* nodes = nullptr);
 
-  // Seconds spent in EnvPool::Step and in policy inference during the last Collect.
-  double last_sim_seconds() const { return sim_seconds_; }
-  double last_inference_seconds() const { return inference_seconds_; }
-
  private:
   EnvPool* pool_;
   int unroll_length_;
   std::vector<Rng> rngs_;
   std::vector<float> actions_;
   bool started_ = false;
-  double sim_seconds_ = 0, inference_seconds_ = 0;
 };
 
 }  // namespace juggle

@@ -4,7 +4,8 @@
 #include "app/commands.h"
 #include "app/flags.h"
 #include "common/config_loader.h"
-#include "worker/juggle_spec.h"
+#include "common/env_family.h"
+#include "worker/env_registry.h"
 
 namespace juggle {
 
@@ -21,15 +22,15 @@ int RunCheckConfig(int argc, char** argv, int first) {
     std::fprintf(stderr, "error: %s\n", std::string(config.status().message()).c_str());
     return 1;
   }
-  absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = JuggleSpec::Create(*config);
+  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*config);
   if (!spec.ok()) {
     std::fprintf(stderr, "error: %s\n", std::string(spec.status().message()).c_str());
     return 1;
   }
   const ControlGraph& g = (*spec)->graph();
-  std::printf("%s: OK\n  nodes %d, edges %d, initial %zu, obs %d, actions %d\n",
-              config->config_path.c_str(), g.num_nodes(), g.num_edges(), g.initial_nodes().size(),
-              (*spec)->obs_dim(), kNumActions);
+  std::printf("%s: OK\n  family %s, nodes %d, edges %d, initial %zu, obs %d, actions %d\n",
+              config->config_path.c_str(), EnvFamilyName(EnvFamilyOf(config->run)), g.num_nodes(),
+              g.num_edges(), g.initial_nodes().size(), (*spec)->obs_dim(), (*spec)->act_dim());
   for (int n = 0; n < g.num_nodes(); ++n) {
     std::printf("  %-24s %-5s ->", g.node(n).name.c_str(),
                 config::Stage_Name(g.node(n).stage).c_str());

@@ -13,6 +13,8 @@
 #include "common/eigen_policy.h"
 #include "learner/learner_state.h"
 #include "render/trajectory.h"
+#include "common/env_family.h"
+#include "worker/env_registry.h"
 #include "worker/juggle_env.h"
 
 namespace juggle {
@@ -54,9 +56,14 @@ int RunEval(int argc, char** argv, int first) {
   if (config_path.empty()) return Fail(absl::InvalidArgumentError("--config is required"));
   absl::StatusOr<LoadedConfig> config = LoadRunConfig(config_path);
   if (!config.ok()) return Fail(config.status());
-  absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = JuggleSpec::Create(*config);
+  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*config);
   if (!spec.ok()) return Fail(spec.status());
-  const int obs_dim = (*spec)->obs_dim();
+  const int obs_dim = (*spec)->obs_dim(), act_dim = (*spec)->act_dim();
+  const bool record = !flags->Get("record").empty();
+  if (record && EnvFamilyOf(config->run) != EnvFamily::kSoccer) {
+    return Fail(absl::InvalidArgumentError(
+        "--record writes soccer trajectories; for toss juggling use `juggle toss --record`"));
+  }
   std::optional<EigenPolicy> policy;
   if (checkpoint) {
     absl::StatusOr<EigenPolicy> p = PolicyFromCheckpoint(checkpoint->sections, *config);
@@ -68,19 +75,20 @@ int RunEval(int argc, char** argv, int first) {
   const AdaptiveWalk walk(&(*spec)->graph());
   const int episodes = static_cast<int>(*flags->GetInt("episodes"));
   const uint64_t seed = *flags->GetInt("seed");
-  std::vector<std::unique_ptr<JuggleEnv>> envs;
+  std::vector<std::unique_ptr<Env>> envs;
   for (int i = 0; i < episodes; ++i) {
-    envs.push_back(std::make_unique<JuggleEnv>(*spec, Rng::ForStream(seed, 0, i)));
+    envs.push_back((*spec)->NewEnv(Rng::ForStream(seed, 0, i)));
     envs.back()->Reset(walk);
   }
   std::vector<float> obs(size_t(episodes) * obs_dim);
-  std::vector<float> actions(size_t(episodes) * kNumActions, 0.0f);
+  std::vector<float> actions(size_t(episodes) * act_dim, 0.0f);
   std::vector<double> returns(episodes, 0);
   std::vector<int> lengths(episodes, 0), completions(episodes, 0);
   std::vector<Outcome> outcomes(episodes, Outcome::kRunning);
-  const bool record = !flags->Get("record").empty();
+  const double dt = ControlDt(*config);
   std::vector<std::vector<TrajectorySample>> recorded(record ? episodes : 0);
-  for (int i = 0; record && i < episodes; ++i) recorded[i].push_back(CaptureSample(*envs[i]));
+  auto capture = [&](int i) { return CaptureSample(static_cast<const JuggleEnv&>(*envs[i])); };
+  for (int i = 0; record && i < episodes; ++i) recorded[i].push_back(capture(i));
   int running = episodes;
   std::vector<Eigen::RowVectorXf> gate_rows;
   while (running > 0) {
@@ -96,18 +104,18 @@ int RunEval(int argc, char** argv, int first) {
     }
     for (int i = 0; i < episodes; ++i) {
       if (outcomes[i] != Outcome::kRunning) continue;
-      const StepResult r = envs[i]->Step(&actions[size_t(i) * kNumActions], walk);
+      const StepResult r = envs[i]->Step(&actions[size_t(i) * act_dim], walk);
       returns[i] += r.reward;
       if (record) {
-        TrajectorySample sample = CaptureSample(*envs[i]);
-        sample.episode_time = envs[i]->steps() * (*spec)->control_dt();
+        TrajectorySample sample = capture(i);
+        sample.episode_time = envs[i]->steps() * dt;
         sample.outcome = r.outcome;
         recorded[i].push_back(sample);
       }
       if (r.outcome != Outcome::kRunning) {
         outcomes[i] = r.outcome;
         lengths[i] = envs[i]->steps();
-        completions[i] = envs[i]->cursor().completions;
+        completions[i] = envs[i]->completions();
         --running;
       }
     }
@@ -120,7 +128,6 @@ int RunEval(int argc, char** argv, int first) {
     comp += completions[i];
     ++outcome_counts[static_cast<int>(outcomes[i])];
   }
-  const double dt = (*spec)->control_dt();
   if (record) {
     // Episodes one after another on the recording's clock.
     Trajectory t;

@@ -10,7 +10,8 @@
 #include "common/config_loader.h"
 #include "common/rng.h"
 #include "worker/env_pool.h"
-#include "worker/juggle_spec.h"
+#include "common/env_family.h"
+#include "worker/env_registry.h"
 
 namespace juggle {
 namespace {
@@ -43,7 +44,7 @@ int RunSimulate(int argc, char** argv, int first) {
   }
   absl::StatusOr<LoadedConfig> config = LoadRunConfig(flags->Get("config"));
   if (!config.ok()) return Fail(config.status());
-  absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = JuggleSpec::Create(*config);
+  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*config);
   if (!spec.ok()) return Fail(spec.status());
 
   auto envs = flags->GetInt("envs");
@@ -64,14 +65,14 @@ int RunSimulate(int argc, char** argv, int first) {
   auto pool = EnvPool::Create(*spec, num_envs, num_threads, run_seed);
   if (!pool.ok()) return Fail(pool.status());
 
-  const double control_dt = (*spec)->control_dt();
+  const double control_dt = ControlDt(*config);
   const int total_steps = static_cast<int>(*seconds / control_dt + 0.5);
   const int report_every = std::max(1, static_cast<int>(1.0 / control_dt));  // 1 sim second
   std::printf("simulating %d envs on %d threads for %.1f s each (%d control steps), seed %lu\n",
               num_envs, num_threads, *seconds, total_steps,
               static_cast<unsigned long>(run_seed));
 
-  std::vector<float> actions(size_t(num_envs) * kNumActions, 0.0f);
+  std::vector<float> actions(size_t(num_envs) * (*spec)->act_dim(), 0.0f);
   Rng action_rng(run_seed ^ 0xA5A5A5A5ULL);
   (*pool)->Reset();
   EpisodeCounters total;

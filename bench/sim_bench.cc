@@ -9,6 +9,7 @@
 #include "app/flags.h"
 #include "common/config_loader.h"
 #include "worker/env_pool.h"
+#include "worker/juggle_env.h"
 #include "worker/juggle_spec.h"
 
 namespace juggle {

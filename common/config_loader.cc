@@ -71,6 +71,38 @@ absl::Status ValidateEnv(const config::EnvConfig& env, const SourceLocator& wher
   return absl::OkStatus();
 }
 
+absl::Status ValidateToss(const config::TossConfig& t, const SourceLocator& where) {
+  auto fail = [&](const char* field, const char* rule) {
+    return absl::InvalidArgumentError(absl::StrCat(where.Where({{field}}), ": ", rule));
+  };
+  if (t.task() == config::TOSS_TASK_UNSPECIFIED) return fail("task", "must be CATCH or THROW");
+  if (!(t.kp() > 0)) return fail("kp", "must be > 0");
+  if (!(t.kd() >= 0)) return fail("kd", "must be >= 0");
+  if (!(t.action_scale() > 0)) return fail("action_scale", "must be > 0");
+  if (!(t.hand_period_s() > 0)) return fail("hand_period_s", "must be > 0");
+  if (!(t.dwell_ratio() > 0 && t.dwell_ratio() < 1)) return fail("dwell_ratio", "must lie in (0, 1)");
+  if (!(t.catch_radius() > 0)) return fail("catch_radius", "must be > 0");
+  if (!(t.drop_z() < t.hand_z())) return fail("drop_z", "must be below hand_z");
+  if (t.min_throw() < 1 || t.min_throw() == 2) return fail("min_throw", "must be 1 or >= 3");
+  if (t.max_throw() < t.min_throw() || t.max_throw() > 9) {
+    return fail("max_throw", "must lie in [min_throw, 9]");
+  }
+  if (!(t.landing_spread() >= 0)) return fail("landing_spread", "must be >= 0");
+  if (!(t.flight_jitter() >= 0 && t.flight_jitter() < 0.5)) {
+    return fail("flight_jitter", "must lie in [0, 0.5)");
+  }
+  if (!(t.catch_timing_jitter_s() >= 0 &&
+        t.catch_timing_jitter_s() < t.dwell_ratio() * t.hand_period_s())) {
+    return fail("catch_timing_jitter_s", "must lie in [0, dwell_ratio * hand_period_s)");
+  }
+  if (!(t.arrival_min_s() > 0 && t.arrival_max_s() >= t.arrival_min_s())) {
+    return fail("arrival_max_s", "needs 0 < arrival_min_s <= arrival_max_s");
+  }
+  if (!(t.start_noise() >= 0)) return fail("start_noise", "must be >= 0");
+  if (t.max_episode_steps() < 1) return fail("max_episode_steps", "must be >= 1");
+  return absl::OkStatus();
+}
+
 }  // namespace
 
 absl::StatusOr<std::string> ReadFile(const std::string& path) {
@@ -98,6 +130,19 @@ absl::StatusOr<LoadedConfig> ParseRunConfig(const std::string& text, const std::
         absl::StrCat(root.Where({{"sampling"}}), ": num_envs and num_threads must be >= 1"));
   }
 
+  if (loaded.run.has_toss()) {
+    // Toss juggling has no control graph: an empty one keeps the walk and the wire format
+    // uniform (zero edges, zero counts).
+    loaded.env_locator = root.Nested({{"toss"}});
+    if (loaded.run.has_graph() || loaded.run.has_graph_file()) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(root.Where({{loaded.run.has_graph() ? "graph" : "graph_file"}}),
+                       ": a toss config has no control graph"));
+    }
+    RETURN_IF_ERROR(ValidateToss(loaded.run.toss(), loaded.env_locator));
+    loaded.graph = std::make_shared<const ControlGraph>();
+    return loaded;
+  }
   const bool inline_graph = loaded.run.has_graph();
   const bool file_graph = loaded.run.has_graph_file();
   if (inline_graph == file_graph) {

@@ -18,7 +18,8 @@ struct LoadedConfig {
   std::string config_path;
   std::string config_dir;         // relative paths in the config resolve against this
   std::shared_ptr<const ControlGraph> graph;  // validated
-  SourceLocator env_locator{""};  // locates fields of run.env (for model-dependent checks)
+  // Locates fields of run.env, or of run.toss for a toss config (for model-dependent checks).
+  SourceLocator env_locator{""};
   SourceLocator graph_locator{""};  // locates fields of the graph (either file)
 };
 

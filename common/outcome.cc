@@ -13,6 +13,9 @@ const char* OutcomeName(Outcome o) {
     case Outcome::kStallLost: return "stall_lost";
     case Outcome::kDiverged: return "diverged";
     case Outcome::kTimeLimit: return "time_limit";
+    case Outcome::kCaught: return "caught";
+    case Outcome::kDropped: return "dropped";
+    case Outcome::kReleased: return "released";
     default: return "unknown";
   }
 }

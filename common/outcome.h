@@ -18,6 +18,10 @@ enum class Outcome : uint8_t {
   kStallLost,       // ball left the stalling body
   kDiverged,        // simulator warning or non-finite state
   kTimeLimit,       // truncated at max_episode_steps (not a failure)
+  // Toss juggling (worker/toss_env.h): episodes end on these, success or not.
+  kCaught,          // catch task: the ball attached to the hand (success)
+  kDropped,         // catch task: the ball fell below the drop height
+  kReleased,        // throw task: the ball left the hand at the release beat
   kNumOutcomes
 };
 // Stable snake_case name, e.g. "ball_lost"; "unknown" for values out of range.

@@ -20,7 +20,7 @@
 #include "common/bounded_queue.h"
 #include "common/chunk_codec.h"
 #include "common/http_server.h"
-#include "common/juggle_dims.h"
+#include "common/env_family.h"
 #include "common/outcome.h"
 #include "common/status_macros.h"
 #include "google/protobuf/text_format.h"
@@ -59,7 +59,7 @@ std::string IterationReport::ToLine() const {
 struct LearnerServer::State {
   LearnerOptions options;
   const config::RunConfig* run = nullptr;
-  int obs_dim = 0, num_nodes = 0, num_edges = 0;
+  int obs_dim = 0, act_dim = 0, num_nodes = 0, num_edges = 0;
   double control_dt = 0;
   std::string model_mjb;
   std::string config_text;  // graph inline, for workers
@@ -214,7 +214,7 @@ class RolloutServiceImpl final : public rpc::Rollout::Service {
                                    " differs from the run's ", s_->run->ppo().unroll_length())));
     }
     absl::StatusOr<Contribution> decoded =
-        DecodeChunk(chunk, s_->obs_dim, kNumActions, s_->num_nodes, s_->num_edges);
+        DecodeChunk(chunk, s_->obs_dim, s_->act_dim, s_->num_nodes, s_->num_edges);
     if (!decoded.ok()) return Reject("invalid", decoded.status());
     ChunkPart part;
     part.slot = worker->slot;
@@ -236,7 +236,7 @@ class RolloutServiceImpl final : public rpc::Rollout::Service {
 };
 
 absl::StatusOr<std::string> CompileModel(const LoadedConfig& config) {
-  const std::string path = ResolvePath(config.config_dir, config.run.env().model_file());
+  const std::string path = ModelFilePath(config);
   char error[1024] = "";
   mjModel* m = mj_loadXML(path.c_str(), nullptr, error, sizeof(error));
   if (m == nullptr) {
@@ -281,17 +281,19 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
   s->options = std::move(options);
   const LoadedConfig& config = s->options.config;
   s->run = &config.run;
-  s->num_nodes = config.graph->num_nodes();
+  const EnvDims dims = EnvDimsOf(config);
+  s->num_nodes = dims.node_ids;
   s->num_edges = config.graph->num_edges();
-  s->obs_dim = ObservationSize(s->num_nodes);
-  s->control_dt = config.run.env().sim_dt() * config.run.env().substeps();
+  s->obs_dim = dims.obs;
+  s->act_dim = dims.act;
+  s->control_dt = ControlDt(config);
   ASSIGN_OR_RETURN(s->model_mjb, CompileModel(config));
   config::RunConfig for_workers = config.run;
   for_workers.clear_graph_file();
   google::protobuf::TextFormat::PrintToString(for_workers, &s->config_text);
 
   s->trainer = std::make_unique<PpoTrainer>(config.run.model(), config.run.ppo(), s->obs_dim,
-                                            kNumActions, config.run.seed());
+                                            s->act_dim, config.run.seed());
   s->walk = std::make_unique<AdaptiveWalk>(config.graph.get());
   if (std::system(absl::StrCat("mkdir -p '", s->options.run_dir, "'").c_str()) != 0) {
     return absl::PermissionDeniedError(absl::StrCat("cannot create run directory ", s->options.run_dir));

@@ -4,7 +4,7 @@
 
 #include <cstring>
 
-#include "common/juggle_dims.h"
+#include "common/env_family.h"
 
 #include "absl/strings/str_cat.h"
 #include "google/protobuf/text_format.h"
@@ -67,11 +67,11 @@ absl::StatusOr<LoadedCheckpoint> LoadCheckpoint(const std::string& file_or_run_d
 
 absl::StatusOr<EigenPolicy> PolicyFromCheckpoint(const Sections& sections,
                                                  const LoadedConfig& config) {
-  const int obs_dim = ObservationSize(config.graph->num_nodes());
-  PpoTrainer trainer(config.run.model(), config.run.ppo(), obs_dim, kNumActions, 0);
+  const EnvDims dims = EnvDimsOf(config);
+  PpoTrainer trainer(config.run.model(), config.run.ppo(), dims.obs, dims.act, 0);
   AdaptiveWalk walk(config.graph.get());
   if (absl::Status s = RestoreLearnerState(sections, &trainer, &walk); !s.ok()) return s;
-  return EigenPolicy::Create(config.run.model(), trainer.ExportPolicy(), obs_dim, kNumActions);
+  return EigenPolicy::Create(config.run.model(), trainer.ExportPolicy(), dims.obs, dims.act);
 }
 
 }  // namespace juggle

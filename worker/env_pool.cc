@@ -6,7 +6,7 @@
 
 namespace juggle {
 
-absl::StatusOr<std::unique_ptr<EnvPool>> EnvPool::Create(std::shared_ptr<const JuggleSpec> spec,
+absl::StatusOr<std::unique_ptr<EnvPool>> EnvPool::Create(std::shared_ptr<const EnvSpec> spec,
                                                          int num_envs, int num_threads,
                                                          uint64_t seed, uint64_t worker) {
   if (num_envs < 1 || num_threads < 1) {
@@ -17,7 +17,7 @@ absl::StatusOr<std::unique_ptr<EnvPool>> EnvPool::Create(std::shared_ptr<const J
   std::unique_ptr<EnvPool> pool(new EnvPool(spec, std::min(num_threads, num_envs)));
   const int obs_dim = spec->obs_dim();
   for (int i = 0; i < num_envs; ++i) {
-    pool->envs_.push_back(std::make_unique<JuggleEnv>(spec, Rng::ForStream(seed, worker, i)));
+    pool->envs_.push_back(spec->NewEnv(Rng::ForStream(seed, worker, i)));
   }
   PoolStep& out = pool->out_;
   out.obs.assign(size_t(num_envs) * obs_dim, 0);
@@ -39,7 +39,7 @@ absl::StatusOr<std::unique_ptr<EnvPool>> EnvPool::Create(std::shared_ptr<const J
   return pool;
 }
 
-EnvPool::EnvPool(std::shared_ptr<const JuggleSpec> spec, int num_threads)
+EnvPool::EnvPool(std::shared_ptr<const EnvSpec> spec, int num_threads)
     : spec_(std::move(spec)), walk_(&spec_->graph()), num_threads_(num_threads) {}
 
 EnvPool::~EnvPool() {
@@ -62,9 +62,9 @@ void EnvPool::Reset() {
 void EnvPool::StepRange(int begin, int end) {
   const int obs_dim = spec_->obs_dim();
   for (int i = begin; i < end; ++i) {
-    JuggleEnv& env = *envs_[i];
-    out_.node[i] = env.cursor().current;
-    const StepResult r = env.Step(actions_ + size_t(i) * kNumActions, walk_);
+    Env& env = *envs_[i];
+    out_.node[i] = env.node();
+    const StepResult r = env.Step(actions_ + size_t(i) * act_dim(), walk_);
     out_.reward[i] = r.reward;
     out_.outcome[i] = r.outcome;
     out_.terminated[i] = r.terminated();
@@ -76,7 +76,7 @@ void EnvPool::StepRange(int begin, int end) {
     env_events_[i] = env.events();
     if (r.outcome != Outcome::kRunning) {
       finished_length_[i] = env.steps();
-      finished_completions_[i] = env.cursor().completions;
+      finished_completions_[i] = env.completions();
       // The walk is read-only during the batch step, so resetting here is thread-safe; the
       // reset's own sampling does not create events.
       env.Reset(walk_);

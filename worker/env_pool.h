@@ -1,5 +1,5 @@
-// EnvPool: N juggling environments stepped in lockstep on T threads (one shared mjModel, one
-// mjData per env), with automatic reset. Env i draws from Rng::ForStream(seed, worker, i), and
+// EnvPool: N environments of one family (worker/env.h) stepped in lockstep on T threads (one
+// shared mjModel, one mjData per env), with automatic reset. Env i draws from Rng::ForStream(seed, worker, i), and
 // edge events are applied to the adaptive walk in env order after every batch step, so a run is
 // bit-identical for a fixed seed whatever the thread count.
 //
@@ -18,8 +18,7 @@
 #include "absl/status/statusor.h"
 #include "common/adaptive_walk.h"
 #include "common/episode_counters.h"
-#include "worker/juggle_env.h"
-#include "worker/juggle_spec.h"
+#include "worker/env.h"
 
 namespace juggle {
 
@@ -38,14 +37,14 @@ struct PoolStep {
 class EnvPool {
  public:
   // INVALID_ARGUMENT if num_envs < 1 or num_threads < 1.
-  static absl::StatusOr<std::unique_ptr<EnvPool>> Create(std::shared_ptr<const JuggleSpec> spec,
+  static absl::StatusOr<std::unique_ptr<EnvPool>> Create(std::shared_ptr<const EnvSpec> spec,
                                                          int num_envs, int num_threads,
                                                          uint64_t seed, uint64_t worker = 0);
   ~EnvPool();
 
   // Resets every env; output().obs holds the first observations.
   void Reset();
-  // Steps every env with `actions` ([num_envs, kNumActions]); finished envs are reset.
+  // Steps every env with `actions` ([num_envs, act_dim]); finished envs are reset.
   // If apply_events_locally() (the default), the events update walk() afterwards.
   void Step(const float* actions);
 
@@ -57,18 +56,19 @@ class EnvPool {
 
   int num_envs() const { return static_cast<int>(envs_.size()); }
   int obs_dim() const { return spec_->obs_dim(); }
-  const JuggleSpec& spec() const { return *spec_; }
-  JuggleEnv& env(int i) { return *envs_[i]; }
+  int act_dim() const { return spec_->act_dim(); }
+  const EnvSpec& spec() const { return *spec_; }
+  Env& env(int i) { return *envs_[i]; }
 
  private:
-  EnvPool(std::shared_ptr<const JuggleSpec> spec, int num_threads);
+  EnvPool(std::shared_ptr<const EnvSpec> spec, int num_threads);
   void StepRange(int begin, int end);
   void RunParallel();
   void ThreadMain(int thread);
 
-  std::shared_ptr<const JuggleSpec> spec_;
+  std::shared_ptr<const EnvSpec> spec_;
   AdaptiveWalk walk_;
-  std::vector<std::unique_ptr<JuggleEnv>> envs_;
+  std::vector<std::unique_ptr<Env>> envs_;
   std::vector<double> episode_return_;
   // Per env, written by its thread during a step: events and the finished episode's length
   // and completions, captured before the automatic reset.

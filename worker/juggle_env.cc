@@ -28,6 +28,11 @@ JuggleEnv::JuggleEnv(std::shared_ptr<const JuggleSpec> spec, Rng rng)
 
 JuggleEnv::~JuggleEnv() { mj_deleteData(data_); }
 
+std::unique_ptr<Env> JuggleSpec::NewEnv(Rng rng) const {
+  return std::make_unique<JuggleEnv>(
+      std::static_pointer_cast<const JuggleSpec>(shared_from_this()), rng);
+}
+
 void JuggleEnv::Reset(const AdaptiveWalk& walk) {
   events_.clear();
   spec_->cursor().Reset(walk, &rng_, &cursor_);

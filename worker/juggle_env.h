@@ -21,43 +21,39 @@
 #include "common/outcome.h"
 #include "common/graph_cursor.h"
 #include "common/rng.h"
+#include "worker/env.h"
 #include "worker/juggle_spec.h"
 
 namespace juggle {
 
-struct StepResult {
-  float reward = 0;
-  Outcome outcome = Outcome::kRunning;
-  bool terminated() const { return outcome != Outcome::kRunning && outcome != Outcome::kTimeLimit; }
-  bool truncated() const { return outcome == Outcome::kTimeLimit; }
-};
-
-class JuggleEnv {
+class JuggleEnv : public Env {
  public:
   JuggleEnv(std::shared_ptr<const JuggleSpec> spec, Rng rng);
-  ~JuggleEnv();
+  ~JuggleEnv() override;
   JuggleEnv(const JuggleEnv&) = delete;
   JuggleEnv& operator=(const JuggleEnv&) = delete;
 
   // Starts an episode at a random initial node (character at the reference pose, ball at its
   // apex, both at rest). Events are cleared.
-  void Reset(const AdaptiveWalk& walk);
+  void Reset(const AdaptiveWalk& walk) override;
   // Starts an episode at DOWN node `node`.
   void ResetAt(int node, const AdaptiveWalk& walk);
 
   // Advances one control step. REQUIRES: `action` holds kNumActions values in [−1, 1] (clamped
   // here) and the episode has not ended. Events of this step: events().
-  StepResult Step(const float* action, const AdaptiveWalk& walk);
+  StepResult Step(const float* action, const AdaptiveWalk& walk) override;
 
   // Observation of the current state. REQUIRES: `obs` holds spec().obs_dim() floats.
-  void WriteObservation(float* obs) const;
+  void WriteObservation(float* obs) const override;
 
-  const std::vector<EdgeEvent>& events() const { return events_; }
+  const std::vector<EdgeEvent>& events() const override { return events_; }
   const CursorState& cursor() const { return cursor_; }
   const JuggleSpec& spec() const { return *spec_; }
-  int steps() const { return steps_; }
+  int steps() const override { return steps_; }
+  int node() const override { return cursor_.current; }
+  int completions() const override { return cursor_.completions; }
   // Simulator state, for tests and tools (render, record). Mutating it is the caller's risk.
-  mjData* data() { return data_; }
+  mjData* data() override { return data_; }
   const mjData* data() const { return data_; }
   // Reference pose the PD tracked during the last step (or set at reset).
   const CharacterPose& reference_pose() const { return reference_; }

@@ -6,6 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "common/status_macros.h"
+#include "worker/mujoco_model.h"
 #include "worker/reference_pose.h"
 
 namespace juggle {
@@ -35,11 +36,6 @@ DefaultGains DefaultGainsFor(JointId j) {
 absl::Status Invalid(const SourceLocator& where, const FieldPath& path, const std::string& what) {
   return absl::InvalidArgumentError(absl::StrCat(where.Where(path), ": ", what));
 }
-
-// MuJoCo's default warning handler prints and appends to MUJOCO_LOG.TXT on every bad step.
-// Envs read the warning counters in mjData instead (JuggleEnv counts a diverged episode), so
-// the process-global handler is made silent. Stateless, hence safe from every thread.
-void SilentWarning(const char*) {}
 
 int JointIdByName(const std::string& name) {
   for (int j = 0; j < kNumJoints; ++j) {
@@ -72,33 +68,15 @@ JuggleSpec::JuggleSpec(LoadedConfig config, mjModel* model)
 JuggleSpec::~JuggleSpec() { mj_deleteModel(model_); }
 
 absl::StatusOr<std::shared_ptr<const JuggleSpec>> JuggleSpec::Create(const LoadedConfig& config) {
-  const config::EnvConfig& env = config.run.env();
-  mju_user_warning = SilentWarning;
-  const std::string model_path = ResolvePath(config.config_dir, env.model_file());
-  char error[1024] = "";
-  mjModel* model = mj_loadXML(model_path.c_str(), nullptr, error, sizeof(error));
-  if (model == nullptr) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        config.env_locator.Where({{"model_file"}}), ": cannot load MJCF '", model_path, "': ",
-        error));
-  }
+  ASSIGN_OR_RETURN(mjModel * model,
+                   LoadModelXml(ResolvePath(config.config_dir, config.run.env().model_file()),
+                                config.env_locator.Where({{"model_file"}})));
   return Build(config, model);
 }
 
 absl::StatusOr<std::shared_ptr<const JuggleSpec>> JuggleSpec::CreateFromCompiled(
     const LoadedConfig& config, const std::string& model_mjb) {
-  mju_user_warning = SilentWarning;
-  auto vfs = std::make_unique<mjVFS>();
-  mj_defaultVFS(vfs.get());
-  const char* kName = "model.mjb";
-  if (mj_makeEmptyFileVFS(vfs.get(), kName, static_cast<int>(model_mjb.size())) != 0) {
-    return absl::InternalError("cannot allocate the model in MuJoCo's virtual file system");
-  }
-  const int index = mj_findFileVFS(vfs.get(), kName);
-  std::memcpy(vfs->filedata[index], model_mjb.data(), model_mjb.size());
-  mjModel* model = mj_loadModel(kName, vfs.get());
-  mj_deleteVFS(vfs.get());
-  if (model == nullptr) return absl::InvalidArgumentError("cannot load the compiled model");
+  ASSIGN_OR_RETURN(mjModel * model, LoadModelCompiled(model_mjb));
   return Build(config, model);
 }
 

@@ -17,6 +17,7 @@
 #include "common/control_graph.h"
 #include "common/graph_cursor.h"
 #include "common/juggle_dims.h"
+#include "worker/env.h"
 
 namespace juggle {
 
@@ -57,7 +58,7 @@ struct NodeRuntime {
   double stall_max_distance = 0;
 };
 
-class JuggleSpec {
+class JuggleSpec : public EnvSpec {
  public:
   // Compiles the model named by the config and resolves everything against it. Errors
   // (INVALID_ARGUMENT / NOT_FOUND) name the config file, line and field, or the MJCF error.
@@ -65,20 +66,22 @@ class JuggleSpec {
   // As Create, from a model compiled elsewhere (mj_saveModel bytes, as the learner ships it).
   static absl::StatusOr<std::shared_ptr<const JuggleSpec>> CreateFromCompiled(
       const LoadedConfig& config, const std::string& model_mjb);
-  ~JuggleSpec();
+  ~JuggleSpec() override;
   JuggleSpec(const JuggleSpec&) = delete;
   JuggleSpec& operator=(const JuggleSpec&) = delete;
 
-  const mjModel* model() const { return model_; }
+  const mjModel* model() const override { return model_; }
   const LoadedConfig& config() const { return config_; }
   const config::EnvConfig& env() const { return config_.run.env(); }
-  const ControlGraph& graph() const { return *config_.graph; }
+  const ControlGraph& graph() const override { return *config_.graph; }
   const GraphCursor& cursor() const { return cursor_; }
   const ActuatedJoint& joint(int j) const { return joints_[j]; }
   const NodeRuntime& node_runtime(int n) const { return nodes_[n]; }
   const CharacterPose& rest_pose() const { return rest_pose_; }
 
-  int obs_dim() const { return ObservationSize(graph().num_nodes()); }
+  int obs_dim() const override { return ObservationSize(graph().num_nodes()); }
+  int act_dim() const override { return kNumActions; }
+  std::unique_ptr<Env> NewEnv(Rng rng) const override;
   double control_dt() const { return env().sim_dt() * env().substeps(); }
   int root_body() const { return root_body_; }
   int ball_body() const { return ball_body_; }

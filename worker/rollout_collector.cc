@@ -16,7 +16,7 @@ RolloutCollector::RolloutCollector(EnvPool* pool, int unroll_length, uint64_t se
   for (int i = 0; i < pool->num_envs(); ++i) {
     rngs_.push_back(Rng::ForStream(seed ^ kActionStreamSalt, worker, i));
   }
-  actions_.resize(size_t(pool->num_envs()) * kNumActions);
+  actions_.resize(size_t(pool->num_envs()) * pool->act_dim());
 }
 
 void RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* batch,
@@ -25,13 +25,14 @@ void RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* batch,
     pool_->Reset();
     started_ = true;
   }
-  const int U = pool_->num_envs(), T = unroll_length_, D = pool_->obs_dim();
+  const int U = pool_->num_envs(), T = unroll_length_, D = pool_->obs_dim(),
+            A = pool_->act_dim();
   batch->num_unrolls = U;
   batch->unroll_length = T;
   batch->obs_dim = D;
-  batch->act_dim = kNumActions;
+  batch->act_dim = A;
   batch->obs.resize(size_t(U) * T * D);
-  batch->actions.resize(size_t(U) * T * kNumActions);
+  batch->actions.resize(size_t(U) * T * A);
   batch->log_probs.resize(size_t(U) * T);
   batch->rewards.resize(size_t(U) * T);
   batch->done.assign(size_t(U) * T, 0);
@@ -51,10 +52,10 @@ void RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* batch,
       std::copy(out.obs.begin() + size_t(u) * D, out.obs.begin() + size_t(u + 1) * D,
                 batch->obs.begin() + i * D);
       batch->log_probs[i] = policy.Sample(mean.row(u).data(), &rngs_[u],
-                                          &actions_[size_t(u) * kNumActions]);
-      std::copy(actions_.begin() + size_t(u) * kNumActions,
-                actions_.begin() + size_t(u + 1) * kNumActions,
-                batch->actions.begin() + i * kNumActions);
+                                          &actions_[size_t(u) * A]);
+      std::copy(actions_.begin() + size_t(u) * A,
+                actions_.begin() + size_t(u + 1) * A,
+                batch->actions.begin() + i * A);
     }
     pool_->Step(actions_.data());
     for (int u = 0; u < U; ++u) {

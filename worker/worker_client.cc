@@ -16,7 +16,7 @@
 #include "common/flat_parameters.h"
 #include "proto/rollout.grpc.pb.h"
 #include "worker/env_pool.h"
-#include "worker/juggle_spec.h"
+#include "worker/env_registry.h"
 #include "worker/rollout_collector.h"
 
 namespace juggle {
@@ -97,8 +97,8 @@ class Session {
     incarnation_ = reg.incarnation();
     absl::StatusOr<LoadedConfig> config = ParseRunConfig(reg.run_config(), "<from learner>");
     if (!config.ok()) return config.status();
-    absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec =
-        JuggleSpec::CreateFromCompiled(*config, reg.model_mjb());
+    absl::StatusOr<std::shared_ptr<const EnvSpec>> spec =
+        CreateEnvSpecFromCompiled(*config, reg.model_mjb());
     if (!spec.ok()) return spec.status();
     const config::RunConfig& run = config->run;
     absl::StatusOr<std::unique_ptr<EnvPool>> pool =
@@ -155,7 +155,7 @@ class Session {
       absl::StatusOr<FlatParameters> params = FlatParameters::Deserialize(snap->params);
       if (!params.ok()) return params.status();
       absl::StatusOr<EigenPolicy> policy =
-          EigenPolicy::Create(run.model(), *params, obs_dim, kNumActions);
+          EigenPolicy::Create(run.model(), *params, obs_dim, pool->act_dim());
       if (!policy.ok()) return policy.status();
       if (absl::Status s = pool->walk()->SetCounts(snap->edge_counts); !s.ok()) return s;
       *version_seen = snap->version;

@@ -1,0 +1,17 @@
+// Sizes of the toss-juggling tasks' interface (seed 001 §4.1), shared by workers and the learner.
+// Everything is in the right arm's frame; the left arm is mirrored into it (worker/toss_arm.h).
+#ifndef JUGGLE_COMMON_TOSS_DIMS_H_
+#define JUGGLE_COMMON_TOSS_DIMS_H_
+
+namespace juggle {
+
+// Controlled joints 𝒥 = {neck, shoulder, elbow, wrist}: the action is their target angles.
+constexpr int kTossJoints = 4;
+// S_catch = {p_hand (2), ṗ_hand (2), p_ball (2), ṗ_ball (2), 𝒥 (4)}.
+constexpr int kTossCatchObs = 12;
+// S_throw = S_catch ∪ {t_throw (1), v̄_throw (2)}.
+constexpr int kTossThrowObs = kTossCatchObs + 3;
+
+}  // namespace juggle
+
+#endif  // JUGGLE_COMMON_TOSS_DIMS_H_

@@ -18,6 +18,7 @@ int RunBenchBroadcast(int argc, char** argv, int first);
 int RunBenchLocal(int argc, char** argv, int first);
 int RunRender(int argc, char** argv, int first);
 int RunSiteswap(int argc, char** argv, int first);
+int RunToss(int argc, char** argv, int first);
 
 }  // namespace juggle
 

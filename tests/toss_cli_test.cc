@@ -1,0 +1,104 @@
+// Toss juggling end to end with the built binary: PPO on the catch task through `juggle train`
+// raises the catch rate above the untrained policy's; a learner and a worker process train the
+// throw task from the learner's config alone; `juggle toss` prints the evaluation keys and
+// rejects patterns it cannot juggle with a clear error.
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+#include "common/temp_dir.h"
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "tests/service_test_util.h"
+
+namespace juggle {
+namespace {
+
+using ::testing::HasSubstr;
+using testing::ChildProcess;
+
+class TossCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override { dir_ = MakeTempDir("juggle_toss_"); }
+  void TearDown() override {
+    if (!HasFailure()) std::system(("rm -rf " + dir_).c_str());
+    else std::fprintf(stderr, "logs kept in %s\n", dir_.c_str());
+  }
+  // Runs `juggle <args>`; returns the exit code and sets `last_line` and `output`.
+  int Run(const std::vector<std::string>& args, double seconds, const std::string& log_name) {
+    const std::string log = dir_ + "/" + log_name;
+    ChildProcess p(args, log);
+    const int code = p.Wait(seconds);
+    std::ifstream in(log);
+    std::string line;
+    output_.clear();
+    while (std::getline(in, line)) {
+      output_ += line + "\n";
+      if (!line.empty()) last_line_ = line;
+    }
+    return code;
+  }
+  // The value of `key=` in the last line.
+  double Value(const std::string& key) const {
+    const size_t at = last_line_.find(key + "=");
+    if (at == std::string::npos) return -1;
+    return std::atof(last_line_.c_str() + at + key.size() + 1);
+  }
+
+  std::string dir_, last_line_, output_;
+};
+
+TEST_F(TossCliTest, ShortCatchTrainingRaisesTheCatchRateAboveTheUntrainedPolicy) {
+  const std::string config = "--config=configs/toss_catch.textproto";
+  ASSERT_EQ(Run({"train", config, "--iterations=1", "--run_dir=" + dir_ + "/untrained"}, 120,
+                "untrained.log"), 0) << output_;
+  ASSERT_EQ(Run({"train", config, "--iterations=60", "--run_dir=" + dir_ + "/trained"}, 300,
+                "trained.log"), 0) << output_;
+  ASSERT_EQ(Run({"eval", "--checkpoint=" + dir_ + "/untrained", "--episodes=200"}, 120,
+                "eval_untrained.log"), 0) << output_;
+  const double untrained = Value("mean_completions");
+  ASSERT_EQ(Run({"eval", "--checkpoint=" + dir_ + "/trained", "--episodes=200"}, 120,
+                "eval_trained.log"), 0) << output_;
+  const double trained = Value("mean_completions");
+  EXPECT_GT(trained, 0.8) << last_line_;
+  EXPECT_GT(trained, untrained + 0.2) << "untrained " << untrained << ", trained " << trained;
+}
+
+TEST_F(TossCliTest, WorkerProcessTrainsTheThrowTaskFromTheLearnersConfigAlone) {
+  const int port = testing::FreePort(), metrics = testing::FreePort();
+  ChildProcess learner({"learner", "--config=configs/toss_throw.textproto",
+                        "--port=" + std::to_string(port), "--metrics_port=" + std::to_string(metrics),
+                        "--run_dir=" + dir_ + "/run"},
+                       dir_ + "/learner.log");
+  ChildProcess worker({"worker", "--learner=127.0.0.1:" + std::to_string(port), "--envs=8",
+                       "--threads=1"},
+                      dir_ + "/worker.log");
+  EXPECT_TRUE(testing::WaitFor(
+      [&] { return testing::ScrapeMetric(metrics, "juggle_policy_version").value_or(0) >= 3; }, 90));
+  EXPECT_GT(testing::ScrapeMetric(metrics, "juggle_episodes_total{outcome=\"released\"}").value_or(0), 0);
+  learner.Kill(SIGTERM);
+  worker.Kill(SIGTERM);
+  EXPECT_EQ(learner.Wait(30), 0);
+  EXPECT_EQ(worker.Wait(30), 0);
+}
+
+TEST_F(TossCliTest, ZeroActionEvalEndsWithTheProtocolKeys) {
+  ASSERT_EQ(Run({"toss", "--zero-action", "--eval", "--seeds=2", "--patterns=3,531",
+                 "--wind-max=0.02"}, 120, "eval.log"), 0) << output_;
+  EXPECT_THAT(last_line_, HasSubstr("throws_3="));
+  EXPECT_THAT(last_line_, HasSubstr("throws_531="));
+  EXPECT_THAT(last_line_, HasSubstr("max_basic_pattern=0"));
+  EXPECT_LT(Value("throws_3"), 5) << "resting arms cannot juggle";
+}
+
+TEST_F(TossCliTest, UnjugglablePatternsAreClearErrors) {
+  EXPECT_EQ(Run({"toss", "--zero-action", "--pattern=9"}, 30, "nine.log"), 1);
+  EXPECT_THAT(output_, HasSubstr("9 balls"));
+  EXPECT_EQ(Run({"toss", "--zero-action", "--pattern=54"}, 30, "collision.log"), 1);
+  EXPECT_THAT(output_, HasSubstr("error:"));
+  EXPECT_EQ(Run({"toss", "--catch=" + dir_ + "/missing", "--pattern=3"}, 30, "missing.log"), 1);
+  EXPECT_THAT(output_, HasSubstr("missing"));
+}
+
+}  // namespace
+}  // namespace juggle

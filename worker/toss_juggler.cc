@@ -1,0 +1,218 @@
+#include "worker/toss_juggler.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+
+namespace juggle {
+namespace {
+
+Hand Other(Hand h) { return h == Hand::kRight ? Hand::kLeft : Hand::kRight; }
+Hand BeatHand(int beat) { return ((beat % 2) + 2) % 2 == 0 ? Hand::kRight : Hand::kLeft; }
+
+}  // namespace
+
+const char* JuggleEndName(JuggleEnd end) {
+  switch (end) {
+    case JuggleEnd::kMaxThrows: return "max_throws";
+    case JuggleEnd::kDropped: return "dropped";
+    case JuggleEnd::kMissedBeat: return "missed_beat";
+    case JuggleEnd::kDiverged: return "diverged";
+  }
+  return "unknown";
+}
+
+absl::StatusOr<std::unique_ptr<TossJuggler>> TossJuggler::Create(
+    std::shared_ptr<const TossSpec> spec, const Siteswap& pattern, TossPolicies policies,
+    JugglerOptions options) {
+  if (pattern.balls() < 1 || pattern.balls() > kTossBalls) {
+    return absl::InvalidArgumentError(absl::StrCat("pattern has ", pattern.balls(),
+                                                   " balls; the toss model juggles 1 to ",
+                                                   kTossBalls));
+  }
+  if (options.max_throws < 1) return absl::InvalidArgumentError("max_throws must be >= 1");
+  return std::unique_ptr<TossJuggler>(
+      new TossJuggler(std::move(spec), pattern, policies, options));
+}
+
+TossJuggler::TossJuggler(std::shared_ptr<const TossSpec> spec, const Siteswap& pattern,
+                         TossPolicies policies, JugglerOptions options)
+    : spec_(std::move(spec)),
+      pattern_(pattern),
+      policies_(policies),
+      options_(options),
+      world_(spec_) {
+  Rng rng = Rng::ForStream(options_.seed, 0, 0);
+  world_.Reset(&rng, options_.start_noise);
+  PlaceInitialBalls(&rng);
+}
+
+int TossJuggler::Value(int beat) const {
+  const int p = pattern_.period();
+  return pattern_.throws()[((beat % p) + p) % p];
+}
+
+int TossJuggler::BeatStep(int beat) const {
+  const config::TossConfig& t = spec_->toss();
+  const int t0 = static_cast<int>(std::lround(t.dwell_ratio() * t.hand_period_s() / spec_->dt()));
+  const int beat_steps = static_cast<int>(std::lround(0.5 * t.hand_period_s() / spec_->dt()));
+  return t0 + beat * beat_steps;
+}
+
+void TossJuggler::PlaceInitialBalls(Rng* rng) {
+  const double g = spec_->timing().gravity, dt = spec_->dt();
+  const double jitter = 10 * options_.start_noise;
+  const config::TossConfig& t = spec_->toss();
+  const int dwell_steps = static_cast<int>(std::lround(t.dwell_ratio() * t.hand_period_s() / dt));
+  // The first beat still to come (t0 = D_ratio·P_hand is more than one beat: beat −1 comes
+  // before beat 0). Throws on earlier beats were made before t = 0.
+  int first_beat = 0;
+  while (BeatStep(first_beat - 1) > 0) --first_beat;
+  next_beat_ = first_beat;
+  for (int j = first_beat - pattern_.max_throw(); j < first_beat; ++j) {
+    const int v = Value(j);
+    const int landing = j + v;
+    if (v == 0 || landing < first_beat) continue;
+    const int b = static_cast<int>(balls_.size());
+    balls_.push_back({landing});
+    if (BeatStep(landing) - dwell_steps <= 0) {  // already caught: in its hand
+      world_.Hold(b, BeatHand(landing));
+      continue;
+    }
+    // In flight on the schedule's parabola from the thrower's home point, τ after the release.
+    const Hand thrower = BeatHand(j);
+    const ThrowTiming timing = ComputeThrowTiming(v, thrower == Hand::kRight ? 0 : 1,
+                                                  spec_->timing());
+    const double tau = -BeatStep(j) * dt;
+    const Vec2 p{spec_->home_x(thrower) + timing.v_x * tau + rng->Uniform(-jitter, jitter),
+                 spec_->home_z() + timing.v_z * tau - 0.5 * g * tau * tau +
+                     rng->Uniform(-jitter, jitter)};
+    world_.SetFree(b, p, {timing.v_x, timing.v_z - g * tau});
+  }
+}
+
+Hand TossJuggler::DestinationHand(int ball) const { return BeatHand(balls_[ball].next_beat); }
+
+int TossJuggler::IncomingBall(Hand hand) const {
+  int best = -1;
+  for (int b = 0; b < static_cast<int>(balls_.size()); ++b) {
+    if (world_.mode(b) != BallMode::kFree || DestinationHand(b) != hand) continue;
+    if (best < 0 || balls_[b].next_beat < balls_[best].next_beat) best = b;
+  }
+  return best;
+}
+
+void TossJuggler::Act(Hand hand) {
+  const int held = world_.held_by(hand);
+  const EigenPolicy* policy = held >= 0 ? policies_.thrower : policies_.catcher;
+  const int ball = held >= 0 ? held : IncomingBall(hand);
+  if (policy == nullptr || ball < 0) {
+    world_.SetHomeTargets(hand);
+    return;
+  }
+  float obs[kTossThrowObs];
+  world_.WriteArmObservation(hand, ball, obs);
+  if (held >= 0) {
+    const int beat = balls_[held].next_beat;
+    const ThrowTiming timing = ComputeThrowTiming(Value(beat), beat, spec_->timing());
+    obs[kTossCatchObs] = static_cast<float>((BeatStep(beat) - step_) * spec_->dt());
+    obs[kTossCatchObs + 1] = static_cast<float>(TossSpec::MirrorSign(hand) * timing.v_x);
+    obs[kTossCatchObs + 2] = static_cast<float>(timing.v_z);
+  }
+  const RowMatrix action = policy->MeanActions(obs, 1);
+  world_.SetAction(hand, action.data());
+}
+
+bool TossJuggler::DoBeat(int beat) {
+  const int v = Value(beat);
+  if (v == 0) return true;
+  const Hand hand = BeatHand(beat);
+  const int ball = world_.held_by(hand);
+  if (ball < 0 || balls_[ball].next_beat != beat) return false;
+  if (v == 1 || ComputeThrowTiming(v, beat, spec_->timing()).kind == ThrowKind::kHandoff) {
+    if (world_.held_by(Other(hand)) >= 0) return false;
+    world_.Hold(ball, Other(hand));
+  } else {
+    const ThrowTiming timing = ComputeThrowTiming(v, beat, spec_->timing());
+    const Vec2 p = world_.palm_position(hand);
+    Vec2 vel = world_.Release(ball);
+    if (options_.ideal_release) {
+      vel = {timing.v_x, timing.v_z};
+      world_.SetFree(ball, p, vel);
+    }
+    position_error_sum_ += std::hypot(p.x - spec_->home_x(hand), p.z - spec_->home_z());
+    velocity_error_sum_ += std::hypot(vel.x - timing.v_x, vel.z - timing.v_z);
+    ++releases_;
+  }
+  balls_[ball].next_beat = beat + v;
+  ++result_.throws;
+  return true;
+}
+
+void TossJuggler::Capture(std::vector<JuggleFrame>* frames) const {
+  if (frames == nullptr) return;
+  JuggleFrame f;
+  f.time = world_.time();
+  const mjData* d = world_.data();
+  const TossArmJoints& right = spec_->arm(Hand::kRight);
+  const TossArmJoints& left = spec_->arm(Hand::kLeft);
+  f.joints = {d->qpos[right.qpos[0]], d->qpos[right.qpos[1]], d->qpos[right.qpos[2]],
+              d->qpos[right.qpos[3]], d->qpos[left.qpos[1]],  d->qpos[left.qpos[2]],
+              d->qpos[left.qpos[3]]};
+  f.palms = {world_.palm_position(Hand::kRight), world_.palm_position(Hand::kLeft)};
+  for (int b = 0; b < static_cast<int>(balls_.size()); ++b) {
+    f.balls.push_back(world_.ball_position(b));
+    f.ball_mode.push_back(static_cast<int>(world_.mode(b)));
+  }
+  frames->push_back(std::move(f));
+}
+
+JuggleRunResult TossJuggler::Run(std::vector<JuggleFrame>* frames) {
+  Capture(frames);
+  const double drop_z = spec_->toss().drop_z();
+  while (true) {
+    Act(Hand::kRight);
+    Act(Hand::kLeft);
+    world_.Step();
+    ++step_;
+    if (world_.diverged()) {
+      result_.end = JuggleEnd::kDiverged;
+      break;
+    }
+    for (Hand hand : {Hand::kRight, Hand::kLeft}) {
+      const int ball = IncomingBall(hand);
+      if (ball >= 0 && world_.CanCatch(ball, hand)) {
+        world_.Hold(ball, hand);
+        ++result_.catches;
+      }
+    }
+    bool over = false;
+    while (!over && BeatStep(next_beat_) <= step_) {
+      if (!DoBeat(next_beat_)) {
+        result_.end = JuggleEnd::kMissedBeat;
+        over = true;
+      } else if (result_.throws >= options_.max_throws) {
+        result_.end = JuggleEnd::kMaxThrows;
+        over = true;
+      }
+      ++next_beat_;
+    }
+    for (int b = 0; !over && b < static_cast<int>(balls_.size()); ++b) {
+      if (world_.mode(b) == BallMode::kFree && world_.ball_position(b).z < drop_z) {
+        result_.end = JuggleEnd::kDropped;
+        over = true;
+      }
+    }
+    Capture(frames);
+    if (over) break;
+  }
+  result_.seconds = world_.time();
+  if (releases_ > 0) {
+    result_.mean_velocity_error = velocity_error_sum_ / releases_;
+    result_.mean_position_error = position_error_sum_ / releases_;
+  }
+  return result_;
+}
+
+}  // namespace juggle

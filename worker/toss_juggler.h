@@ -1,0 +1,111 @@
+// TossJuggler: pattern juggling with two arms (seed 001 §3, Fig. 4). Each hand runs a mode
+// machine — empty: catch mode, holding: throw mode — and the beat clock sequences the throws of
+// a siteswap: beat k (right hand on even k) comes at t0 + k·P_hand/2 with t0 = D_ratio·P_hand,
+// and throws s[k mod period] with the ball that hand holds.
+//   value ≥ 2  released with the palm's velocity (auto-release); the target is Eq. 1–3's;
+//   value 1    handed over to the other hand (Eq. 1 gives it no flight time; not in the paper);
+//   value 0    nothing.
+// The catch policy sees the next ball due at its hand; the throw policy sees the held ball,
+// the time left to its beat and its target velocity; the left arm runs both through the mirror.
+// The balls start as if the pattern had always run: each ball thrown before t = 0 flies on its
+// scheduled parabola, or is in its hand if its catch time has passed (beat −1, at 0.1 s with
+// the defaults, is the first beat: the left hand holds a ball for it, the right one for beat 0).
+// A run ends at the first drop (ball below drop_z), at a beat whose ball is not in hand
+// (missed beat), on divergence, or after max_throws throws.
+#ifndef JUGGLE_WORKER_TOSS_JUGGLER_H_
+#define JUGGLE_WORKER_TOSS_JUGGLER_H_
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "common/eigen_policy.h"
+#include "common/rng.h"
+#include "common/siteswap.h"
+#include "worker/toss_world.h"
+
+namespace juggle {
+
+struct TossPolicies {
+  // Trained policies; null means the zero action (the arm holds its home pose).
+  const EigenPolicy* catcher = nullptr;
+  const EigenPolicy* thrower = nullptr;
+};
+
+struct JugglerOptions {
+  int max_throws = 200;
+  uint64_t seed = 1;
+  // Start perturbation: arm angles ± start_noise (rad, speeds ± 10×) and initial ball positions
+  // ± 10× start_noise (cm scale).
+  double start_noise = 0.002;
+  // Test oracle and scripted baseline: a release sets the ball's velocity to the schedule's
+  // target instead of the palm's (the position stays the palm's).
+  bool ideal_release = false;
+};
+
+enum class JuggleEnd { kMaxThrows, kDropped, kMissedBeat, kDiverged };
+const char* JuggleEndName(JuggleEnd end);
+
+struct JuggleRunResult {
+  int throws = 0;    // throws made (released, handed over) before the run ended
+  int catches = 0;
+  JuggleEnd end = JuggleEnd::kMaxThrows;
+  double seconds = 0;
+  // Over the released throws: mean |v − v̄| (m/s) and |p − p̄| (m) at the release.
+  double mean_velocity_error = 0;
+  double mean_position_error = 0;
+};
+
+// One row per control step, for `juggle toss --record`.
+struct JuggleFrame {
+  double time = 0;
+  std::array<double, 7> joints{};  // neck, right shoulder, elbow, wrist, left shoulder, elbow, wrist
+  std::array<Vec2, 2> palms{};     // right, left
+  std::vector<Vec2> balls;         // the pattern's balls
+  std::vector<int> ball_mode;      // 0 parked, 1 free, 2 held
+};
+
+class TossJuggler {
+ public:
+  // INVALID_ARGUMENT for patterns with more balls than the model has (7) or throws above 35.
+  static absl::StatusOr<std::unique_ptr<TossJuggler>> Create(std::shared_ptr<const TossSpec> spec,
+                                                            const Siteswap& pattern,
+                                                            TossPolicies policies,
+                                                            JugglerOptions options);
+  // Runs to the end; frames are appended to `frames` if given.
+  JuggleRunResult Run(std::vector<JuggleFrame>* frames = nullptr);
+
+ private:
+  struct Ball {
+    int next_beat = 0;  // beat on which it is thrown next
+  };
+  TossJuggler(std::shared_ptr<const TossSpec> spec, const Siteswap& pattern, TossPolicies policies,
+              JugglerOptions options);
+  void PlaceInitialBalls(Rng* rng);
+  int Value(int beat) const;
+  int BeatStep(int beat) const;
+  Hand DestinationHand(int ball) const;
+  int IncomingBall(Hand hand) const;
+  void Act(Hand hand);
+  bool DoBeat(int beat);  // false: missed beat
+  void Capture(std::vector<JuggleFrame>* frames) const;
+
+  std::shared_ptr<const TossSpec> spec_;
+  Siteswap pattern_;
+  TossPolicies policies_;
+  JugglerOptions options_;
+  TossWorld world_;
+  std::vector<Ball> balls_;
+  int step_ = 0;
+  int next_beat_ = 0;
+  JuggleRunResult result_;
+  double velocity_error_sum_ = 0, position_error_sum_ = 0;
+  int releases_ = 0;
+};
+
+}  // namespace juggle
+
+#endif  // JUGGLE_WORKER_TOSS_JUGGLER_H_

@@ -1,0 +1,88 @@
+// The two-arm runtime's sequencing (beat clock, catch/throw modes, handoffs, the initial ball
+// placement) checked against the siteswap schedule itself: with arms resting at home and
+// releases at exactly the schedule's velocity, every ball comes down into the right hand on
+// time, so any pattern runs to the throw limit; with the palm's own (zero) velocity it cannot.
+#include <memory>
+
+#include "gtest/gtest.h"
+#include "worker/testing/test_configs.h"
+#include "worker/toss_juggler.h"
+
+namespace juggle {
+namespace {
+
+std::shared_ptr<const TossSpec> CatchSpec() {
+  absl::StatusOr<LoadedConfig> config =
+      LoadRunConfig(testing::RepoPath("configs/toss_catch.textproto"));
+  EXPECT_TRUE(config.ok()) << config.status();
+  absl::StatusOr<std::shared_ptr<const TossSpec>> spec = TossSpec::Create(*config);
+  EXPECT_TRUE(spec.ok()) << spec.status();
+  return *spec;
+}
+
+JuggleRunResult RunPattern(const std::string& text, bool ideal, int max_throws,
+                           std::vector<JuggleFrame>* frames = nullptr) {
+  absl::StatusOr<Siteswap> pattern = Siteswap::Parse(text);
+  EXPECT_TRUE(pattern.ok()) << pattern.status();
+  JugglerOptions options;
+  options.max_throws = max_throws;
+  options.start_noise = 0;
+  options.ideal_release = ideal;
+  absl::StatusOr<std::unique_ptr<TossJuggler>> juggler =
+      TossJuggler::Create(CatchSpec(), *pattern, TossPolicies{}, options);
+  EXPECT_TRUE(juggler.ok()) << juggler.status();
+  return (*juggler)->Run(frames);
+}
+
+class IdealReleaseTest : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(IdealReleaseTest, ScheduledThrowsIntoRestingHandsRunToTheThrowLimit) {
+  const JuggleRunResult r = RunPattern(GetParam(), /*ideal=*/true, 60);
+  EXPECT_EQ(r.end, JuggleEnd::kMaxThrows) << GetParam() << " ended " << JuggleEndName(r.end)
+                                          << " after " << r.throws << " throws";
+  EXPECT_EQ(r.throws, 60);
+  // 60 throws take 60 beats of 0.25 s from the first beat (−1) at 0.1 s.
+  EXPECT_NEAR(r.seconds, 0.1 + 59 * 0.25, 0.011);
+}
+
+INSTANTIATE_TEST_SUITE_P(Patterns, IdealReleaseTest,
+                         ::testing::Values("3", "4", "5", "53", "441", "531", "6", "7"));
+
+TEST(TossJugglerTest, HandoffOfAOneMovesTheBallToTheOtherHandWithoutAFlight) {
+  // 441 with ideal releases: every third throw is a handoff, so catches are 2 per 3 throws.
+  const JuggleRunResult r = RunPattern("441", true, 30);
+  ASSERT_EQ(r.end, JuggleEnd::kMaxThrows);
+  EXPECT_NEAR(r.catches, 30 * 2 / 3, 2);
+}
+
+TEST(TossJugglerTest, InitialBallsAreOneInEachHandAndTheRestInFlight) {
+  std::vector<JuggleFrame> frames;
+  RunPattern("3", true, 3, &frames);
+  ASSERT_FALSE(frames.empty());
+  const JuggleFrame& first = frames.front();
+  ASSERT_EQ(first.balls.size(), 3u);
+  int held = 0, free = 0;
+  for (int m : first.ball_mode) {
+    held += m == static_cast<int>(BallMode::kHeld);
+    free += m == static_cast<int>(BallMode::kFree);
+  }
+  EXPECT_EQ(held, 2);  // for beats −1 (left) and 0 (right)
+  EXPECT_EQ(free, 1);
+}
+
+TEST(TossJugglerTest, ReleasingWithTheRestingPalmsVelocityBreaksThePatternAtOnce) {
+  const JuggleRunResult r = RunPattern("3", /*ideal=*/false, 60);
+  EXPECT_NE(r.end, JuggleEnd::kMaxThrows);
+  EXPECT_LT(r.throws, 5);
+  EXPECT_GT(r.mean_velocity_error, 1.5);  // the 3's target is (±1.0, 1.96) m/s
+}
+
+TEST(TossJugglerTest, MoreBallsThanTheModelHoldsIsAnError) {
+  absl::StatusOr<std::unique_ptr<TossJuggler>> juggler =
+      TossJuggler::Create(CatchSpec(), *Siteswap::Parse("9"), TossPolicies{}, JugglerOptions{});
+  ASSERT_FALSE(juggler.ok());
+  EXPECT_EQ(juggler.status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace juggle

@@ -5,7 +5,7 @@ CONFIG    ?= configs/right_foot.textproto
 MINUTES   ?= 30
 JOBS      ?= $(shell nproc)
 
-.PHONY: deps configure build train test bench clean
+.PHONY: deps configure build train train-toss test bench clean
 
 deps:
 	@bash scripts/install_deps.sh
@@ -19,6 +19,12 @@ build: configure
 # Trains for MINUTES of wall time (0: until Ctrl-C); continue later with --resume.
 train: build
 	$(BUILD_DIR)/juggle train --config=$(CONFIG) --minutes=$(MINUTES)
+
+# Toss juggling (docs/toss.md): trains the catch and throw policies, then runs the evaluation.
+train-toss: build
+	$(BUILD_DIR)/juggle train --config=configs/toss_catch.textproto --iterations=1500
+	$(BUILD_DIR)/juggle train --config=configs/toss_throw.textproto --iterations=7000
+	$(BUILD_DIR)/juggle toss --eval --checkpoint=runs
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)

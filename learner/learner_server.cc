@@ -299,6 +299,14 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
     return absl::PermissionDeniedError(absl::StrCat("cannot create run directory ", s->options.run_dir));
   }
   s->checkpoints = std::make_unique<CheckpointDir>(s->options.run_dir + "/checkpoints");
+  if (!s->options.resume && !s->checkpoints->List().empty()) {
+    // A fresh run must not mix its checkpoints with an older run's (resume and evaluation
+    // take the newest file, which would be the older run's).
+    return absl::FailedPreconditionError(absl::StrCat(
+        "run directory ", s->options.run_dir, " already holds checkpoints (newest ",
+        s->checkpoints->List().front(), "); pass --resume to continue that run, or choose "
+        "another --run_dir"));
+  }
   if (s->options.resume) {
     absl::StatusOr<CheckpointDir::Loaded> loaded = s->checkpoints->LoadLatest();
     if (!loaded.ok()) return loaded.status();

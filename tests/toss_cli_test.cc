@@ -1,6 +1,7 @@
 // Toss juggling end to end with the built binary: PPO on the catch task through `juggle train`
 // raises the catch rate above the untrained policy's; a learner and a worker process train the
-// throw task from the learner's config alone; `juggle toss` prints the evaluation keys and
+// throw task from the learner's config alone; a fresh run refuses a run directory that holds
+// checkpoints; `juggle toss` prints the evaluation keys and
 // rejects patterns it cannot juggle with a clear error.
 #include <cstdlib>
 #include <fstream>
@@ -54,6 +55,11 @@ TEST_F(TossCliTest, ShortCatchTrainingRaisesTheCatchRateAboveTheUntrainedPolicy)
                 "untrained.log"), 0) << output_;
   ASSERT_EQ(Run({"train", config, "--iterations=60", "--run_dir=" + dir_ + "/trained"}, 300,
                 "trained.log"), 0) << output_;
+  // A second fresh run into the same directory would mix checkpoints: refused.
+  EXPECT_NE(Run({"train", config, "--iterations=1", "--run_dir=" + dir_ + "/untrained"}, 120,
+                "again.log"), 0);
+  EXPECT_THAT(output_, HasSubstr("already holds checkpoints"));
+  EXPECT_THAT(output_, HasSubstr("--resume"));
   ASSERT_EQ(Run({"eval", "--checkpoint=" + dir_ + "/untrained", "--episodes=200"}, 120,
                 "eval_untrained.log"), 0) << output_;
   const double untrained = Value("mean_completions");

@@ -55,9 +55,10 @@ int TossJuggler::Value(int beat) const {
 
 int TossJuggler::BeatStep(int beat) const {
   const config::TossConfig& t = spec_->toss();
-  const int t0 = static_cast<int>(std::lround(t.dwell_ratio() * t.hand_period_s() / spec_->dt()));
+  // Beat −1 is at t = 0: the run starts at a release, and the first throw from a resting hand
+  // (beat 0) gets one beat of preparation, close to the throw task's D_ratio·P_hand ± jitter.
   const int beat_steps = static_cast<int>(std::lround(0.5 * t.hand_period_s() / spec_->dt()));
-  return t0 + beat * beat_steps;
+  return (beat + 1) * beat_steps;
 }
 
 void TossJuggler::PlaceInitialBalls(Rng* rng) {
@@ -65,8 +66,7 @@ void TossJuggler::PlaceInitialBalls(Rng* rng) {
   const double jitter = 10 * options_.start_noise;
   const config::TossConfig& t = spec_->toss();
   const int dwell_steps = static_cast<int>(std::lround(t.dwell_ratio() * t.hand_period_s() / dt));
-  // The first beat still to come (t0 = D_ratio·P_hand is more than one beat: beat −1 comes
-  // before beat 0). Throws on earlier beats were made before t = 0.
+  // The first beat still to come; throws on earlier beats were made at or before t = 0.
   int first_beat = 0;
   while (BeatStep(first_beat - 1) > 0) --first_beat;
   next_beat_ = first_beat;

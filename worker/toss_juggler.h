@@ -1,15 +1,16 @@
 // TossJuggler: pattern juggling with two arms (seed 001 §3, Fig. 4). Each hand runs a mode
 // machine — empty: catch mode, holding: throw mode — and the beat clock sequences the throws of
-// a siteswap: beat k (right hand on even k) comes at t0 + k·P_hand/2 with t0 = D_ratio·P_hand,
+// a siteswap: beat k (right hand on even k) comes at (k + 1)·P_hand/2 — beat −1 at t = 0 —
 // and throws s[k mod period] with the ball that hand holds.
 //   value ≥ 2  released with the palm's velocity (auto-release); the target is Eq. 1–3's;
 //   value 1    handed over to the other hand (Eq. 1 gives it no flight time; not in the paper);
 //   value 0    nothing.
 // The catch policy sees the next ball due at its hand; the throw policy sees the held ball,
 // the time left to its beat and its target velocity; the left arm runs both through the mirror.
-// The balls start as if the pattern had always run: each ball thrown before t = 0 flies on its
-// scheduled parabola, or is in its hand if its catch time has passed (beat −1, at 0.1 s with
-// the defaults, is the first beat: the left hand holds a ball for it, the right one for beat 0).
+// The balls start as if the pattern had always run: each ball thrown on a beat ≤ −1 flies on its
+// scheduled parabola (beat −1's just released), or is in its hand if its catch time (its beat
+// − D_ratio·P_hand) has passed. Pattern 3: one ball in the right hand for beat 0, two in the
+// air.
 // A run ends at the first drop (ball below drop_z), at a beat whose ball is not in hand
 // (missed beat), on divergence, or after max_throws throws.
 #ifndef JUGGLE_WORKER_TOSS_JUGGLER_H_

@@ -41,8 +41,8 @@ TEST_P(IdealReleaseTest, ScheduledThrowsIntoRestingHandsRunToTheThrowLimit) {
   EXPECT_EQ(r.end, JuggleEnd::kMaxThrows) << GetParam() << " ended " << JuggleEndName(r.end)
                                           << " after " << r.throws << " throws";
   EXPECT_EQ(r.throws, 60);
-  // 60 throws take 60 beats of 0.25 s from the first beat (−1) at 0.1 s.
-  EXPECT_NEAR(r.seconds, 0.1 + 59 * 0.25, 0.011);
+  // Beat −1 is at t = 0 (thrown before the run); the 60th throw is beat 59, at 60 · 0.25 s.
+  EXPECT_NEAR(r.seconds, 60 * 0.25, 0.011);
 }
 
 INSTANTIATE_TEST_SUITE_P(Patterns, IdealReleaseTest,
@@ -55,7 +55,7 @@ TEST(TossJugglerTest, HandoffOfAOneMovesTheBallToTheOtherHandWithoutAFlight) {
   EXPECT_NEAR(r.catches, 30 * 2 / 3, 2);
 }
 
-TEST(TossJugglerTest, InitialBallsAreOneInEachHandAndTheRestInFlight) {
+TEST(TossJugglerTest, ThreeStartsWithOneBallInTheFirstThrowersHandAndTwoInTheAir) {
   std::vector<JuggleFrame> frames;
   RunPattern("3", true, 3, &frames);
   ASSERT_FALSE(frames.empty());
@@ -66,8 +66,13 @@ TEST(TossJugglerTest, InitialBallsAreOneInEachHandAndTheRestInFlight) {
     held += m == static_cast<int>(BallMode::kHeld);
     free += m == static_cast<int>(BallMode::kFree);
   }
-  EXPECT_EQ(held, 2);  // for beats −1 (left) and 0 (right)
-  EXPECT_EQ(free, 1);
+  EXPECT_EQ(held, 1);  // the right hand's, for beat 0
+  EXPECT_EQ(free, 2);  // thrown on beats −2 and −1 (the latter just released, at the left palm)
+  for (size_t b = 0; b < first.balls.size(); ++b) {
+    if (first.ball_mode[b] != static_cast<int>(BallMode::kHeld)) continue;
+    EXPECT_NEAR(first.balls[b].x, first.palms[0].x, 1e-9);  // in the right palm
+    EXPECT_NEAR(first.balls[b].z, first.palms[0].z, 1e-9);
+  }
 }
 
 TEST(TossJugglerTest, ReleasingWithTheRestingPalmsVelocityBreaksThePatternAtOnce) {

@@ -16,6 +16,7 @@
 #include "common/env_family.h"
 #include "worker/env_registry.h"
 #include "worker/juggle_env.h"
+#include "worker/toss_env.h"
 
 namespace juggle {
 namespace {
@@ -155,6 +156,21 @@ int RunEval(int argc, char** argv, int first) {
       absl::StrAppend(&outcome_text, " ", OutcomeName(static_cast<Outcome>(o)), "=",
                       outcome_counts[o]);
     }
+  }
+  // Throw task: how far the releases were from the target point and velocity.
+  double position_error = 0, velocity_error = 0;
+  int releases = 0;
+  for (int i = 0; i < episodes; ++i) {
+    const auto* toss = dynamic_cast<const TossEnv*>(envs[i].get());
+    if (toss == nullptr || outcomes[i] != Outcome::kReleased) continue;
+    position_error += toss->release_position_error();
+    velocity_error += toss->release_velocity_error();
+    ++releases;
+  }
+  if (releases > 0) {
+    absl::StrAppend(&outcome_text,
+                    absl::StrFormat(" mean_release_position_error=%.4f mean_release_velocity_error=%.4f",
+                                    position_error / releases, velocity_error / releases));
   }
   if (!gate_rows.empty()) {
     RowMatrix gates(gate_rows.size(), gate_rows[0].size());

@@ -99,6 +99,7 @@ absl::Status ValidateToss(const config::TossConfig& t, const SourceLocator& wher
     return fail("arrival_max_s", "needs 0 < arrival_min_s <= arrival_max_s");
   }
   if (!(t.start_noise() >= 0)) return fail("start_noise", "must be >= 0");
+  if (!(t.start_speed_noise() >= 0)) return fail("start_speed_noise", "must be >= 0");
   if (t.max_episode_steps() < 1) return fail("max_episode_steps", "must be >= 1");
   return absl::OkStatus();
 }

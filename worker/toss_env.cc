@@ -23,7 +23,9 @@ TossEnv::TossEnv(std::shared_ptr<const TossSpec> spec, Rng rng, Hand hand)
 void TossEnv::Reset(const AdaptiveWalk&) {
   steps_ = 0;
   completions_ = 0;
-  world_.Reset(&rng_, spec_->toss().start_noise());
+  const config::TossConfig& t = spec_->toss();
+  world_.Reset(&rng_, t.start_noise(),
+               t.has_start_speed_noise() ? t.start_speed_noise() : 10 * t.start_noise());
   if (spec_->toss().task() == config::THROW) {
     ResetThrow();
   } else {

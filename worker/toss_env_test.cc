@@ -1,6 +1,7 @@
 // Toss juggling (seed 001): the home pose, the auto-catch and auto-release mechanics, the
 // catch and throw tasks' rewards and episode rules, and mirroring of the right arm's policy
 // onto the left arm.
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -64,6 +65,14 @@ TEST(TossConfigTest, TossConfigWithAGraphOrWithoutATaskIsRejected) {
   absl::StatusOr<LoadedConfig> no_task = ParseRunConfig("toss { kp: 1000 }\n", "c.textproto");
   ASSERT_FALSE(no_task.ok());
   EXPECT_NE(no_task.status().message().find("task"), std::string::npos) << no_task.status();
+}
+
+TEST(TossConfigTest, NegativeStartSpeedNoiseIsAnErrorNamingFileLineAndField) {
+  absl::StatusOr<LoadedConfig> config =
+      ParseRunConfig("toss {\n  task: CATCH\n  start_speed_noise: -1\n}\n", "c.textproto");
+  ASSERT_FALSE(config.ok());
+  EXPECT_NE(config.status().message().find("c.textproto:3"), std::string::npos) << config.status();
+  EXPECT_NE(config.status().message().find("start_speed_noise"), std::string::npos);
 }
 
 class TossWorldTest : public ::testing::Test {
@@ -258,6 +267,38 @@ TEST(TossEnvTest, SameSeedGivesTheSameEpisode) {
   c.WriteObservation(oc.data());
   EXPECT_EQ(oa, ob);
   EXPECT_NE(oa, oc);
+}
+
+// Start speeds come from start_speed_noise when it is set, from 10 × start_noise otherwise.
+TEST(TossEnvTest, StartSpeedNoiseBoundsTheInitialJointSpeedsIndependentlyOfTheAngles) {
+  auto max_start = [](const std::function<void(config::TossConfig*)>& edit) {
+    auto spec = LoadTossSpec(config::CATCH, edit);
+    const TossArmJoints& arm = spec->arm(Hand::kRight);
+    double max_speed = 0, max_angle_offset = 0;
+    for (uint64_t seed = 0; seed < 50; ++seed) {
+      TossEnv env(spec, Rng(seed));
+      env.Reset(NoWalk());
+      for (int j = 1; j < kTossJoints; ++j) {  // the neck starts centred
+        max_speed = std::max(max_speed, std::abs(env.data()->qvel[arm.dof[j]]));
+        max_angle_offset =
+            std::max(max_angle_offset, std::abs(env.data()->qpos[arm.qpos[j]] - spec->home()[j]));
+      }
+    }
+    return std::make_pair(max_speed, max_angle_offset);
+  };
+  const auto [default_speed, default_angle] =
+      max_start([](config::TossConfig* t) { t->set_start_noise(0.2); });
+  EXPECT_LE(default_speed, 2.0);
+  EXPECT_GT(default_speed, 1.5);
+  EXPECT_LE(default_angle, 0.2);
+  const auto [fast_speed, fast_angle] = max_start([](config::TossConfig* t) {
+    t->set_start_noise(0.2);
+    t->set_start_speed_noise(12);
+  });
+  EXPECT_LE(fast_speed, 12.0);
+  EXPECT_GT(fast_speed, 9.0);
+  EXPECT_LE(fast_angle, 0.2);
+  EXPECT_GT(fast_angle, 0.15);
 }
 
 }  // namespace

@@ -44,7 +44,7 @@ TossJuggler::TossJuggler(std::shared_ptr<const TossSpec> spec, const Siteswap& p
       options_(options),
       world_(spec_) {
   Rng rng = Rng::ForStream(options_.seed, 0, 0);
-  world_.Reset(&rng, options_.start_noise);
+  world_.Reset(&rng, options_.start_noise, 10 * options_.start_noise);
   PlaceInitialBalls(&rng);
 }
 

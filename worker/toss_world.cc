@@ -16,20 +16,20 @@ constexpr double kParkX = 5.0, kParkZ = 0.0;
 
 TossWorld::TossWorld(std::shared_ptr<const TossSpec> spec)
     : spec_(std::move(spec)), model_(spec_->model()), data_(mj_makeData(model_)) {
-  Reset(nullptr, 0);
+  Reset(nullptr, 0, 0);
 }
 
 TossWorld::~TossWorld() { mj_deleteData(data_); }
 
-void TossWorld::Reset(Rng* rng, double noise) {
+void TossWorld::Reset(Rng* rng, double angle_noise_rad, double speed_noise_rad_s) {
   mj_resetData(model_, data_);
   diverged_ = false;
   // One draw, applied to both arms as mirror images: a world is symmetric at reset.
   std::array<double, kTossJoints> angle_noise{}, speed_noise{};
   if (rng != nullptr) {
     for (int j = 0; j < kTossJoints; ++j) {
-      angle_noise[j] = rng->Uniform(-noise, noise);
-      speed_noise[j] = rng->Uniform(-10 * noise, 10 * noise);
+      angle_noise[j] = rng->Uniform(-angle_noise_rad, angle_noise_rad);
+      speed_noise[j] = rng->Uniform(-speed_noise_rad_s, speed_noise_rad_s);
     }
     angle_noise[0] = speed_noise[0] = 0;  // the shared neck starts centred
   }

@@ -33,9 +33,9 @@ class TossWorld {
   TossWorld& operator=(const TossWorld&) = delete;
 
   // Time 0, every ball parked, both arms at home (targets too). With `rng`, the shoulder, elbow
-  // and wrist angles get home ± noise and speeds ± 10·noise, one draw applied to both arms as
+  // and wrist angles get home ± angle_noise (rad) and speeds ± speed_noise (rad/s), one draw applied to both arms as
   // mirror images (the neck stays centred); without, exactly at home and at rest.
-  void Reset(Rng* rng, double noise);
+  void Reset(Rng* rng, double angle_noise, double speed_noise);
 
   void SetFree(int ball, Vec2 position, Vec2 velocity);
   // Attaches `ball` to `hand`'s palm (from the next Step on it moves with the palm).

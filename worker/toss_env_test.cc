@@ -287,7 +287,10 @@ TEST(TossEnvTest, StartSpeedNoiseBoundsTheInitialJointSpeedsIndependentlyOfTheAn
     return std::make_pair(max_speed, max_angle_offset);
   };
   const auto [default_speed, default_angle] =
-      max_start([](config::TossConfig* t) { t->set_start_noise(0.2); });
+      max_start([](config::TossConfig* t) {
+        t->set_start_noise(0.2);
+        t->clear_start_speed_noise();
+      });
   EXPECT_LE(default_speed, 2.0);
   EXPECT_GT(default_speed, 1.5);
   EXPECT_LE(default_angle, 0.2);

@@ -97,6 +97,19 @@ TEST_F(TossCliTest, ZeroActionEvalEndsWithTheProtocolKeys) {
   EXPECT_LT(Value("throws_3"), 5) << "resting arms cannot juggle";
 }
 
+// An arm holding its home pose releases at the home point with (almost) no speed: the position
+// error is ~0 and the velocity error is about the target speed (every throw value's Eq. 2–3
+// speed exceeds 2 m/s).
+TEST_F(TossCliTest, ZeroActionThrowEvalReportsTheReleaseErrorsOfAHandAtRest) {
+  ASSERT_EQ(Run({"eval", "--zero-action", "--config=configs/toss_throw.textproto",
+                 "--episodes=50"}, 120, "throw_eval.log"), 0) << output_;
+  EXPECT_THAT(last_line_, HasSubstr("released=50"));
+  EXPECT_GE(Value("mean_release_position_error"), 0) << last_line_;
+  EXPECT_LT(Value("mean_release_position_error"), 0.05) << last_line_;
+  EXPECT_GT(Value("mean_release_velocity_error"), 2.0) << last_line_;
+  EXPECT_EQ(Value("mean_completions"), 0) << last_line_;
+}
+
 TEST_F(TossCliTest, UnjugglablePatternsAreClearErrors) {
   EXPECT_EQ(Run({"toss", "--zero-action", "--pattern=9"}, 30, "nine.log"), 1);
   EXPECT_THAT(output_, HasSubstr("9 balls"));

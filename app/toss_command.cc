@@ -10,6 +10,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
+#include "google/protobuf/text_format.h"
 #include "app/commands.h"
 #include "app/flags.h"
 #include "common/config_loader.h"
@@ -91,6 +92,60 @@ absl::Status WriteFrames(const std::vector<JuggleFrame>& frames, int balls,
   return out ? absl::OkStatus() : absl::DataLossError(absl::StrCat("error writing ", path));
 }
 
+// Arm states where the policies took over, gathered over runs for --record-states.
+struct StartStates {
+  std::vector<TossArmState> catch_starts, throw_starts;
+  void Add(const JuggleRunResult& r) {
+    catch_starts.insert(catch_starts.end(), r.catch_starts.begin(), r.catch_starts.end());
+    throw_starts.insert(throw_starts.end(), r.throw_starts.begin(), r.throw_starts.end());
+  }
+};
+
+// Writes `states` as a text-format TossArmStates file (TossConfig.start_states_file).
+absl::Status WriteArmStates(const std::vector<TossArmState>& states, const std::string& path,
+                            const std::string& what) {
+  config::TossArmStates message;
+  for (const TossArmState& s : states) {
+    config::TossArmState* m = message.add_state();
+    for (int j = 0; j < kTossJoints; ++j) {
+      m->add_angle(s.angle[j]);
+      m->add_speed(s.speed[j]);
+    }
+  }
+  std::string text;
+  if (!google::protobuf::TextFormat::PrintToString(message, &text)) {
+    return absl::InternalError("cannot print the arm states");
+  }
+  std::ofstream out(path);
+  out << "# proto-file: proto/run_config.proto\n# proto-message: juggle.config.TossArmStates\n"
+      << "# " << states.size() << " arm states (right arm's frame: neck, shoulder, elbow, wrist; "
+      << "rad, rad/s) " << what << ", written by `juggle toss --record-states`.\n"
+      << text;
+  out.close();
+  return out ? absl::OkStatus() : absl::DataLossError(absl::StrCat("error writing ", path));
+}
+
+// PREFIX_catch.textproto (states at releases: where the catch policy starts) and
+// PREFIX_throw.textproto (states at catches: where the throw policy starts).
+absl::Status WriteStartStates(const StartStates& states, const std::string& prefix) {
+  const std::string catch_path = prefix + "_catch.textproto";
+  const std::string throw_path = prefix + "_throw.textproto";
+  if (absl::Status s = WriteArmStates(states.catch_starts, catch_path,
+                                      "of throwing hands at their releases");
+      !s.ok()) {
+    return s;
+  }
+  if (absl::Status s = WriteArmStates(states.throw_starts, throw_path,
+                                      "of catching hands at their catches");
+      !s.ok()) {
+    return s;
+  }
+  std::printf("recorded %zu catch start states to %s and %zu throw start states to %s\n",
+              states.catch_starts.size(), catch_path.c_str(), states.throw_starts.size(),
+              throw_path.c_str());
+  return absl::OkStatus();
+}
+
 absl::StatusOr<JuggleRunResult> RunOnce(std::shared_ptr<const TossSpec> spec,
                                         const Siteswap& pattern, TossPolicies policies,
                                         int max_throws, uint64_t seed,
@@ -107,12 +162,14 @@ absl::StatusOr<JuggleRunResult> RunOnce(std::shared_ptr<const TossSpec> spec,
 // Median of the throws over seeds 1..seeds.
 absl::StatusOr<int> MedianThrows(std::shared_ptr<const TossSpec> spec, const Siteswap& pattern,
                                  TossPolicies policies, int max_throws, int seeds,
-                                 std::vector<int>* all = nullptr) {
+                                 std::vector<int>* all = nullptr,
+                                 StartStates* start_states = nullptr) {
   std::vector<int> throws;
   for (int s = 1; s <= seeds; ++s) {
     absl::StatusOr<JuggleRunResult> r = RunOnce(spec, pattern, policies, max_throws, s);
     if (!r.ok()) return r.status();
     throws.push_back(r->throws);
+    if (start_states) start_states->Add(*r);
   }
   if (all) *all = throws;
   std::sort(throws.begin(), throws.end());
@@ -121,11 +178,13 @@ absl::StatusOr<int> MedianThrows(std::shared_ptr<const TossSpec> spec, const Sit
 }
 
 int Evaluate(const LoadedConfig& base, TossPolicies policies, const std::string& pattern_list,
-             int seeds, int max_throws, double wind_step, double wind_max) {
+             int seeds, int max_throws, double wind_step, double wind_max,
+             const std::string& record_states) {
   absl::StatusOr<std::shared_ptr<const TossSpec>> spec =
       SpecWithWind(base, base.run.toss().wind_force());
   if (!spec.ok()) return Fail(spec.status());
   std::string summary;
+  StartStates start_states;  // of the pattern runs (not the wind sweep)
   int max_basic = 0;
   bool basic_chain = true;
   std::printf("%-8s %5s %8s  throws per seed (max %d)\n", "pattern", "balls", "median", max_throws);
@@ -134,7 +193,8 @@ int Evaluate(const LoadedConfig& base, TossPolicies policies, const std::string&
     absl::StatusOr<Siteswap> pattern = Siteswap::Parse(text);
     if (!pattern.ok()) return Fail(pattern.status());
     std::vector<int> all;
-    absl::StatusOr<int> median = MedianThrows(*spec, *pattern, policies, max_throws, seeds, &all);
+    absl::StatusOr<int> median = MedianThrows(*spec, *pattern, policies, max_throws, seeds, &all,
+                                              record_states.empty() ? nullptr : &start_states);
     if (!median.ok()) return Fail(median.status());
     std::string per_seed;
     for (int t : all) absl::StrAppend(&per_seed, " ", t);
@@ -149,6 +209,9 @@ int Evaluate(const LoadedConfig& base, TossPolicies policies, const std::string&
         basic_chain = false;
       }
     }
+  }
+  if (!record_states.empty()) {
+    if (absl::Status s = WriteStartStates(start_states, record_states); !s.ok()) return Fail(s);
   }
   // Wind sweep: the largest constant horizontal force (N) on balls in flight at which the
   // median over the seeds still reaches 100 throws of "3".
@@ -183,6 +246,8 @@ int RunToss(int argc, char** argv, int first) {
       {"max-throws", "200", "stop after this many throws"},
       {"wind", "-1", "constant horizontal force on balls in flight, N (-1: the config's)"},
       {"record", "", "write the ball and arm trajectories to this CSV file"},
+      {"record-states", "", "write the arm states at releases and catches to PREFIX_catch.textproto "
+                            "and PREFIX_throw.textproto (TossConfig.start_states_file)"},
       {"eval", "false", "evaluation protocol: patterns x seeds and a wind sweep"},
       {"patterns", "3,4,5,53,441,531,6,7", "patterns of --eval"},
       {"seeds", "10", "seeds per pattern of --eval (1..seeds)"},
@@ -240,7 +305,8 @@ int RunToss(int argc, char** argv, int first) {
 
   if (flags->GetBool("eval")) {
     return Evaluate(base, policies, flags->Get("patterns"), static_cast<int>(*seeds),
-                    static_cast<int>(*max_throws), *wind_step, *wind_max);
+                    static_cast<int>(*max_throws), *wind_step, *wind_max,
+                    flags->Get("record-states"));
   }
   absl::StatusOr<Siteswap> pattern = Siteswap::Parse(flags->Get("pattern"));
   if (!pattern.ok()) return Fail(pattern.status());
@@ -259,6 +325,13 @@ int RunToss(int argc, char** argv, int first) {
     }
     std::printf("recorded %zu frames (%.2f s) to %s\n", frames.size(), r->seconds,
                 flags->Get("record").c_str());
+  }
+  if (!flags->Get("record-states").empty()) {
+    StartStates states;
+    states.Add(*r);
+    if (absl::Status s = WriteStartStates(states, flags->Get("record-states")); !s.ok()) {
+      return Fail(s);
+    }
   }
   std::printf("pattern=%s balls=%d throws=%d catches=%d drops=%d end=%s seconds=%.2f "
               "mean_velocity_error=%.3f mean_position_error=%.4f wind_n=%.3f\n",

@@ -5,6 +5,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "common/status_macros.h"
+#include "common/toss_dims.h"
 #include "google/protobuf/io/tokenizer.h"
 #include "google/protobuf/text_format.h"
 
@@ -101,6 +102,10 @@ absl::Status ValidateToss(const config::TossConfig& t, const SourceLocator& wher
   if (!(t.start_noise() >= 0)) return fail("start_noise", "must be >= 0");
   if (!(t.start_speed_noise() >= 0)) return fail("start_speed_noise", "must be >= 0");
   if (t.max_episode_steps() < 1) return fail("max_episode_steps", "must be >= 1");
+  if (!(t.recorded_start_fraction() >= 0 && t.recorded_start_fraction() <= 1)) {
+    return fail("recorded_start_fraction", "must lie in [0, 1]");
+  }
+  if (!(t.recorded_start_noise() >= 0)) return fail("recorded_start_noise", "must be >= 0");
   return absl::OkStatus();
 }
 
@@ -118,6 +123,38 @@ std::string ResolvePath(const std::string& dir, const std::string& relative) {
   if (relative.empty() || relative[0] == '/') return relative;
   return absl::StrCat(dir, "/", relative);
 }
+
+namespace {
+
+// Moves the states of `start_states_file` into `start_state` and checks every state's size.
+absl::Status InlineStartStates(const std::string& config_dir, const SourceLocator& where,
+                               config::TossConfig* toss) {
+  if (toss->has_start_states_file()) {
+    const std::string path = ResolvePath(config_dir, toss->start_states_file());
+    absl::StatusOr<std::string> text = ReadFile(path);
+    if (!text.ok()) {
+      return absl::NotFoundError(
+          absl::StrCat(where.Where({{"start_states_file"}}), ": ", text.status().message()));
+    }
+    config::TossArmStates states;
+    absl::StatusOr<SourceLocator> parsed = ParseText(*text, path, &states);
+    if (!parsed.ok()) return parsed.status();
+    for (config::TossArmState& s : *states.mutable_state()) *toss->add_start_state() = std::move(s);
+    toss->clear_start_states_file();
+  }
+  for (int i = 0; i < toss->start_state_size(); ++i) {
+    const config::TossArmState& s = toss->start_state(i);
+    if (s.angle_size() != kTossJoints || s.speed_size() != kTossJoints) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          where.Where({{"start_state"}}), ": start state ", i, " has ", s.angle_size(),
+          " angles and ", s.speed_size(), " speeds; each needs ", kTossJoints,
+          " (neck, shoulder, elbow, wrist)"));
+    }
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
 
 absl::StatusOr<LoadedConfig> ParseRunConfig(const std::string& text, const std::string& path) {
   LoadedConfig loaded;
@@ -141,6 +178,8 @@ absl::StatusOr<LoadedConfig> ParseRunConfig(const std::string& text, const std::
                        ": a toss config has no control graph"));
     }
     RETURN_IF_ERROR(ValidateToss(loaded.run.toss(), loaded.env_locator));
+    RETURN_IF_ERROR(InlineStartStates(loaded.config_dir, loaded.env_locator,
+                                      loaded.run.mutable_toss()));
     loaded.graph = std::make_shared<const ControlGraph>();
     return loaded;
   }

@@ -350,6 +350,42 @@ std::string WriteTemp(const std::string& name, const std::string& text) {
   return path;
 }
 
+TEST(ConfigLoaderTest, StartStatesFileIsInlinedIntoTheTossConfig) {
+  WriteTemp("arm_states.textproto",
+            "state { angle: [0, 1, -2, 0.5] speed: [0, 3, -4, 1] }\n"
+            "state { angle: [0, 0.9, -1.5, 0] speed: [0, 0, 0, 0] }\n");
+  const std::string config_path = WriteTemp(
+      "uses_arm_states.textproto",
+      "toss {\n  task: CATCH\n  start_states_file: \"arm_states.textproto\"\n}\n");
+  const absl::StatusOr<LoadedConfig> loaded = LoadRunConfig(config_path);
+  ASSERT_TRUE(loaded.ok()) << loaded.status();
+  const config::TossConfig& toss = loaded->run.toss();
+  EXPECT_FALSE(toss.has_start_states_file()) << "workers receive the states inline";
+  ASSERT_EQ(toss.start_state_size(), 2);
+  EXPECT_EQ(toss.start_state(0).angle(2), -2);
+  EXPECT_EQ(toss.start_state(0).speed(1), 3);
+  EXPECT_EQ(toss.start_state(1).angle(1), 0.9);
+}
+
+TEST(ConfigLoaderTest, StartStateWithoutFourJointsIsAnErrorNamingTheState) {
+  const absl::StatusOr<LoadedConfig> loaded = ParseRunConfig(
+      "toss {\n  task: THROW\n  start_state { angle: [0, 1, -2, 0] speed: [0, 0, 0, 0] }\n"
+      "  start_state { angle: [1, -2, 0] speed: [0, 0, 0] }\n}\n",
+      "c.textproto");
+  ASSERT_EQ(loaded.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("c.textproto:3"));
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("start state 1 has 3 angles"));
+}
+
+TEST(ConfigLoaderTest, MissingStartStatesFileIsNotFoundNamingTheField) {
+  const absl::StatusOr<LoadedConfig> loaded = ParseRunConfig(
+      "toss {\n  task: CATCH\n  start_states_file: \"no_such_states.textproto\"\n}\n",
+      "/tmp/c.textproto");
+  ASSERT_EQ(loaded.status().code(), absl::StatusCode::kNotFound);
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("c.textproto:3"));
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("no_such_states.textproto"));
+}
+
 TEST(ConfigLoaderTest, ErrorInAGraphFileNamesTheGraphFileAndItsLine) {
   const std::string graph = ValidBody() + Edge("down", "up", "weight: 0");
   const std::string graph_path = WriteTemp("bad_graph.textproto", graph);

@@ -4,6 +4,7 @@
 // checkpoints; `juggle toss` prints the evaluation keys and
 // rejects patterns it cannot juggle with a clear error.
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -108,6 +109,27 @@ TEST_F(TossCliTest, ZeroActionThrowEvalReportsTheReleaseErrorsOfAHandAtRest) {
   EXPECT_LT(Value("mean_release_position_error"), 0.05) << last_line_;
   EXPECT_GT(Value("mean_release_velocity_error"), 2.0) << last_line_;
   EXPECT_EQ(Value("mean_completions"), 0) << last_line_;
+}
+
+// --record-states writes files a config can name as start_states_file.
+TEST_F(TossCliTest, RecordedStartStatesLoadAsATrainingConfigsStartStates) {
+  ASSERT_EQ(Run({"toss", "--zero-action", "--pattern=3", "--record-states=" + dir_ + "/s"}, 120,
+                "record.log"), 0) << output_;
+  const int throws = static_cast<int>(Value("throws"));
+  ASSERT_GT(throws, 0) << last_line_;
+  EXPECT_THAT(output_, HasSubstr("recorded " + std::to_string(throws) + " catch start states"));
+  // The model by absolute path: the configs live in the temporary folder with the states.
+  const std::string model =
+      (std::filesystem::current_path() / "configs/models/toss_arms.xml").string();
+  for (const std::string task : {"catch", "throw"}) {
+    std::ofstream(dir_ + "/" + task + ".textproto")
+        << "toss {\n  task: " << (task == "catch" ? "CATCH" : "THROW") << "\n  model_file: \""
+        << model << "\"\n  start_states_file: \"s_" << task << ".textproto\"\n}\n";
+  }
+  EXPECT_EQ(Run({"check-config", "--config=" + dir_ + "/catch.textproto"}, 60, "c.log"), 0)
+      << output_;
+  EXPECT_EQ(Run({"check-config", "--config=" + dir_ + "/throw.textproto"}, 60, "t.log"), 0)
+      << output_;
 }
 
 TEST_F(TossCliTest, UnjugglablePatternsAreClearErrors) {

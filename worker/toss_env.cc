@@ -26,11 +26,28 @@ void TossEnv::Reset(const AdaptiveWalk&) {
   const config::TossConfig& t = spec_->toss();
   world_.Reset(&rng_, t.start_noise(),
                t.has_start_speed_noise() ? t.start_speed_noise() : 10 * t.start_noise());
-  if (spec_->toss().task() == config::THROW) {
+  // No draw without recorded states: episodes of configs without them stay as they were.
+  if (t.start_state_size() > 0 && rng_.Uniform() < t.recorded_start_fraction()) {
+    StartFromRecordedState();
+  }
+  if (t.task() == config::THROW) {
     ResetThrow();
   } else {
     ResetCatch();
   }
+}
+
+void TossEnv::StartFromRecordedState() {
+  const config::TossConfig& t = spec_->toss();
+  const config::TossArmState& recorded = t.start_state(
+      static_cast<int>(rng_.UniformInt(static_cast<uint64_t>(t.start_state_size()))));
+  const double noise = t.recorded_start_noise();
+  TossArmState state;
+  for (int j = 0; j < kTossJoints; ++j) {
+    state.angle[j] = recorded.angle(j) + rng_.Uniform(-noise, noise);
+    state.speed[j] = recorded.speed(j) + rng_.Uniform(-10 * noise, 10 * noise);
+  }
+  world_.SetArmState(hand_, state);
 }
 
 int TossEnv::SampleThrowValue() {

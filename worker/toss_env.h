@@ -54,6 +54,8 @@ class TossEnv : public Env {
   double release_position_error() const { return release_position_error_; }
 
  private:
+  // The acting arm from one of the config's recorded start states, perturbed.
+  void StartFromRecordedState();
   void ResetCatch();
   void ResetThrow();
   int SampleThrowValue();

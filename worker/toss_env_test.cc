@@ -269,6 +269,37 @@ TEST(TossEnvTest, SameSeedGivesTheSameEpisode) {
   EXPECT_NE(oa, oc);
 }
 
+// A recorded start state is in the right arm's frame: the left arm starts at its mirror image;
+// in the throw task the ball starts in the (off-home) palm.
+TEST(TossEnvTest, RecordedStartStatePutsTheActingArmThereInItsOwnFrame) {
+  const std::array<double, kTossJoints> angle{0.1, 1.2, -1.9, -0.4}, speed{0, 8, -10, -6};
+  auto spec = LoadTossSpec(config::THROW, [&](config::TossConfig* t) {
+    config::TossArmState* s = t->add_start_state();
+    for (int j = 0; j < kTossJoints; ++j) {
+      s->add_angle(angle[j]);
+      s->add_speed(speed[j]);
+    }
+    t->set_recorded_start_fraction(1);
+    t->set_recorded_start_noise(0);
+  });
+  ASSERT_NE(spec, nullptr);
+  for (Hand hand : {Hand::kRight, Hand::kLeft}) {
+    TossEnv env(spec, Rng(3), hand);
+    env.Reset(NoWalk());
+    const TossArmJoints& arm = spec->arm(hand);
+    const double mirror = TossSpec::MirrorSign(hand);
+    for (int j = 0; j < kTossJoints; ++j) {
+      EXPECT_NEAR(env.data()->qpos[arm.qpos[j]], mirror * angle[j], 1e-12) << "joint " << j;
+      EXPECT_NEAR(env.data()->qvel[arm.dof[j]], mirror * speed[j], 1e-12) << "joint " << j;
+    }
+    std::vector<float> obs(spec->obs_dim());
+    env.WriteObservation(obs.data());
+    EXPECT_GT(std::hypot(obs[0], obs[1]), 0.05) << "the palm starts away from home";
+    EXPECT_FLOAT_EQ(obs[4], obs[0]) << "the ball starts in the palm";
+    EXPECT_FLOAT_EQ(obs[5], obs[1]);
+  }
+}
+
 // Start speeds come from start_speed_noise when it is set, from 10 × start_noise otherwise.
 TEST(TossEnvTest, StartSpeedNoiseBoundsTheInitialJointSpeedsIndependentlyOfTheAngles) {
   auto max_start = [](const std::function<void(config::TossConfig*)>& edit) {

@@ -136,6 +136,7 @@ bool TossJuggler::DoBeat(int beat) {
   } else {
     const ThrowTiming timing = ComputeThrowTiming(v, beat, spec_->timing());
     const Vec2 p = world_.palm_position(hand);
+    result_.catch_starts.push_back(world_.ArmState(hand));
     Vec2 vel = world_.Release(ball);
     if (options_.ideal_release) {
       vel = {timing.v_x, timing.v_z};
@@ -183,6 +184,7 @@ JuggleRunResult TossJuggler::Run(std::vector<JuggleFrame>* frames) {
     for (Hand hand : {Hand::kRight, Hand::kLeft}) {
       const int ball = IncomingBall(hand);
       if (ball >= 0 && world_.CanCatch(ball, hand)) {
+        result_.throw_starts.push_back(world_.ArmState(hand));
         world_.Hold(ball, hand);
         ++result_.catches;
       }

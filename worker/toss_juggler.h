@@ -58,6 +58,10 @@ struct JuggleRunResult {
   // Over the released throws: mean |v − v̄| (m/s) and |p − p̄| (m) at the release.
   double mean_velocity_error = 0;
   double mean_position_error = 0;
+  // Arm states (right arm's frame) where a policy took over: the catching hand at each catch
+  // (the throw policy starts there) and the throwing hand at each release (the catch policy
+  // starts there). `juggle toss --record-states` writes them as training start states.
+  std::vector<TossArmState> throw_starts, catch_starts;
 };
 
 // One row per control step, for `juggle toss --record`.

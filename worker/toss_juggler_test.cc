@@ -45,6 +45,25 @@ TEST_P(IdealReleaseTest, ScheduledThrowsIntoRestingHandsRunToTheThrowLimit) {
   EXPECT_NEAR(r.seconds, 60 * 0.25, 0.011);
 }
 
+// Both hands rest at home, so every recorded state is the home pose in the right arm's frame
+// (the left hand's states mirrored back): one catch start per release, one throw start per catch.
+TEST(TossJugglerTest, RecordsTheArmStateInTheRightArmsFrameAtEveryReleaseAndCatch) {
+  const JuggleRunResult r = RunPattern("3", /*ideal=*/true, 20);
+  ASSERT_EQ(r.throws, 20);
+  EXPECT_EQ(r.catch_starts.size(), 20u);
+  EXPECT_EQ(r.throw_starts.size(), static_cast<size_t>(r.catches));
+  EXPECT_GE(r.catches, 17);  // all but the balls still in the air at the 20th throw
+  const std::array<double, kTossJoints> home = CatchSpec()->home();
+  for (const auto* starts : {&r.catch_starts, &r.throw_starts}) {
+    for (const TossArmState& s : *starts) {
+      for (int j = 1; j < kTossJoints; ++j) {
+        EXPECT_NEAR(s.angle[j], home[j], 0.05) << "joint " << j;
+        EXPECT_NEAR(s.speed[j], 0, 1.0) << "joint " << j;
+      }
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Patterns, IdealReleaseTest,
                          ::testing::Values("3", "4", "5", "53", "441", "531", "6", "7"));
 

@@ -51,6 +51,28 @@ void TossWorld::Reset(Rng* rng, double angle_noise_rad, double speed_noise_rad_s
   }
 }
 
+TossArmState TossWorld::ArmState(Hand hand) const {
+  const TossArmJoints& arm = spec_->arm(hand);
+  const double mirror = TossSpec::MirrorSign(hand);
+  TossArmState state;
+  for (int j = 0; j < kTossJoints; ++j) {
+    state.angle[j] = mirror * data_->qpos[arm.qpos[j]];
+    state.speed[j] = mirror * data_->qvel[arm.dof[j]];
+  }
+  return state;
+}
+
+void TossWorld::SetArmState(Hand hand, const TossArmState& state) {
+  const TossArmJoints& arm = spec_->arm(hand);
+  const double mirror = TossSpec::MirrorSign(hand);
+  for (int j = 0; j < kTossJoints; ++j) {
+    data_->qpos[arm.qpos[j]] = mirror * state.angle[j];
+    data_->qvel[arm.dof[j]] = mirror * state.speed[j];
+    prev_speed_[static_cast<int>(hand)][j] = data_->qvel[arm.dof[j]];
+  }
+  mj_forward(model_, data_);
+}
+
 void TossWorld::PlaceBall(int ball, Vec2 p, Vec2 v) {
   const TossBallJoints& j = spec_->ball(ball);
   data_->qpos[j.qpos_x] = p.x - j.origin_x;

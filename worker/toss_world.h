@@ -25,6 +25,11 @@ struct Vec2 {
 
 enum class BallMode { kParked, kFree, kHeld };
 
+// One arm's joint angles (rad) and speeds (rad/s) in the right arm's frame, 𝒥 order.
+struct TossArmState {
+  std::array<double, kTossJoints> angle{}, speed{};
+};
+
 class TossWorld {
  public:
   explicit TossWorld(std::shared_ptr<const TossSpec> spec);
@@ -36,6 +41,12 @@ class TossWorld {
   // and wrist angles get home ± angle_noise (rad) and speeds ± speed_noise (rad/s), one draw applied to both arms as
   // mirror images (the neck stays centred); without, exactly at home and at rest.
   void Reset(Rng* rng, double angle_noise, double speed_noise);
+
+  // `hand`'s arm state, mirrored into the right arm's frame (the neck included).
+  TossArmState ArmState(Hand hand) const;
+  // Puts `hand`'s arm (and the shared neck) in `state` (right arm's frame), recomputes the
+  // kinematics and restarts the effort's speed history there. Held balls are not moved.
+  void SetArmState(Hand hand, const TossArmState& state);
 
   void SetFree(int ball, Vec2 position, Vec2 velocity);
   // Attaches `ball` to `hand`'s palm (from the next Step on it moves with the palm).

@@ -23,7 +23,7 @@ train: build
 # Toss juggling (docs/toss.md): trains the catch and throw policies, then runs the evaluation.
 train-toss: build
 	$(BUILD_DIR)/juggle train --config=configs/toss_catch.textproto --iterations=2500
-	$(BUILD_DIR)/juggle train --config=configs/toss_throw.textproto --iterations=5800
+	$(BUILD_DIR)/juggle train --config=configs/toss_throw.textproto --iterations=8020
 	$(BUILD_DIR)/juggle toss --eval --checkpoint=runs
 
 test: build

@@ -38,8 +38,9 @@ class TossWorld {
   TossWorld& operator=(const TossWorld&) = delete;
 
   // Time 0, every ball parked, both arms at home (targets too). With `rng`, the shoulder, elbow
-  // and wrist angles get home ± angle_noise (rad) and speeds ± speed_noise (rad/s), one draw applied to both arms as
-  // mirror images (the neck stays centred); without, exactly at home and at rest.
+  // and wrist angles get home ± angle_noise (rad) and speeds ± speed_noise (rad/s), one draw
+  // applied to both arms as mirror images (the neck stays centred); without, exactly at home
+  // and at rest.
   void Reset(Rng* rng, double angle_noise, double speed_noise);
 
   // `hand`'s arm state, mirrored into the right arm's frame (the neck included).

@@ -380,7 +380,7 @@ TEST(ConfigLoaderTest, StartStateWithoutFourJointsIsAnErrorNamingTheState) {
 TEST(ConfigLoaderTest, MissingStartStatesFileIsNotFoundNamingTheField) {
   const absl::StatusOr<LoadedConfig> loaded = ParseRunConfig(
       "toss {\n  task: CATCH\n  start_states_file: \"no_such_states.textproto\"\n}\n",
-      "/tmp/c.textproto");
+      "c.textproto");
   ASSERT_EQ(loaded.status().code(), absl::StatusCode::kNotFound);
   EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("c.textproto:3"));
   EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("no_such_states.textproto"));

@@ -19,6 +19,7 @@ int RunBenchLocal(int argc, char** argv, int first);
 int RunRender(int argc, char** argv, int first);
 int RunSiteswap(int argc, char** argv, int first);
 int RunToss(int argc, char** argv, int first);
+int RunExportPolicy(int argc, char** argv, int first);
 
 }  // namespace juggle
 

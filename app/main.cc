@@ -20,6 +20,7 @@ void PrintUsage() {
       "  render        render a rollout to MP4/PNG (+ contact sheet); record and replay\n"
       "  siteswap      toss-juggling siteswaps: validity, state, throw schedule, transitions\n"
       "  toss          juggle a siteswap with trained catch/throw policies; --eval: the protocol\n"
+      "  export-policy write a checkpoint's policy without its trainer (toss in-loop partners)\n"
       "  bench sim     env steps/s on 1 and 2 threads vs bare mj_step, in one run\n"
       "  bench moe     layer-wise vs weight-blended MoE, PPO update and Eigen inference speed\n"
       "  bench ingest  unrolls/s one learner ingests from synthetic workers over loopback\n"
@@ -45,6 +46,7 @@ int main(int argc, char** argv) {
   if (command == "render") return juggle::RunRender(argc, argv, 2);
   if (command == "siteswap") return juggle::RunSiteswap(argc, argv, 2);
   if (command == "toss") return juggle::RunToss(argc, argv, 2);
+  if (command == "export-policy") return juggle::RunExportPolicy(argc, argv, 2);
   if (command == "bench") {
     if (argc >= 3 && std::string(argv[2]) == "sim") return juggle::RunBenchSim(argc, argv, 3);
     const std::string name = argc >= 3 ? argv[2] : "";

@@ -3,6 +3,7 @@
 // pattern over seeds, and a wind sweep. The last line is key=value pairs.
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <string>
@@ -52,8 +53,18 @@ absl::StatusOr<LoadedPolicy> LoadTossPolicy(const std::string& path, config::Tos
 }
 
 // The two tasks must share the body, the gains and the timing the policies were trained with.
-absl::Status CheckSameWorld(const config::TossConfig& a, const config::TossConfig& b) {
-  if (a.model_file() != b.model_file() || a.kp() != b.kp() || a.kd() != b.kd() ||
+// The model file as an absolute, normalized path (configs in different folders may name the
+// same model differently).
+std::string ModelPath(const LoadedConfig& config) {
+  return std::filesystem::weakly_canonical(
+             ResolvePath(config.config_dir, config.run.toss().model_file()))
+      .string();
+}
+
+absl::Status CheckSameWorld(const LoadedConfig& catcher, const LoadedConfig& thrower) {
+  const config::TossConfig& a = catcher.run.toss();
+  const config::TossConfig& b = thrower.run.toss();
+  if (ModelPath(catcher) != ModelPath(thrower) || a.kp() != b.kp() || a.kd() != b.kd() ||
       a.action_scale() != b.action_scale() || a.hand_period_s() != b.hand_period_s() ||
       a.dwell_ratio() != b.dwell_ratio() || a.hand_x() != b.hand_x() || a.hand_z() != b.hand_z()) {
     return absl::FailedPreconditionError(
@@ -292,7 +303,7 @@ int RunToss(int argc, char** argv, int first) {
     if (!c.ok()) return Fail(c.status());
     absl::StatusOr<LoadedPolicy> t = LoadTossPolicy(throw_path, config::THROW);
     if (!t.ok()) return Fail(t.status());
-    if (absl::Status s = CheckSameWorld(c->config.run.toss(), t->config.run.toss()); !s.ok()) {
+    if (absl::Status s = CheckSameWorld(c->config, t->config); !s.ok()) {
       return Fail(s);
     }
     catcher = *std::move(c);
@@ -333,9 +344,9 @@ int RunToss(int argc, char** argv, int first) {
       return Fail(s);
     }
   }
-  std::printf("pattern=%s balls=%d throws=%d catches=%d drops=%d end=%s seconds=%.2f "
-              "mean_velocity_error=%.3f mean_position_error=%.4f wind_n=%.3f\n",
-              flags->Get("pattern").c_str(), pattern->balls(), r->throws, r->catches,
+  std::printf("pattern=%s balls=%d throws=%d good_throws=%d catches=%d drops=%d end=%s "
+              "seconds=%.2f mean_velocity_error=%.3f mean_position_error=%.4f wind_n=%.3f\n",
+              flags->Get("pattern").c_str(), pattern->balls(), r->throws, r->good_throws, r->catches,
               r->end == JuggleEnd::kDropped ? 1 : 0, JuggleEndName(r->end), r->seconds,
               r->mean_velocity_error, r->mean_position_error, base.run.toss().wind_force());
   return 0;

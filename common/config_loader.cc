@@ -154,6 +154,58 @@ absl::Status InlineStartStates(const std::string& config_dir, const SourceLocato
   return absl::OkStatus();
 }
 
+// Reads a binary ExportedPolicy file named by `field` into `policy`.
+absl::Status InlinePolicyFile(const std::string& config_dir, const SourceLocator& where,
+                              const char* field, const std::string& file,
+                              config::ExportedPolicy* policy) {
+  const std::string path = ResolvePath(config_dir, file);
+  absl::StatusOr<std::string> bytes = ReadFile(path);
+  if (!bytes.ok()) {
+    return absl::NotFoundError(absl::StrCat(where.Where({{field}}), ": ", bytes.status().message()));
+  }
+  if (!policy->ParseFromString(*bytes) || policy->parameters().empty()) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        where.Where({{field}}), ": ", path,
+        " is not an exported policy (write one with `juggle export-policy`)"));
+  }
+  return absl::OkStatus();
+}
+
+// In-loop training: both partner policies must be present (files are inlined). The patterns
+// are checked against the model by TossSpec.
+absl::Status PrepareLoop(const std::string& config_dir, const SourceLocator& toss_where,
+                         config::TossConfig* toss) {
+  if (!toss->has_loop()) return absl::OkStatus();
+  const SourceLocator where = toss_where.Nested({{"loop"}});
+  config::TossLoopConfig* loop = toss->mutable_loop();
+  if (loop->pattern_size() == 0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(where.Where({{"pattern"}}), ": name at least one siteswap to juggle"));
+  }
+  if (loop->max_throws() < 1) {
+    return absl::InvalidArgumentError(absl::StrCat(where.Where({{"max_throws"}}), ": must be >= 1"));
+  }
+  if (!(loop->start_noise() >= 0)) {
+    return absl::InvalidArgumentError(absl::StrCat(where.Where({{"start_noise"}}), ": must be >= 0"));
+  }
+  if (loop->has_catch_policy_file()) {
+    RETURN_IF_ERROR(InlinePolicyFile(config_dir, where, "catch_policy_file",
+                                     loop->catch_policy_file(), loop->mutable_catch_policy()));
+    loop->clear_catch_policy_file();
+  }
+  if (loop->has_throw_policy_file()) {
+    RETURN_IF_ERROR(InlinePolicyFile(config_dir, where, "throw_policy_file",
+                                     loop->throw_policy_file(), loop->mutable_throw_policy()));
+    loop->clear_throw_policy_file();
+  }
+  if (!loop->has_catch_policy() || !loop->has_throw_policy()) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        where.Where({{loop->has_catch_policy() ? "throw_policy_file" : "catch_policy_file"}}),
+        ": the loop needs both partner policies (catch_policy_file and throw_policy_file)"));
+  }
+  return absl::OkStatus();
+}
+
 }  // namespace
 
 absl::StatusOr<LoadedConfig> ParseRunConfig(const std::string& text, const std::string& path) {
@@ -180,6 +232,7 @@ absl::StatusOr<LoadedConfig> ParseRunConfig(const std::string& text, const std::
     RETURN_IF_ERROR(ValidateToss(loaded.run.toss(), loaded.env_locator));
     RETURN_IF_ERROR(InlineStartStates(loaded.config_dir, loaded.env_locator,
                                       loaded.run.mutable_toss()));
+    RETURN_IF_ERROR(PrepareLoop(loaded.config_dir, loaded.env_locator, loaded.run.mutable_toss()));
     loaded.graph = std::make_shared<const ControlGraph>();
     return loaded;
   }

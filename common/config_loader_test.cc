@@ -386,6 +386,52 @@ TEST(ConfigLoaderTest, MissingStartStatesFileIsNotFoundNamingTheField) {
   EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("no_such_states.textproto"));
 }
 
+TEST(ConfigLoaderTest, LoopPolicyFilesAreInlinedForTheWorkers) {
+  config::ExportedPolicy policy;
+  policy.set_obs_dim(12);
+  policy.set_act_dim(4);
+  policy.set_parameters("JGLP-bytes");
+  WriteTemp("partner.jglpolicy", policy.SerializeAsString());
+  const std::string config_path = WriteTemp(
+      "uses_partners.textproto",
+      "toss {\n  task: THROW\n  loop {\n    pattern: \"3\"\n"
+      "    catch_policy_file: \"partner.jglpolicy\"\n"
+      "    throw_policy_file: \"partner.jglpolicy\"\n  }\n}\n");
+  const absl::StatusOr<LoadedConfig> loaded = LoadRunConfig(config_path);
+  ASSERT_TRUE(loaded.ok()) << loaded.status();
+  const config::TossLoopConfig& loop = loaded->run.toss().loop();
+  EXPECT_FALSE(loop.has_catch_policy_file());
+  EXPECT_FALSE(loop.has_throw_policy_file());
+  EXPECT_EQ(loop.catch_policy().parameters(), "JGLP-bytes");
+  EXPECT_EQ(loop.throw_policy().obs_dim(), 12);
+}
+
+TEST(ConfigLoaderTest, LoopWithoutAThrowPartnerIsAnErrorNamingTheField) {
+  config::ExportedPolicy policy;
+  policy.set_parameters("x");
+  WriteTemp("catch_only.jglpolicy", policy.SerializeAsString());
+  const std::string config_path = WriteTemp(
+      "one_partner.textproto",
+      "toss {\n  task: THROW\n  loop {\n    pattern: \"3\"\n"
+      "    catch_policy_file: \"catch_only.jglpolicy\"\n  }\n}\n");
+  const absl::StatusOr<LoadedConfig> loaded = LoadRunConfig(config_path);
+  ASSERT_EQ(loaded.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("throw_policy_file"));
+}
+
+TEST(ConfigLoaderTest, LoopPolicyFileThatIsNotAnExportIsAnErrorNamingFileAndLine) {
+  WriteTemp("not_a_policy.jglpolicy", "state { angle: [0, 1, -2, 0.5] }\n");
+  const std::string config_path = WriteTemp(
+      "bad_partner.textproto",
+      "toss {\n  task: CATCH\n  loop {\n    pattern: \"3\"\n"
+      "    catch_policy_file: \"not_a_policy.jglpolicy\"\n"
+      "    throw_policy_file: \"not_a_policy.jglpolicy\"\n  }\n}\n");
+  const absl::StatusOr<LoadedConfig> loaded = LoadRunConfig(config_path);
+  ASSERT_EQ(loaded.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("bad_partner.textproto:5"));
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("juggle export-policy"));
+}
+
 TEST(ConfigLoaderTest, ErrorInAGraphFileNamesTheGraphFileAndItsLine) {
   const std::string graph = ValidBody() + Edge("down", "up", "weight: 0");
   const std::string graph_path = WriteTemp("bad_graph.textproto", graph);

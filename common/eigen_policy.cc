@@ -189,4 +189,13 @@ float EigenPolicy::Sample(const float* mean, Rng* rng, float* action) const {
   return static_cast<float>(GaussianLogProb(action, mean, log_std_.data(), act_dim_));
 }
 
+absl::StatusOr<EigenPolicy> PolicyFromExport(const config::ExportedPolicy& exported) {
+  absl::StatusOr<FlatParameters> params = FlatParameters::Deserialize(exported.parameters());
+  if (!params.ok()) return params.status();
+  if (exported.obs_dim() < 1 || exported.act_dim() < 1) {
+    return absl::InvalidArgumentError("exported policy without obs_dim / act_dim");
+  }
+  return EigenPolicy::Create(exported.model(), *params, exported.obs_dim(), exported.act_dim());
+}
+
 }  // namespace juggle

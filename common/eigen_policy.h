@@ -98,6 +98,10 @@ class EigenPolicy {
   int64_t version_ = 0;
 };
 
+// The policy of an ExportedPolicy (`juggle export-policy`). DATA_LOSS / INVALID_ARGUMENT when
+// its parameters do not read or do not fit its model and sizes.
+absl::StatusOr<EigenPolicy> PolicyFromExport(const config::ExportedPolicy& exported);
+
 // Observation normalization clip (in standard deviations), shared with the learner.
 constexpr float kObsNormClip = 5.0f;
 

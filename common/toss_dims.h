@@ -1,5 +1,5 @@
 // Sizes of the toss-juggling tasks' interface (seed 001 §4.1), shared by workers and the learner.
-// Everything is in the right arm's frame; the left arm is mirrored into it (worker/toss_arm.h).
+// Everything is in the right arm's frame; the left arm is mirrored into it (worker/toss_world.h).
 #ifndef JUGGLE_COMMON_TOSS_DIMS_H_
 #define JUGGLE_COMMON_TOSS_DIMS_H_
 
@@ -11,6 +11,8 @@ constexpr int kTossJoints = 4;
 constexpr int kTossCatchObs = 12;
 // S_throw = S_catch ∪ {t_throw (1), v̄_throw (2)}.
 constexpr int kTossThrowObs = kTossCatchObs + 3;
+// Balls in the toss model (configs/models/toss_arms.xml): patterns juggle at most this many.
+constexpr int kTossModelBalls = 7;
 
 }  // namespace juggle
 

@@ -65,13 +65,25 @@ absl::StatusOr<LoadedCheckpoint> LoadCheckpoint(const std::string& file_or_run_d
   return out;
 }
 
-absl::StatusOr<EigenPolicy> PolicyFromCheckpoint(const Sections& sections,
-                                                 const LoadedConfig& config) {
+absl::StatusOr<config::ExportedPolicy> ExportPolicyFromCheckpoint(const Sections& sections,
+                                                                  const LoadedConfig& config) {
   const EnvDims dims = EnvDimsOf(config);
   PpoTrainer trainer(config.run.model(), config.run.ppo(), dims.obs, dims.act, 0);
   AdaptiveWalk walk(config.graph.get());
   if (absl::Status s = RestoreLearnerState(sections, &trainer, &walk); !s.ok()) return s;
-  return EigenPolicy::Create(config.run.model(), trainer.ExportPolicy(), dims.obs, dims.act);
+  config::ExportedPolicy exported;
+  *exported.mutable_model() = config.run.model();
+  exported.set_obs_dim(dims.obs);
+  exported.set_act_dim(dims.act);
+  exported.set_parameters(trainer.ExportPolicy().Serialize());
+  return exported;
+}
+
+absl::StatusOr<EigenPolicy> PolicyFromCheckpoint(const Sections& sections,
+                                                 const LoadedConfig& config) {
+  absl::StatusOr<config::ExportedPolicy> exported = ExportPolicyFromCheckpoint(sections, config);
+  if (!exported.ok()) return exported.status();
+  return PolicyFromExport(*exported);
 }
 
 }  // namespace juggle

@@ -27,6 +27,11 @@ struct LoadedCheckpoint {
 };
 absl::StatusOr<LoadedCheckpoint> LoadCheckpoint(const std::string& file_or_run_dir);
 
+// The checkpoint's policy as a torch-free ExportedPolicy (`juggle export-policy`); `source` is
+// left for the caller.
+absl::StatusOr<config::ExportedPolicy> ExportPolicyFromCheckpoint(const Sections& sections,
+                                                                  const LoadedConfig& config);
+
 // The checkpoint's policy for `config` (which must describe the same graph and model).
 absl::StatusOr<EigenPolicy> PolicyFromCheckpoint(const Sections& sections,
                                                  const LoadedConfig& config);

@@ -132,6 +132,41 @@ TEST_F(TossCliTest, RecordedStartStatesLoadAsATrainingConfigsStartStates) {
       << output_;
 }
 
+// In-loop training end to end: two briefly trained policies are exported, a throw config
+// trains inside the two-arm loop with them as frozen partners, and `juggle toss` runs the result.
+TEST_F(TossCliTest, LoopTrainingRunsWithExportedPartnerPolicies) {
+  for (const std::string task : {"catch", "throw"}) {
+    ASSERT_EQ(Run({"train", "--config=configs/toss_" + task + ".textproto", "--iterations=2",
+                   "--envs=8", "--run_dir=" + dir_ + "/" + task}, 120, task + ".log"), 0)
+        << output_;
+    ASSERT_EQ(Run({"export-policy", "--checkpoint=" + dir_ + "/" + task,
+                   "--out=" + dir_ + "/" + task + ".jglpolicy"}, 60, task + "_export.log"), 0)
+        << output_;
+    EXPECT_THAT(output_, HasSubstr(task == "catch" ? "obs 12, actions 4" : "obs 15, actions 4"));
+  }
+  std::ifstream in("configs/toss_throw.textproto");
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  const std::string model =
+      (std::filesystem::current_path() / "configs/models/toss_arms.xml").string();
+  text.replace(text.find("toss {\n"), 7,
+               "toss {\n  model_file: \"" + model + "\"\n  loop {\n    pattern: [\"3\", \"531\"]\n"
+               "    catch_policy_file: \"catch.jglpolicy\"\n"
+               "    throw_policy_file: \"throw.jglpolicy\"\n  }\n");
+  std::ofstream(dir_ + "/loop_throw.textproto") << text;
+  ASSERT_EQ(Run({"train", "--config=" + dir_ + "/loop_throw.textproto", "--iterations=3",
+                 "--envs=8", "--run_dir=" + dir_ + "/loop"}, 120, "loop.log"), 0)
+      << output_;
+  EXPECT_THAT(output_, HasSubstr("iter"));
+  ASSERT_EQ(Run({"toss", "--pattern=3", "--catch=" + dir_ + "/catch", "--throw=" + dir_ + "/loop"},
+                60, "toss.log"), 0) << output_;
+  EXPECT_GE(Value("good_throws"), 0) << last_line_;
+  EXPECT_GE(Value("throws"), 1) << last_line_;
+  // Exporting needs a checkpoint.
+  EXPECT_EQ(Run({"export-policy", "--checkpoint=" + dir_ + "/none", "--out=" + dir_ + "/x"}, 30,
+                "bad_export.log"), 1);
+  EXPECT_THAT(output_, HasSubstr(dir_ + "/none"));
+}
+
 TEST_F(TossCliTest, UnjugglablePatternsAreClearErrors) {
   EXPECT_EQ(Run({"toss", "--zero-action", "--pattern=9"}, 30, "nine.log"), 1);
   EXPECT_THAT(output_, HasSubstr("9 balls"));

@@ -5,14 +5,6 @@
 
 namespace juggle {
 
-BallisticLanding PredictLanding(Vec2 position, Vec2 velocity, double z, double g) {
-  const double disc = velocity.z * velocity.z + 2 * g * (position.z - z);
-  if (disc < 0) return {};
-  const double t = (velocity.z + std::sqrt(disc)) / g;
-  if (t < 0) return {};
-  return {position.x + velocity.x * t, t};
-}
-
 TossEnv::TossEnv(std::shared_ptr<const TossSpec> spec, Rng rng, Hand hand)
     : spec_(std::move(spec)),
       world_(spec_),
@@ -85,7 +77,6 @@ void TossEnv::ResetThrow() {
   throw_value_ = SampleThrowValue();
   const ThrowTiming timing = ComputeThrowTiming(throw_value_, hand_ == Hand::kRight ? 0 : 1,
                                                 spec_->timing());
-  flight_time_ = timing.flight_time_s;
   target_velocity_ = {timing.v_x, timing.v_z};  // signed for this hand by the schedule
   const double t_throw = t.dwell_ratio() * t.hand_period_s() +
                          rng_.Uniform(-t.catch_timing_jitter_s(), t.catch_timing_jitter_s());
@@ -137,13 +128,7 @@ StepResult TossEnv::StepThrow() {
     release_velocity_error_ = std::hypot(dvx, dvz);
     reward += -t.w_release_position() * (dpx * dpx + dpz * dpz) -
               t.w_release_velocity() * (dvx * dvx + dvz * dvz);
-    const Hand catcher = throw_value_ % 2 == 1 ? (hand_ == Hand::kRight ? Hand::kLeft : Hand::kRight)
-                                               : hand_;
-    const BallisticLanding landing = PredictLanding(p, v, spec_->home_z(), spec_->timing().gravity);
-    if (landing.time > 0 && std::abs(landing.x - spec_->home_x(catcher)) < 2 * t.catch_radius() &&
-        std::abs(landing.time - flight_time_) < 0.1) {
-      completions_ = 1;
-    }
+    if (IsGoodThrow(*spec_, hand_, throw_value_, p, v)) completions_ = 1;
     r.outcome = Outcome::kReleased;
   }
   r.reward = static_cast<float>(reward);

@@ -25,13 +25,6 @@
 
 namespace juggle {
 
-// The predicted landing of a released ball: where and when (since the release) it comes back
-// down through height `z` under gravity `g` alone. time < 0 if it never does.
-struct BallisticLanding {
-  double x = 0, time = -1;
-};
-BallisticLanding PredictLanding(Vec2 position, Vec2 velocity, double z, double g);
-
 class TossEnv : public Env {
  public:
   TossEnv(std::shared_ptr<const TossSpec> spec, Rng rng, Hand hand = Hand::kRight);
@@ -72,7 +65,6 @@ class TossEnv : public Env {
   // THROW task.
   int throw_value_ = 0;
   int release_step_ = 0;
-  double flight_time_ = 0;
   Vec2 target_velocity_;
   double release_velocity_error_ = 0, release_position_error_ = 0;
   std::vector<EdgeEvent> no_events_;

@@ -103,16 +103,17 @@ int TossJuggler::IncomingBall(Hand hand) const {
   return best;
 }
 
-void TossJuggler::Act(Hand hand) {
+bool TossJuggler::HoldsThrow(Hand hand) const {
   const int held = world_.held_by(hand);
-  const EigenPolicy* policy = held >= 0 ? policies_.thrower : policies_.catcher;
-  const int ball = held >= 0 ? held : IncomingBall(hand);
-  if (policy == nullptr || ball < 0) {
-    world_.SetHomeTargets(hand);
-    return;
-  }
-  float obs[kTossThrowObs];
-  world_.WriteArmObservation(hand, ball, obs);
+  if (held < 0) return false;
+  const int beat = balls_[held].next_beat;
+  return ComputeThrowTiming(Value(beat), beat, spec_->timing()).kind ==
+         ThrowKind::kToss;
+}
+
+void TossJuggler::WriteObservation(Hand hand, float* obs) const {
+  const int held = world_.held_by(hand);
+  world_.WriteArmObservation(hand, held >= 0 ? held : IncomingBall(hand), obs);
   if (held >= 0) {
     const int beat = balls_[held].next_beat;
     const ThrowTiming timing = ComputeThrowTiming(Value(beat), beat, spec_->timing());
@@ -120,6 +121,17 @@ void TossJuggler::Act(Hand hand) {
     obs[kTossCatchObs + 1] = static_cast<float>(TossSpec::MirrorSign(hand) * timing.v_x);
     obs[kTossCatchObs + 2] = static_cast<float>(timing.v_z);
   }
+}
+
+void TossJuggler::Act(Hand hand) {
+  const bool holding = world_.held_by(hand) >= 0;
+  const EigenPolicy* policy = holding ? policies_.thrower : policies_.catcher;
+  if (policy == nullptr || (!holding && IncomingBall(hand) < 0)) {
+    world_.SetHomeTargets(hand);
+    return;
+  }
+  float obs[kTossThrowObs];
+  WriteObservation(hand, obs);
   const RowMatrix action = policy->MeanActions(obs, 1);
   world_.SetAction(hand, action.data());
 }
@@ -145,6 +157,14 @@ bool TossJuggler::DoBeat(int beat) {
     position_error_sum_ += std::hypot(p.x - spec_->home_x(hand), p.z - spec_->home_z());
     velocity_error_sum_ += std::hypot(vel.x - timing.v_x, vel.z - timing.v_z);
     ++releases_;
+    HandEvents& e = events_[static_cast<int>(hand)];
+    e.released = true;
+    e.value = v;
+    e.release_position = p;
+    e.release_velocity = vel;
+    e.target_velocity = {timing.v_x, timing.v_z};
+    e.good_throw = IsGoodThrow(*spec_, hand, v, p, vel);
+    if (e.good_throw) ++result_.good_throws;
   }
   balls_[ball].next_beat = beat + v;
   ++result_.throws;
@@ -169,50 +189,63 @@ void TossJuggler::Capture(std::vector<JuggleFrame>* frames) const {
   frames->push_back(std::move(f));
 }
 
-JuggleRunResult TossJuggler::Run(std::vector<JuggleFrame>* frames) {
-  Capture(frames);
-  const double drop_z = spec_->toss().drop_z();
-  while (true) {
-    Act(Hand::kRight);
-    Act(Hand::kLeft);
-    world_.Step();
-    ++step_;
-    if (world_.diverged()) {
-      result_.end = JuggleEnd::kDiverged;
-      break;
-    }
-    for (Hand hand : {Hand::kRight, Hand::kLeft}) {
-      const int ball = IncomingBall(hand);
-      if (ball >= 0 && world_.CanCatch(ball, hand)) {
-        result_.throw_starts.push_back(world_.ArmState(hand));
-        world_.Hold(ball, hand);
-        ++result_.catches;
-      }
-    }
-    bool over = false;
-    while (!over && BeatStep(next_beat_) <= step_) {
-      if (!DoBeat(next_beat_)) {
-        result_.end = JuggleEnd::kMissedBeat;
-        over = true;
-      } else if (result_.throws >= options_.max_throws) {
-        result_.end = JuggleEnd::kMaxThrows;
-        over = true;
-      }
-      ++next_beat_;
-    }
-    for (int b = 0; !over && b < static_cast<int>(balls_.size()); ++b) {
-      if (world_.mode(b) == BallMode::kFree && world_.ball_position(b).z < drop_z) {
-        result_.end = JuggleEnd::kDropped;
-        over = true;
-      }
-    }
-    Capture(frames);
-    if (over) break;
-  }
+void TossJuggler::Finish(JuggleEnd end, Hand hand) {
+  over_ = true;
+  end_hand_ = hand;
+  result_.end = end;
   result_.seconds = world_.time();
   if (releases_ > 0) {
     result_.mean_velocity_error = velocity_error_sum_ / releases_;
     result_.mean_position_error = position_error_sum_ / releases_;
+  }
+}
+
+bool TossJuggler::Step(const float* right_action, std::vector<JuggleFrame>* frames) {
+  events_ = {};
+  if (right_action != nullptr) {
+    world_.SetAction(Hand::kRight, right_action);
+  } else {
+    Act(Hand::kRight);
+  }
+  Act(Hand::kLeft);
+  world_.Step();
+  ++step_;
+  if (world_.diverged()) {
+    Finish(JuggleEnd::kDiverged, Hand::kRight);
+    return false;
+  }
+  for (Hand hand : {Hand::kRight, Hand::kLeft}) {
+    const int ball = IncomingBall(hand);
+    if (ball >= 0 && world_.CanCatch(ball, hand)) {
+      result_.throw_starts.push_back(world_.ArmState(hand));
+      HandEvents& e = events_[static_cast<int>(hand)];
+      e.caught = true;
+      e.catch_height_error = std::abs(spec_->home_z() - world_.ball_position(ball).z);
+      world_.Hold(ball, hand);
+      ++result_.catches;
+    }
+  }
+  while (!over_ && BeatStep(next_beat_) <= step_) {
+    if (!DoBeat(next_beat_)) {
+      Finish(JuggleEnd::kMissedBeat, BeatHand(next_beat_));
+    } else if (result_.throws >= options_.max_throws) {
+      Finish(JuggleEnd::kMaxThrows, BeatHand(next_beat_));
+    }
+    ++next_beat_;
+  }
+  const double drop_z = spec_->toss().drop_z();
+  for (int b = 0; !over_ && b < static_cast<int>(balls_.size()); ++b) {
+    if (world_.mode(b) == BallMode::kFree && world_.ball_position(b).z < drop_z) {
+      Finish(JuggleEnd::kDropped, DestinationHand(b));
+    }
+  }
+  Capture(frames);
+  return !over_;
+}
+
+JuggleRunResult TossJuggler::Run(std::vector<JuggleFrame>* frames) {
+  Capture(frames);
+  while (Step(nullptr, frames)) {
   }
   return result_;
 }

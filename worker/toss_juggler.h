@@ -53,6 +53,7 @@ const char* JuggleEndName(JuggleEnd end);
 struct JuggleRunResult {
   int throws = 0;    // throws made (released, handed over) before the run ended
   int catches = 0;
+  int good_throws = 0;  // releases that pass IsGoodThrow
   JuggleEnd end = JuggleEnd::kMaxThrows;
   double seconds = 0;
   // Over the released throws: mean |v − v̄| (m/s) and |p − p̄| (m) at the release.
@@ -73,6 +74,16 @@ struct JuggleFrame {
   std::vector<int> ball_mode;      // 0 parked, 1 free, 2 held
 };
 
+// What happened to one hand in the last Step.
+struct HandEvents {
+  bool caught = false;
+  double catch_height_error = 0;  // |hand_z − z_ball| at the catch (m)
+  bool released = false;          // a throw left the hand (handoffs are not releases)
+  int value = 0;                  // the released throw's siteswap value
+  Vec2 release_position, release_velocity, target_velocity;
+  bool good_throw = false;        // IsGoodThrow
+};
+
 class TossJuggler {
  public:
   // INVALID_ARGUMENT for patterns with more balls than the model has (7) or throws above 35.
@@ -82,6 +93,27 @@ class TossJuggler {
                                                             JugglerOptions options);
   // Runs to the end; frames are appended to `frames` if given.
   JuggleRunResult Run(std::vector<JuggleFrame>* frames = nullptr);
+
+  // One control step; false once the run is over (then Step must not be called again).
+  // `right_action` (right arm's frame), if given, drives the right arm instead of its policy:
+  // in-loop training (worker/toss_loop_env.h).
+  bool Step(const float* right_action = nullptr, std::vector<JuggleFrame>* frames = nullptr);
+  bool over() const { return over_; }
+  // The run so far (final once over()).
+  const JuggleRunResult& result() const { return result_; }
+  // The hand whose ball (a drop: the hand it was due at) or beat (a missed beat) ended the run.
+  Hand end_hand() const { return end_hand_; }
+  const HandEvents& events(Hand hand) const { return events_[static_cast<int>(hand)]; }
+  // Mode machine: `hand` holds a ball it will release at its beat (throw mode with a throw of
+  // positive flight time due; handoffs and empty beats excluded).
+  bool HoldsThrow(Hand hand) const;
+  // The free ball due next at `hand`, or −1.
+  int IncomingBall(Hand hand) const;
+  // The observation `hand`'s policy sees now: S_throw (kTossThrowObs floats) if it holds a
+  // ball, else S_catch about IncomingBall (kTossCatchObs).
+  void WriteObservation(Hand hand, float* obs) const;
+  const TossWorld& world() const { return world_; }
+  TossWorld* mutable_world() { return &world_; }
 
  private:
   struct Ball {
@@ -93,8 +125,8 @@ class TossJuggler {
   int Value(int beat) const;
   int BeatStep(int beat) const;
   Hand DestinationHand(int ball) const;
-  int IncomingBall(Hand hand) const;
   void Act(Hand hand);
+  void Finish(JuggleEnd end, Hand hand);
   bool DoBeat(int beat);  // false: missed beat
   void Capture(std::vector<JuggleFrame>* frames) const;
 
@@ -109,6 +141,9 @@ class TossJuggler {
   JuggleRunResult result_;
   double velocity_error_sum_ = 0, position_error_sum_ = 0;
   int releases_ = 0;
+  bool over_ = false;
+  Hand end_hand_ = Hand::kRight;
+  std::array<HandEvents, 2> events_{};
 };
 
 }  // namespace juggle

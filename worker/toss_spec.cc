@@ -6,6 +6,7 @@
 #include "common/status_macros.h"
 #include "worker/mujoco_model.h"
 #include "worker/toss_env.h"
+#include "worker/toss_loop_env.h"
 
 namespace juggle {
 namespace {
@@ -48,8 +49,62 @@ int TossSpec::obs_dim() const {
 }
 
 std::unique_ptr<Env> TossSpec::NewEnv(Rng rng) const {
-  return std::make_unique<TossEnv>(std::static_pointer_cast<const TossSpec>(shared_from_this()),
-                                   rng);
+  auto self = std::static_pointer_cast<const TossSpec>(shared_from_this());
+  if (in_loop()) return std::make_unique<TossLoopEnv>(std::move(self), rng);
+  return std::make_unique<TossEnv>(std::move(self), rng);
+}
+
+absl::Status TossSpec::ResolveLoop() {
+  if (!in_loop()) return absl::OkStatus();
+  const config::TossLoopConfig& loop = toss().loop();
+  const SourceLocator where = config_.env_locator.Nested({{"loop"}});
+  for (const std::string& text : loop.pattern()) {
+    absl::StatusOr<Siteswap> parsed = Siteswap::Parse(text);
+    if (!parsed.ok() || parsed->balls() < 1 || parsed->balls() > kTossBalls) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          where.Where({{"pattern"}}), ": '", text, "': ",
+          parsed.ok() ? absl::StrCat(parsed->balls(), " balls; the toss model juggles 1 to ",
+                                     kTossBalls)
+                      : std::string(parsed.status().message())));
+    }
+    const Siteswap& pattern = *parsed;
+    // The right hand throws on even beats; over two periods every throw comes from both hands.
+    bool has_segment = false;
+    for (int beat = 0; beat < 2 * pattern.period(); ++beat) {
+      const int v = pattern.throws()[beat % pattern.period()];
+      if (ComputeThrowTiming(v, beat, timing_).kind != ThrowKind::kToss) continue;
+      const bool right_throws = beat % 2 == 0, right_catches = (beat + v) % 2 == 0;
+      has_segment |= toss().task() == config::THROW ? right_throws : right_catches;
+    }
+    if (!has_segment) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          where.Where({{"pattern"}}), ": '", text, "' never gives the right hand a ",
+          toss().task() == config::THROW ? "throw" : "catch", " to train on"));
+    }
+    loop_patterns_.push_back(pattern);
+  }
+  struct Partner {
+    const char* field;
+    const config::ExportedPolicy& exported;
+    int obs_dim;
+    std::optional<EigenPolicy>* out;
+  };
+  for (const Partner& p : {Partner{"catch_policy_file", loop.catch_policy(), kTossCatchObs, &loop_catcher_},
+                           Partner{"throw_policy_file", loop.throw_policy(), kTossThrowObs, &loop_thrower_}}) {
+    if (p.exported.obs_dim() != p.obs_dim || p.exported.act_dim() != kTossJoints) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          where.Where({{p.field}}), ": the policy (", p.exported.source(), ") has ",
+          p.exported.obs_dim(), " observations and ", p.exported.act_dim(), " actions; this partner needs ",
+          p.obs_dim, " and ", kTossJoints, " (is it the other task's policy?)"));
+    }
+    absl::StatusOr<EigenPolicy> policy = PolicyFromExport(p.exported);
+    if (!policy.ok()) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(where.Where({{p.field}}), ": ", policy.status().message()));
+    }
+    p.out->emplace(*std::move(policy));
+  }
+  return absl::OkStatus();
 }
 
 absl::Status TossSpec::Resolve() {
@@ -139,7 +194,7 @@ absl::Status TossSpec::Resolve() {
   timing_.dwell_ratio = toss().dwell_ratio();
   timing_.hand_separation_m = 2 * std::abs(toss().hand_x());
   timing_.gravity = -model_->opt.gravity[2];
-  return absl::OkStatus();
+  return ResolveLoop();
 }
 
 }  // namespace juggle

@@ -1,6 +1,6 @@
 // TossSpec: the fixed part of a toss-juggling run (seed 001) — the compiled planar two-arm
 // model, the joint and ball addresses, the home pose and the siteswap timing — and the factory
-// of TossEnv (the single-arm training tasks). The two-arm runtime (worker/toss_juggler.h) uses
+// of TossEnv (the single-arm training tasks) or TossLoopEnv (in-loop training, toss.loop). The two-arm runtime (worker/toss_juggler.h) uses
 // the same spec. Conventions: the frontal x–z plane, x to the juggler's left; the right arm is
 // the policy's frame and the left arm is its mirror image (x → −x, every hinge angle → −angle).
 #ifndef JUGGLE_WORKER_TOSS_SPEC_H_
@@ -8,19 +8,22 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <mujoco/mujoco.h>
 
 #include "absl/status/statusor.h"
 #include "common/config_loader.h"
+#include "common/eigen_policy.h"
 #include "common/siteswap.h"
 #include "common/toss_dims.h"
 #include "worker/env.h"
 
 namespace juggle {
 
-constexpr int kTossBalls = 7;
+constexpr int kTossBalls = kTossModelBalls;
 
 // Joint addresses of one arm, in 𝒥 order {neck, shoulder, elbow, wrist}. The neck is shared
 // by both arms.
@@ -68,9 +71,16 @@ class TossSpec : public EnvSpec {
   const ThrowPhysicsParams& timing() const { return timing_; }
   double dt() const { return model_->opt.timestep; }
 
+  // In-loop training (toss.loop set): the patterns and the frozen partner policies.
+  bool in_loop() const { return toss().has_loop(); }
+  const std::vector<Siteswap>& loop_patterns() const { return loop_patterns_; }
+  const EigenPolicy* loop_catcher() const { return loop_catcher_ ? &*loop_catcher_ : nullptr; }
+  const EigenPolicy* loop_thrower() const { return loop_thrower_ ? &*loop_thrower_ : nullptr; }
+
  private:
   TossSpec(LoadedConfig config, mjModel* model);
   absl::Status Resolve();
+  absl::Status ResolveLoop();
 
   LoadedConfig config_;
   mjModel* model_;  // owned
@@ -78,6 +88,8 @@ class TossSpec : public EnvSpec {
   std::array<TossBallJoints, kTossBalls> balls_;
   std::array<double, kTossJoints> home_{};
   ThrowPhysicsParams timing_;
+  std::vector<Siteswap> loop_patterns_;
+  std::optional<EigenPolicy> loop_catcher_, loop_thrower_;
 };
 
 }  // namespace juggle

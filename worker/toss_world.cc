@@ -224,4 +224,22 @@ Vec2 TossWorld::ball_velocity(int ball) const {
   return {data_->qvel[j.dof_x], data_->qvel[j.dof_z]};
 }
 
+BallisticLanding PredictLanding(Vec2 position, Vec2 velocity, double z, double g) {
+  const double disc = velocity.z * velocity.z + 2 * g * (position.z - z);
+  if (disc < 0) return {};
+  const double t = (velocity.z + std::sqrt(disc)) / g;
+  if (t < 0) return {};
+  return {position.x + velocity.x * t, t};
+}
+
+bool IsGoodThrow(const TossSpec& spec, Hand thrower, int value, Vec2 position, Vec2 velocity) {
+  const Hand catcher =
+      value % 2 == 1 ? (thrower == Hand::kRight ? Hand::kLeft : Hand::kRight) : thrower;
+  const BallisticLanding landing =
+      PredictLanding(position, velocity, spec.home_z(), spec.timing().gravity);
+  return landing.time > 0 &&
+         std::abs(landing.x - spec.home_x(catcher)) < 2 * spec.toss().catch_radius() &&
+         std::abs(landing.time - FlightTimeEq1(value, spec.timing())) < 0.1;
+}
+
 }  // namespace juggle

@@ -108,6 +108,18 @@ class TossWorld {
   bool diverged_ = false;
 };
 
+// The predicted landing of a released ball: where and when (since the release) it comes back
+// down through height `z` under gravity `g` alone. time < 0 if it never does.
+struct BallisticLanding {
+  double x = 0, time = -1;
+};
+BallisticLanding PredictLanding(Vec2 position, Vec2 velocity, double z, double g);
+
+// A good throw (the throw task's completion): released at `position` with `velocity` by
+// `thrower` as a throw of `value`, it comes down at hand_z within 2·catch_radius of the catching
+// hand's home point and within 0.1 s of the schedule's flight time (Eq. 1).
+bool IsGoodThrow(const TossSpec& spec, Hand thrower, int value, Vec2 position, Vec2 velocity);
+
 }  // namespace juggle
 
 #endif  // JUGGLE_WORKER_TOSS_WORLD_H_

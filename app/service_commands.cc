@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 
 #include <atomic>
+#include <cstdlib>
 #include <csignal>
 #include <cstdio>
 #include <fstream>
@@ -14,7 +15,9 @@
 #include "app/commands.h"
 #include "app/flags.h"
 #include "common/config_loader.h"
+#include "learner/checkpoint.h"
 #include "learner/learner_server.h"
+#include "learner/learner_state.h"
 #include "worker/worker_client.h"
 
 namespace juggle {
@@ -48,6 +51,31 @@ std::function<void(const IterationReport&)> ProgressReporter(const std::string& 
   };
 }
 
+// --init_from: a new run that starts from another run's checkpoint (fine-tuning under another
+// config, e.g. toss in-loop training). The checkpoint is copied into <run_dir>/checkpoints,
+// which must hold none yet; the run then resumes from it.
+absl::Status SeedRunFromCheckpoint(const std::string& source, const std::string& run_dir) {
+  CheckpointDir dir(run_dir + "/checkpoints");
+  if (!dir.List().empty()) {
+    return absl::FailedPreconditionError(absl::StrCat(
+        "--init_from: run directory ", run_dir, " already holds checkpoints (newest ",
+        dir.List().front(), "); choose another --run_dir, or --resume without --init_from"));
+  }
+  absl::StatusOr<LoadedCheckpoint> checkpoint = LoadCheckpoint(source);
+  if (!checkpoint.ok()) return checkpoint.status();
+  const size_t slash = checkpoint->path.rfind('/');
+  const std::string name =
+      slash == std::string::npos ? checkpoint->path : checkpoint->path.substr(slash + 1);
+  if (std::system(absl::StrCat("mkdir -p '", dir.dir(), "'").c_str()) != 0) {
+    return absl::PermissionDeniedError(absl::StrCat("cannot create ", dir.dir()));
+  }
+  if (absl::Status s = WriteCheckpointFile(dir.dir() + "/" + name, checkpoint->sections); !s.ok()) {
+    return s;
+  }
+  std::printf("starting from %s\n", checkpoint->path.c_str());
+  return absl::OkStatus();
+}
+
 // Shared by `learner` and `train`: builds LearnerOptions from flags.
 absl::StatusOr<LearnerOptions> LearnerOptionsFromFlags(const Flags& flags) {
   absl::StatusOr<LoadedConfig> config = LoadRunConfig(flags.Get("config"));
@@ -62,6 +90,16 @@ absl::StatusOr<LearnerOptions> LearnerOptionsFromFlags(const Flags& flags) {
   if (::mkdir(o.run_dir.c_str(), 0755) != 0 && errno != EEXIST) {
     return absl::PermissionDeniedError(absl::StrCat("cannot create run directory ", o.run_dir));
   }
+  if (!flags.Get("init_from").empty()) {
+    if (o.resume) {
+      return absl::InvalidArgumentError(
+          "--init_from starts a new run; it cannot be combined with --resume");
+    }
+    if (absl::Status s = SeedRunFromCheckpoint(flags.Get("init_from"), o.run_dir); !s.ok()) {
+      return s;
+    }
+    o.resume = true;  // from the copied checkpoint
+  }
   o.on_iteration = ProgressReporter(o.run_dir);
   return o;
 }
@@ -71,6 +109,8 @@ std::vector<FlagSpec> CommonLearnerFlags() {
       {"config", "configs/right_foot.textproto", "run config (protobuf text format)"},
       {"run_dir", "", "run directory: checkpoints/ and metrics.jsonl (default runs/<name>)"},
       {"resume", "false", "continue from the newest readable checkpoint in the run directory"},
+      {"init_from", "", "start a new run from this checkpoint (file or run directory): "
+                        "fine-tuning under this config"},
       {"iterations", "0", "stop after this many iterations (0: the config's ppo.iterations)"},
       {"minutes", "0", "stop after this many minutes (0: no limit)"},
   };

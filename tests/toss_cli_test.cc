@@ -18,6 +18,7 @@ namespace {
 
 using ::testing::HasSubstr;
 using testing::ChildProcess;
+using ::testing::Not;
 
 class TossCliTest : public ::testing::Test {
  protected:
@@ -153,10 +154,19 @@ TEST_F(TossCliTest, LoopTrainingRunsWithExportedPartnerPolicies) {
                "    catch_policy_file: \"catch.jglpolicy\"\n"
                "    throw_policy_file: \"throw.jglpolicy\"\n  }\n");
   std::ofstream(dir_ + "/loop_throw.textproto") << text;
-  ASSERT_EQ(Run({"train", "--config=" + dir_ + "/loop_throw.textproto", "--iterations=3",
-                 "--envs=8", "--run_dir=" + dir_ + "/loop"}, 120, "loop.log"), 0)
+  // Fine-tuning the briefly trained throw policy in the loop: the run starts at its iteration.
+  ASSERT_EQ(Run({"train", "--config=" + dir_ + "/loop_throw.textproto", "--iterations=4",
+                 "--envs=8", "--run_dir=" + dir_ + "/loop", "--init_from=" + dir_ + "/throw"},
+                120, "loop.log"), 0)
       << output_;
-  EXPECT_THAT(output_, HasSubstr("iter"));
+  EXPECT_THAT(output_, HasSubstr("starting from " + dir_ + "/throw/checkpoints/"));
+  EXPECT_THAT(output_, HasSubstr("iter     3"));
+  EXPECT_THAT(output_, Not(HasSubstr("iter     1 ")));
+  // A second --init_from into the same run directory would mix runs: refused.
+  EXPECT_EQ(Run({"train", "--config=" + dir_ + "/loop_throw.textproto", "--iterations=1",
+                 "--run_dir=" + dir_ + "/loop", "--init_from=" + dir_ + "/throw"}, 60,
+                "again.log"), 1);
+  EXPECT_THAT(output_, HasSubstr("already holds checkpoints"));
   ASSERT_EQ(Run({"toss", "--pattern=3", "--catch=" + dir_ + "/catch", "--throw=" + dir_ + "/loop"},
                 60, "toss.log"), 0) << output_;
   EXPECT_GE(Value("good_throws"), 0) << last_line_;

@@ -170,13 +170,13 @@ absl::StatusOr<JuggleRunResult> RunOnce(std::shared_ptr<const TossSpec> spec,
   return (*juggler)->Run(frames);
 }
 
-// Median of the throws over seeds 1..seeds.
+// Median of the throws over seeds first_seed..first_seed + seeds − 1.
 absl::StatusOr<int> MedianThrows(std::shared_ptr<const TossSpec> spec, const Siteswap& pattern,
-                                 TossPolicies policies, int max_throws, int seeds,
+                                 TossPolicies policies, int max_throws, int first_seed, int seeds,
                                  std::vector<int>* all = nullptr,
                                  StartStates* start_states = nullptr) {
   std::vector<int> throws;
-  for (int s = 1; s <= seeds; ++s) {
+  for (int s = first_seed; s < first_seed + seeds; ++s) {
     absl::StatusOr<JuggleRunResult> r = RunOnce(spec, pattern, policies, max_throws, s);
     if (!r.ok()) return r.status();
     throws.push_back(r->throws);
@@ -189,7 +189,7 @@ absl::StatusOr<int> MedianThrows(std::shared_ptr<const TossSpec> spec, const Sit
 }
 
 int Evaluate(const LoadedConfig& base, TossPolicies policies, const std::string& pattern_list,
-             int seeds, int max_throws, double wind_step, double wind_max,
+             int first_seed, int seeds, int max_throws, double wind_step, double wind_max,
              const std::string& record_states) {
   absl::StatusOr<std::shared_ptr<const TossSpec>> spec =
       SpecWithWind(base, base.run.toss().wind_force());
@@ -204,7 +204,7 @@ int Evaluate(const LoadedConfig& base, TossPolicies policies, const std::string&
     absl::StatusOr<Siteswap> pattern = Siteswap::Parse(text);
     if (!pattern.ok()) return Fail(pattern.status());
     std::vector<int> all;
-    absl::StatusOr<int> median = MedianThrows(*spec, *pattern, policies, max_throws, seeds, &all,
+    absl::StatusOr<int> median = MedianThrows(*spec, *pattern, policies, max_throws, first_seed, seeds, &all,
                                               record_states.empty() ? nullptr : &start_states);
     if (!median.ok()) return Fail(median.status());
     std::string per_seed;
@@ -231,7 +231,7 @@ int Evaluate(const LoadedConfig& base, TossPolicies policies, const std::string&
   for (double wind = 0; wind <= wind_max + 1e-9; wind += wind_step) {
     absl::StatusOr<std::shared_ptr<const TossSpec>> windy = SpecWithWind(base, wind);
     if (!windy.ok()) return Fail(windy.status());
-    absl::StatusOr<int> median = MedianThrows(*windy, three, policies, 100, seeds);
+    absl::StatusOr<int> median = MedianThrows(*windy, three, policies, 100, first_seed, seeds);
     if (!median.ok()) return Fail(median.status());
     std::printf("wind %.3f N: median %d throws of 3\n", wind, *median);
     std::fflush(stdout);
@@ -253,7 +253,8 @@ int RunToss(int argc, char** argv, int first) {
       {"throw", "", "throw policy: checkpoint file or run directory (default <checkpoint>/toss_throw)"},
       {"zero-action", "false", "both arms hold their home pose (baseline); needs --config"},
       {"config", "configs/toss_catch.textproto", "toss config for --zero-action"},
-      {"seed", "1", "seed of the run (arm and ball start perturbations)"},
+      {"seed", "1", "seed of the run (arm and ball start perturbations); with --eval the first "
+                    "of its seeds"},
       {"max-throws", "200", "stop after this many throws"},
       {"wind", "-1", "constant horizontal force on balls in flight, N (-1: the config's)"},
       {"record", "", "write the ball and arm trajectories to this CSV file"},
@@ -261,7 +262,7 @@ int RunToss(int argc, char** argv, int first) {
                             "and PREFIX_throw.textproto (TossConfig.start_states_file)"},
       {"eval", "false", "evaluation protocol: patterns x seeds and a wind sweep"},
       {"patterns", "3,4,5,53,441,531,6,7", "patterns of --eval"},
-      {"seeds", "10", "seeds per pattern of --eval (1..seeds)"},
+      {"seeds", "10", "seeds per pattern of --eval (seed..seed+seeds-1)"},
       {"wind-step", "0.02", "wind sweep step of --eval, N"},
       {"wind-max", "1.0", "largest wind of the sweep, N"},
   };
@@ -315,7 +316,8 @@ int RunToss(int argc, char** argv, int first) {
                               thrower ? &thrower->policy : nullptr};
 
   if (flags->GetBool("eval")) {
-    return Evaluate(base, policies, flags->Get("patterns"), static_cast<int>(*seeds),
+    return Evaluate(base, policies, flags->Get("patterns"), static_cast<int>(*seed),
+                    static_cast<int>(*seeds),
                     static_cast<int>(*max_throws), *wind_step, *wind_max,
                     flags->Get("record-states"));
   }

@@ -219,6 +219,10 @@ absl::StatusOr<LoadedConfig> ParseRunConfig(const std::string& text, const std::
     return absl::InvalidArgumentError(
         absl::StrCat(root.Where({{"sampling"}}), ": num_envs and num_threads must be >= 1"));
   }
+  if (loaded.run.service().keep_checkpoints() < 1) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(root.Nested({{"service"}}).Where({{"keep_checkpoints"}}), ": must be >= 1"));
+  }
 
   if (loaded.run.has_toss()) {
     // Toss juggling has no control graph: an empty one keeps the walk and the wire format

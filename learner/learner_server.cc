@@ -298,7 +298,8 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
   if (std::system(absl::StrCat("mkdir -p '", s->options.run_dir, "'").c_str()) != 0) {
     return absl::PermissionDeniedError(absl::StrCat("cannot create run directory ", s->options.run_dir));
   }
-  s->checkpoints = std::make_unique<CheckpointDir>(s->options.run_dir + "/checkpoints");
+  s->checkpoints = std::make_unique<CheckpointDir>(s->options.run_dir + "/checkpoints",
+                                                   std::max(1, config.run.service().keep_checkpoints()));
   if (!s->options.resume && !s->checkpoints->List().empty()) {
     // A fresh run must not mix its checkpoints with an older run's (resume and evaluation
     // take the newest file, which would be the older run's).

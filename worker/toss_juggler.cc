@@ -94,11 +94,28 @@ void TossJuggler::PlaceInitialBalls(Rng* rng) {
 
 Hand TossJuggler::DestinationHand(int ball) const { return BeatHand(balls_[ball].next_beat); }
 
+bool TossJuggler::IsHandoff(int beat) const {
+  const int v = Value(beat);
+  return v == 1 || (v > 0 && ComputeThrowTiming(v, std::max(beat, 0), spec_->timing()).kind ==
+                                 ThrowKind::kHandoff);
+}
+
 int TossJuggler::IncomingBall(Hand hand) const {
   int best = -1;
   for (int b = 0; b < static_cast<int>(balls_.size()); ++b) {
     if (world_.mode(b) != BallMode::kFree || DestinationHand(b) != hand) continue;
     if (best < 0 || balls_[b].next_beat < balls_[best].next_beat) best = b;
+  }
+  // A ball the other hand passes over (a 1) before `best` is due: the hand waits for it at home
+  // instead of chasing `best` (it could not take both).
+  const int passed = world_.held_by(Other(hand));
+  if (best >= 0 && passed >= 0 && IsHandoff(balls_[passed].next_beat)) {
+    const config::TossConfig& t = spec_->toss();
+    const int dwell_steps =
+        static_cast<int>(std::lround(t.dwell_ratio() * t.hand_period_s() / spec_->dt()));
+    if (BeatStep(balls_[passed].next_beat) <= BeatStep(balls_[best].next_beat) - dwell_steps) {
+      return -1;
+    }
   }
   return best;
 }
@@ -142,7 +159,7 @@ bool TossJuggler::DoBeat(int beat) {
   const Hand hand = BeatHand(beat);
   const int ball = world_.held_by(hand);
   if (ball < 0 || balls_[ball].next_beat != beat) return false;
-  if (v == 1 || ComputeThrowTiming(v, beat, spec_->timing()).kind == ThrowKind::kHandoff) {
+  if (IsHandoff(beat)) {
     if (world_.held_by(Other(hand)) >= 0) return false;
     world_.Hold(ball, Other(hand));
   } else {

@@ -107,7 +107,8 @@ class TossJuggler {
   // Mode machine: `hand` holds a ball it will release at its beat (throw mode with a throw of
   // positive flight time due; handoffs and empty beats excluded).
   bool HoldsThrow(Hand hand) const;
-  // The free ball due next at `hand`, or −1.
+  // The free ball due next at `hand`, or −1 (none, or the other hand passes `hand` a ball
+  // first: then `hand` waits at home).
   int IncomingBall(Hand hand) const;
   // The observation `hand`'s policy sees now: S_throw (kTossThrowObs floats) if it holds a
   // ball, else S_catch about IncomingBall (kTossCatchObs).
@@ -125,6 +126,8 @@ class TossJuggler {
   int Value(int beat) const;
   int BeatStep(int beat) const;
   Hand DestinationHand(int ball) const;
+  // Beat `beat` passes its ball to the other hand (a 1, or a throw Eq. 1 gives no flight time).
+  bool IsHandoff(int beat) const;
   void Act(Hand hand);
   void Finish(JuggleEnd end, Hand hand);
   bool DoBeat(int beat);  // false: missed beat

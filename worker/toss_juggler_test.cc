@@ -74,6 +74,30 @@ TEST(TossJugglerTest, HandoffOfAOneMovesTheBallToTheOtherHandWithoutAFlight) {
   EXPECT_NEAR(r.catches, 30 * 2 / 3, 2);
 }
 
+TEST(TossJugglerTest, HandWaitsForABallPassedToItBeforeChasingTheNextFreeOne) {
+  // 531: beat 0 (R) 5, beat 1 (L) 3, beat 2 (R) 1 — a handoff to L at 0.75 s — beat 3 (L) 5.
+  JugglerOptions options;
+  options.start_noise = 0;
+  options.ideal_release = true;
+  absl::StatusOr<std::unique_ptr<TossJuggler>> made =
+      TossJuggler::Create(CatchSpec(), *Siteswap::Parse("531"), TossPolicies{}, options);
+  ASSERT_TRUE(made.ok()) << made.status();
+  TossJuggler& j = **made;
+  auto step_to = [&](double t) {
+    while (j.world().time() < t - 1e-9) ASSERT_TRUE(j.Step());
+  };
+  step_to(0.6);  // L threw its 3 at 0.5 s; R holds the ball it passes at 0.75 s
+  ASSERT_LT(j.world().held_by(Hand::kLeft), 0);
+  ASSERT_GE(j.world().held_by(Hand::kRight), 0);
+  EXPECT_EQ(j.IncomingBall(Hand::kLeft), -1) << "the 5 thrown at beat 0 is due later";
+  step_to(0.8);
+  EXPECT_GE(j.world().held_by(Hand::kLeft), 0) << "handed over at 0.75 s";
+  step_to(1.05);  // L threw the 5 at 1.0 s; R's next throw (beat 4) is a 3, not a handoff
+  ASSERT_LT(j.world().held_by(Hand::kLeft), 0);
+  EXPECT_GE(j.IncomingBall(Hand::kLeft), 0) << "now L chases beat 0's 5";
+  EXPECT_FALSE(j.HoldsThrow(Hand::kLeft));
+}
+
 TEST(TossJugglerTest, ThreeStartsWithOneBallInTheFirstThrowersHandAndTwoInTheAir) {
   std::vector<JuggleFrame> frames;
   RunPattern("3", true, 3, &frames);

@@ -386,6 +386,14 @@ TEST(ConfigLoaderTest, MissingStartStatesFileIsNotFoundNamingTheField) {
   EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("no_such_states.textproto"));
 }
 
+TEST(ConfigLoaderTest, KeepingNoCheckpointsIsAnErrorNamingTheField) {
+  const absl::StatusOr<LoadedConfig> loaded = ParseRunConfig(
+      "toss {\n  task: CATCH\n}\nservice {\n  keep_checkpoints: 0\n}\n", "c.textproto");
+  ASSERT_EQ(loaded.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("c.textproto:5"));
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("keep_checkpoints"));
+}
+
 TEST(ConfigLoaderTest, LoopPolicyFilesAreInlinedForTheWorkers) {
   config::ExportedPolicy policy;
   policy.set_obs_dim(12);

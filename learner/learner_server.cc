@@ -475,6 +475,9 @@ absl::Status LearnerServer::Train(const std::atomic<bool>* stop) {
       RETURN_IF_ERROR(s.Checkpoint());
     }
   }
+  // No newer policy will come: release workers waiting for one (they get the current policy
+  // at once instead of at their long poll's deadline, up to 30 s later).
+  s.store.Close();
   return s.Checkpoint();
 }
 

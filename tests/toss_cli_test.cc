@@ -171,6 +171,19 @@ TEST_F(TossCliTest, LoopTrainingRunsWithExportedPartnerPolicies) {
                 60, "toss.log"), 0) << output_;
   EXPECT_GE(Value("good_throws"), 0) << last_line_;
   EXPECT_GE(Value("throws"), 1) << last_line_;
+  // The ranking script evaluates every checkpoint of the loop run with the partner, best last.
+  const std::string rank_log = dir_ + "/rank.log";
+  ASSERT_EQ(std::system(("JUGGLE=" JUGGLE_BINARY " scripts/rank_toss_checkpoints.sh throw " + dir_ +
+                         "/loop/checkpoints " + dir_ + "/catch 3,531 101 > " + rank_log + " 2>&1")
+                            .c_str()),
+            0);
+  std::ifstream ranking(rank_log);
+  int ranked = 0;
+  for (std::string line; std::getline(ranking, line); ++ranked) {
+    EXPECT_THAT(line, ::testing::MatchesRegex("[0-9]+ .*/ckpt-[0-9]+\\.jglc throws_3=[0-9]+ "
+                                              "throws_531=[0-9]+ "));
+  }
+  EXPECT_GE(ranked, 2) << "the copied starting checkpoint and the run's own";
   // Exporting needs a checkpoint.
   EXPECT_EQ(Run({"export-policy", "--checkpoint=" + dir_ + "/none", "--out=" + dir_ + "/x"}, 30,
                 "bad_export.log"), 1);

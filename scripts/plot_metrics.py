@@ -9,6 +9,8 @@ mean episode return. Each panel shows the raw per-iteration values and a moving 
 import json
 import sys
 
+from svg_axes import axes
+
 
 def moving_average(values, window):
     out, acc = [], 0.0
@@ -21,24 +23,7 @@ def moving_average(values, window):
 
 
 def panel(x, y, top, height, width, title, colour):
-    left, right = 70, width - 20
-    lo, hi = min(y), max(y)
-    if hi - lo < 1e-9:
-        hi = lo + 1
-    xmax = max(x) if max(x) > 0 else 1
-
-    def px(v):
-        return left + (right - left) * v / xmax
-
-    def py(v):
-        return top + height - height * (v - lo) / (hi - lo)
-
-    parts = [f'<rect x="{left}" y="{top}" width="{right-left}" height="{height}" fill="none" stroke="#999"/>',
-             f'<text x="{left}" y="{top-6}" font-size="13" font-family="sans-serif">{title}</text>']
-    for frac in (0, 0.5, 1):
-        v = lo + (hi - lo) * frac
-        parts.append(f'<text x="{left-6}" y="{py(v)+4:.1f}" font-size="11" text-anchor="end" '
-                     f'font-family="sans-serif">{v:.2f}</text>')
+    parts, px, py = axes(70, width - 20, top, height, max(x), min(y), max(y), title)
     raw = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in zip(x, y))
     smooth = " ".join(f"{px(a):.1f},{py(b):.1f}" for a, b in zip(x, moving_average(y, 20)))
     parts.append(f'<polyline points="{raw}" fill="none" stroke="{colour}" stroke-opacity="0.3"/>')

@@ -12,6 +12,8 @@ import argparse
 import csv
 import sys
 
+from svg_axes import axes
+
 COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2"]
 
 
@@ -26,20 +28,8 @@ def read(path, seconds):
 
 def panel(rows, balls, key, top, height, width, title, lo, hi):
     left, right = 60, width - 20
-    t_max = float(rows[-1]["time"]) or 1.0
-
-    def px(t):
-        return left + (right - left) * t / t_max
-
-    def py(v):
-        return top + height - height * (v - lo) / (hi - lo)
-
-    out = [f'<rect x="{left}" y="{top}" width="{right-left}" height="{height}" fill="none" stroke="#999"/>',
-           f'<text x="{left}" y="{top-6}" font-size="13" font-family="sans-serif">{title}</text>']
-    for frac in (0, 0.5, 1):
-        v = lo + (hi - lo) * frac
-        out.append(f'<text x="{left-6}" y="{py(v)+4:.1f}" font-size="11" text-anchor="end" '
-                   f'font-family="sans-serif">{v:.2f}</text>')
+    t_max = float(rows[-1]["time"])
+    out, px, py = axes(left, right, top, height, t_max, lo, hi, title)
     t = 0.0
     while t <= t_max + 1e-9:
         out.append(f'<text x="{px(t):.1f}" y="{top+height+14}" font-size="11" text-anchor="middle" '

@@ -36,7 +36,7 @@ train-toss: build
 	$(J) export-policy --checkpoint=runs/toss_loop1_throw --out=$(TOSS_PARTNERS)/throw_r1.jglpolicy
 	$(J) train --config=configs/toss_loop2_catch.textproto --init_from=runs/toss_loop1_catch --minutes=25
 	scripts/rank_toss_checkpoints.sh catch runs/toss_loop2_catch/checkpoints runs/toss_loop1_throw \
-	  | tee runs/toss_loop2_catch/ranking.txt
+	  3,4,5,531,53,441,6,7 | tee runs/toss_loop2_catch/ranking.txt
 	$(J) toss --eval --throw=runs/toss_loop1_throw \
 	  --catch=$$(tail -n 1 runs/toss_loop2_catch/ranking.txt | cut -d' ' -f2)
 

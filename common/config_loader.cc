@@ -161,7 +161,8 @@ absl::Status InlinePolicyFile(const std::string& config_dir, const SourceLocator
   const std::string path = ResolvePath(config_dir, file);
   absl::StatusOr<std::string> bytes = ReadFile(path);
   if (!bytes.ok()) {
-    return absl::NotFoundError(absl::StrCat(where.Where({{field}}), ": ", bytes.status().message()));
+    return absl::NotFoundError(absl::StrCat(where.Where({{field}}), ": ", bytes.status().message(),
+                                            " (write it with `juggle export-policy`)"));
   }
   if (!policy->ParseFromString(*bytes) || policy->parameters().empty()) {
     return absl::InvalidArgumentError(absl::StrCat(

@@ -414,6 +414,16 @@ TEST(ConfigLoaderTest, LoopPolicyFilesAreInlinedForTheWorkers) {
   EXPECT_EQ(loop.throw_policy().obs_dim(), 12);
 }
 
+TEST(ConfigLoaderTest, MissingLoopPolicyFileIsNotFoundNamingTheLineAndTheExportCommand) {
+  const absl::StatusOr<LoadedConfig> loaded = ParseRunConfig(
+      "toss {\n  task: THROW\n  loop {\n    pattern: \"3\"\n"
+      "    catch_policy_file: \"no_such.jglpolicy\"\n  }\n}\n",
+      "c.textproto");
+  ASSERT_EQ(loaded.status().code(), absl::StatusCode::kNotFound);
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("c.textproto:5"));
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("juggle export-policy"));
+}
+
 TEST(ConfigLoaderTest, LoopWithoutAThrowPartnerIsAnErrorNamingTheField) {
   config::ExportedPolicy policy;
   policy.set_parameters("x");

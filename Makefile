@@ -38,7 +38,7 @@ train-toss: build
 	scripts/rank_toss_checkpoints.sh catch runs/toss_loop2_catch/checkpoints runs/toss_loop1_throw \
 	  3,4,5,531,53,441,6,7 | tee runs/toss_loop2_catch/ranking.txt
 	$(J) toss --eval --throw=runs/toss_loop1_throw \
-	  --catch=$$(tail -n 1 runs/toss_loop2_catch/ranking.txt | cut -d' ' -f2)
+	  --catch=$$(tail -n 1 runs/toss_loop2_catch/ranking.txt | cut -d' ' -f3)
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)

@@ -180,7 +180,7 @@ TEST_F(TossCliTest, LoopTrainingRunsWithExportedPartnerPolicies) {
   std::ifstream ranking(rank_log);
   int ranked = 0;
   for (std::string line; std::getline(ranking, line); ++ranked) {
-    EXPECT_THAT(line, ::testing::MatchesRegex("[0-9]+ .*/ckpt-[0-9]+\\.jglc throws_3=[0-9]+ "
+    EXPECT_THAT(line, ::testing::MatchesRegex("[0-9]+ [0-9.]+ .*/ckpt-[0-9]+\\.jglc throws_3=[0-9]+ "
                                               "throws_531=[0-9]+ "));
   }
   EXPECT_GE(ranked, 2) << "the copied starting checkpoint and the run's own";

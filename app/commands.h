@@ -1,25 +1,22 @@
-// Subcommands of the `juggle` binary. Each returns a process exit code and prints its own
-// errors; main() only dispatches.
+// Every `juggle` subcommand's Add function (app/<name>_command.cc), for main.cc's one list.
 #ifndef JUGGLE_APP_COMMANDS_H_
 #define JUGGLE_APP_COMMANDS_H_
 
+#include "app/command.h"
+
 namespace juggle {
 
-int RunSimulate(int argc, char** argv, int first);
-int RunTrain(int argc, char** argv, int first);
-int RunLearner(int argc, char** argv, int first);
-int RunWorkerCommand(int argc, char** argv, int first);
-int RunEval(int argc, char** argv, int first);
-int RunCheckConfig(int argc, char** argv, int first);
-int RunBenchSim(int argc, char** argv, int first);
-int RunBenchMoe(int argc, char** argv, int first);
-int RunBenchIngest(int argc, char** argv, int first);
-int RunBenchBroadcast(int argc, char** argv, int first);
-int RunBenchLocal(int argc, char** argv, int first);
-int RunRender(int argc, char** argv, int first);
-int RunSiteswap(int argc, char** argv, int first);
-int RunToss(int argc, char** argv, int first);
-int RunExportPolicy(int argc, char** argv, int first);
+CommandBody AddTrainCommand(CLI::App* cmd);
+CommandBody AddLearnerCommand(CLI::App* cmd);
+CommandBody AddWorkerCommand(CLI::App* cmd);
+CommandBody AddEvalCommand(CLI::App* cmd);
+CommandBody AddSimulateCommand(CLI::App* cmd);
+CommandBody AddCheckConfigCommand(CLI::App* cmd);
+CommandBody AddRenderCommand(CLI::App* cmd);
+CommandBody AddSiteswapCommand(CLI::App* cmd);
+CommandBody AddTossCommand(CLI::App* cmd);
+CommandBody AddExportPolicyCommand(CLI::App* cmd);
+CommandBody AddBenchCommand(CLI::App* cmd);
 
 }  // namespace juggle
 

@@ -1,63 +1,52 @@
-// juggle: train physically simulated characters to juggle a soccer ball.
-#include <cstdio>
-#include <cstring>
-#include <string>
-
+// juggle: train physically simulated characters to juggle a ball. One list of subcommands;
+// `juggle --help` and `juggle <command> --help` come from it.
+#include "app/command.h"
 #include "app/commands.h"
 
 namespace {
 
-void PrintUsage() {
-  std::printf(
-      "usage: juggle <command> [flags]   (juggle <command> --help for its flags)\n\n"
-      "commands:\n"
-      "  train         train locally: a learner and its workers in one process over loopback\n"
-      "  learner       the learner process of a cluster run (gRPC, /metrics, checkpoints)\n"
-      "  worker        a simulation worker of a cluster run\n"
-      "  eval          evaluate a checkpoint (mean action) or the zero-action baseline\n"
-      "  simulate      run an env pool with zero or random actions and report episode stats\n"
-      "  check-config  load and validate a run config and its model; print a summary\n"
-      "  render        render a rollout to MP4/PNG (+ contact sheet); record and replay\n"
-      "  siteswap      toss-juggling siteswaps: validity, state, throw schedule, transitions\n"
-      "  toss          juggle a siteswap with trained catch/throw policies; --eval: the protocol\n"
-      "  export-policy write a checkpoint's policy without its trainer (toss in-loop partners)\n"
-      "  bench sim     env steps/s on 1 and 2 threads vs bare mj_step, in one run\n"
-      "  bench moe     layer-wise vs weight-blended MoE, PPO update and Eigen inference speed\n"
-      "  bench ingest  unrolls/s one learner ingests from synthetic workers over loopback\n"
-      "  bench broadcast  snapshot broadcast time to 32 connected workers\n"
-      "  bench local   local-mode iteration time vs sampling alone + update alone\n");
-}
+using juggle::Command;
+
+const Command kCommands[] = {
+    {"train", "train locally: a learner and its workers in one process over loopback",
+     juggle::AddTrainCommand},
+    {"learner", "the learner process of a cluster run (gRPC, /metrics, checkpoints)",
+     juggle::AddLearnerCommand},
+    {"worker", "a simulation worker of a cluster run (also the juggle-worker binary)",
+     juggle::AddWorkerCommand},
+    {"eval", "evaluate a checkpoint (mean action) or the zero-action baseline",
+     juggle::AddEvalCommand},
+    {"simulate", "run an env pool with zero or random actions and report episode stats",
+     juggle::AddSimulateCommand},
+    {"check-config", "load and validate a run config and its model; print a summary",
+     juggle::AddCheckConfigCommand},
+    {"render", "render a rollout to MP4/PNG (+ contact sheet); record and replay",
+     juggle::AddRenderCommand},
+    {"siteswap", "toss-juggling siteswaps: validity, state, throw schedule, transitions",
+     juggle::AddSiteswapCommand},
+    {"toss", "juggle a siteswap with trained catch/throw policies; --eval: the protocol",
+     juggle::AddTossCommand},
+    {"export-policy", "write a checkpoint's policy without its trainer (torch-free)",
+     juggle::AddExportPolicyCommand},
+    {"bench", "benchmarks that print ratios measured in one run (docs/performance.md)",
+     juggle::AddBenchCommand},
+};
+constexpr int kNumCommands = sizeof(kCommands) / sizeof(kCommands[0]);
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") ||
-      !std::strcmp(argv[1], "help")) {
-    PrintUsage();
-    return argc < 2 ? 2 : 0;
+  CLI::App app("juggle: train physically simulated characters to juggle (docs/DESIGN.md)",
+               "juggle");
+  app.require_subcommand(1);
+  app.footer("juggle <command> --help lists a command's flags.");
+  juggle::CommandBody bodies[kNumCommands];
+  const juggle::CommandBody* body_ptrs[kNumCommands];
+  CLI::App* subcommands[kNumCommands];
+  for (int i = 0; i < kNumCommands; ++i) {
+    subcommands[i] = app.add_subcommand(kCommands[i].name, kCommands[i].help);
+    bodies[i] = kCommands[i].add(subcommands[i]);
+    body_ptrs[i] = &bodies[i];
   }
-  const std::string command = argv[1];
-  if (command == "train") return juggle::RunTrain(argc, argv, 2);
-  if (command == "eval") return juggle::RunEval(argc, argv, 2);
-  if (command == "learner") return juggle::RunLearner(argc, argv, 2);
-  if (command == "worker") return juggle::RunWorkerCommand(argc, argv, 2);
-  if (command == "simulate") return juggle::RunSimulate(argc, argv, 2);
-  if (command == "check-config") return juggle::RunCheckConfig(argc, argv, 2);
-  if (command == "render") return juggle::RunRender(argc, argv, 2);
-  if (command == "siteswap") return juggle::RunSiteswap(argc, argv, 2);
-  if (command == "toss") return juggle::RunToss(argc, argv, 2);
-  if (command == "export-policy") return juggle::RunExportPolicy(argc, argv, 2);
-  if (command == "bench") {
-    if (argc >= 3 && std::string(argv[2]) == "sim") return juggle::RunBenchSim(argc, argv, 3);
-    const std::string name = argc >= 3 ? argv[2] : "";
-    if (name == "moe") return juggle::RunBenchMoe(argc, argv, 3);
-    if (name == "ingest") return juggle::RunBenchIngest(argc, argv, 3);
-    if (name == "broadcast") return juggle::RunBenchBroadcast(argc, argv, 3);
-    if (name == "local") return juggle::RunBenchLocal(argc, argv, 3);
-    std::fprintf(stderr, "juggle bench: expected a benchmark: sim | moe | ingest | broadcast | local\n");
-    return 2;
-  }
-  std::fprintf(stderr, "juggle: unknown command '%s'\n\n", command.c_str());
-  PrintUsage();
-  return 2;
+  return juggle::ParseAndRun(&app, argc, argv, body_ptrs, subcommands, kNumCommands);
 }

@@ -3,51 +3,31 @@
 // enumerate patterns. The last line of every report is key=value pairs for scripts.
 // Exit status: 0 ok, 1 invalid pattern (or patterns without a transition), 2 usage error.
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "absl/strings/escaping.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "app/command.h"
 #include "app/commands.h"
-#include "app/flags.h"
-#include "common/siteswap.h"
+#include "envs/toss/siteswap.h"
 
-namespace juggle {
+namespace juggle::toss {
 namespace {
 
 constexpr int kExitInvalid = 1;
-constexpr int kExitUsage = 2;
 
-std::vector<FlagSpec> SiteswapFlags() {
-  return {
-      {"hand_period", "0.5", "P_hand, s between two throws of one hand (paper Table 1)"},
-      {"dwell_ratio", "0.7", "D_ratio, fraction of P_hand a hand holds its ball (Table 1)"},
-      {"hand_separation", "0.4", "m between the hands' throw points, for Eq. 3 (assumed)"},
-      {"transition", "false", "shortest transition: juggle siteswap --transition FROM TO"},
-      {"enumerate", "false", "list patterns (--balls, --max_throw, --period | --max_period)"},
-      {"balls", "", "--enumerate: number of balls"},
-      {"max_throw", "", "--enumerate: highest throw (0-35)"},
-      {"period", "", "--enumerate: exact period (1-16)"},
-      {"max_period", "", "--enumerate: every period from 1 to this instead of --period"},
-  };
-}
-
-void PrintSiteswapUsage() {
-  std::printf(
-      "usage: juggle siteswap PATTERN [--hand_period=0.5 --dwell_ratio=0.7 "
-      "--hand_separation=0.4]\n"
-      "       juggle siteswap --transition FROM TO\n"
-      "       juggle siteswap --enumerate --balls=3 --max_throw=5 (--period=3 | "
-      "--max_period=3)\n"
-      "Vanilla (asynchronous, solo) siteswaps: throws 0-9, a-z for 10-35. docs/siteswap.md.\n"
-      "Exit status: 0 ok, 1 invalid pattern, 2 usage error.\n%s",
-      Flags::Usage(SiteswapFlags()).c_str());
-}
+struct SiteswapFlags {
+  std::vector<std::string> patterns;
+  double hand_period = 0.5, dwell_ratio = 0.7, hand_separation = 0.4;
+  bool transition = false, enumerate = false;
+  std::optional<int> balls, max_throw, period, max_period;
+};
 
 int UsageError(const std::string& message) {
-  std::fprintf(stderr, "juggle siteswap: %s\n", message.c_str());
-  PrintSiteswapUsage();
+  std::fprintf(stderr, "error: %s (see juggle siteswap --help)\n", message.c_str());
   return kExitUsage;
 }
 
@@ -163,29 +143,19 @@ int Transition(const std::string& from_text, const std::string& to_text) {
   return 0;
 }
 
-int Enumerate(const Flags& flags) {
-  if (flags.Get("balls").empty() || flags.Get("max_throw").empty()) {
-    return UsageError("--enumerate needs --balls and --max_throw");
-  }
-  if (flags.Get("period").empty() == flags.Get("max_period").empty()) {
+int Enumerate(const SiteswapFlags& f) {
+  if (!f.balls || !f.max_throw) return UsageError("--enumerate needs --balls and --max_throw");
+  if (f.period.has_value() == f.max_period.has_value()) {
     return UsageError("--enumerate needs exactly one of --period and --max_period");
   }
-  absl::StatusOr<int64_t> balls = flags.GetInt("balls");
-  absl::StatusOr<int64_t> max_throw = flags.GetInt("max_throw");
-  const bool up_to = !flags.Get("max_period").empty();
-  absl::StatusOr<int64_t> period = flags.GetInt(up_to ? "max_period" : "period");
-  for (const absl::StatusOr<int64_t>* v : {&balls, &max_throw, &period}) {
-    if (!v->ok()) return UsageError(std::string(v->status().message()));
-  }
-  auto in_int = [](int64_t v) { return v >= -1000 && v <= 1000; };  // library checks the range
-  if (!in_int(*balls) || !in_int(*max_throw) || !in_int(*period)) {
-    return UsageError("--balls, --max_throw and --period must be small integers");
-  }
+  const bool up_to = f.max_period.has_value();
+  const int64_t balls = *f.balls, max_throw = *f.max_throw;
+  const int64_t period = up_to ? *f.max_period : *f.period;
   std::vector<Siteswap> all;
-  for (int p = up_to ? 1 : static_cast<int>(*period); p <= *period; ++p) {
+  for (int p = up_to ? 1 : static_cast<int>(period); p <= period; ++p) {
     EnumerateOptions o;
-    o.balls = static_cast<int>(*balls);
-    o.max_throw = static_cast<int>(*max_throw);
+    o.balls = static_cast<int>(balls);
+    o.max_throw = static_cast<int>(max_throw);
     o.period = p;
     absl::StatusOr<std::vector<Siteswap>> found = EnumerateSiteswaps(o);
     if (!found.ok()) {
@@ -199,58 +169,74 @@ int Enumerate(const Flags& flags) {
   }
   std::printf("%lld-ball siteswaps with throws up to %lld, period %s%lld (each once, in its "
               "rotation with the highest throw first): %zu\n",
-              static_cast<long long>(*balls), static_cast<long long>(*max_throw),
-              up_to ? "1 to " : "", static_cast<long long>(*period), all.size());
+              static_cast<long long>(balls), static_cast<long long>(max_throw),
+              up_to ? "1 to " : "", static_cast<long long>(period), all.size());
   for (const Siteswap& s : all) {
-    std::printf("  %-*s  period %2d  %-7s  state %s\n", static_cast<int>(*period), s.ToString().c_str(),
+    std::printf("  %-*s  period %2d  %-7s  state %s\n", static_cast<int>(period), s.ToString().c_str(),
                 s.period(), s.IsGroundStatePattern() ? "ground" : "excited",
                 s.StateString().c_str());
   }
   std::printf("count=%zu balls=%lld max_throw=%lld %s=%lld\n", all.size(),
-              static_cast<long long>(*balls), static_cast<long long>(*max_throw),
-              up_to ? "max_period" : "period", static_cast<long long>(*period));
+              static_cast<long long>(balls), static_cast<long long>(max_throw),
+              up_to ? "max_period" : "period", static_cast<long long>(period));
   return 0;
 }
 
-}  // namespace
-
-int RunSiteswap(int argc, char** argv, int first) {
-  absl::StatusOr<Flags> flags = Flags::Parse(argc, argv, first, SiteswapFlags());
-  if (!flags.ok()) return UsageError(std::string(flags.status().message()));
-  if (flags->help()) {
-    PrintSiteswapUsage();
-    return 0;
-  }
-  const bool transition = flags->GetBool("transition");
-  const bool enumerate = flags->GetBool("enumerate");
-  const std::vector<std::string>& args = flags->positional();
-  if (transition && enumerate) return UsageError("--transition and --enumerate exclude each other");
-  if (enumerate) {
+int RunSiteswapCommand(const SiteswapFlags& f) {
+  const std::vector<std::string>& args = f.patterns;
+  if (f.transition && f.enumerate) return UsageError("--transition and --enumerate exclude each other");
+  if (f.enumerate) {
     if (!args.empty()) return UsageError("--enumerate takes no pattern");
-    return Enumerate(*flags);
+    return Enumerate(f);
   }
-  for (const char* name : {"balls", "max_throw", "period", "max_period"}) {
-    if (!flags->Get(name).empty()) {
-      return UsageError(absl::StrCat("--", name, " only applies to --enumerate"));
-    }
+  if (f.balls || f.max_throw || f.period || f.max_period) {
+    return UsageError("--balls, --max_throw, --period and --max_period only apply to --enumerate");
   }
-  if (transition) {
+  if (f.transition) {
     if (args.size() != 2) return UsageError("--transition needs two patterns: FROM TO");
     return Transition(args[0], args[1]);
   }
   if (args.size() != 1) return UsageError("expected one pattern, e.g. juggle siteswap 531");
   ThrowPhysicsParams params;
-  absl::StatusOr<double> hand_period = flags->GetDouble("hand_period");
-  absl::StatusOr<double> dwell_ratio = flags->GetDouble("dwell_ratio");
-  absl::StatusOr<double> separation = flags->GetDouble("hand_separation");
-  for (const absl::StatusOr<double>* v : {&hand_period, &dwell_ratio, &separation}) {
-    if (!v->ok()) return UsageError(std::string(v->status().message()));
-  }
-  params.hand_period_s = *hand_period;
-  params.dwell_ratio = *dwell_ratio;
-  params.hand_separation_m = *separation;
+  params.hand_period_s = f.hand_period;
+  params.dwell_ratio = f.dwell_ratio;
+  params.hand_separation_m = f.hand_separation;
   if (absl::Status s = params.Validate(); !s.ok()) return UsageError(std::string(s.message()));
   return Analyse(args[0], params);
+}
+
+}  // namespace
+}  // namespace juggle::toss
+
+namespace juggle {
+
+CommandBody AddSiteswapCommand(CLI::App* cmd) {
+  using toss::SiteswapFlags;
+  auto f = std::make_shared<SiteswapFlags>();
+  cmd->footer(
+      "  juggle siteswap PATTERN [--hand_period=0.5 --dwell_ratio=0.7 --hand_separation=0.4]\n"
+      "  juggle siteswap --transition FROM TO\n"
+      "  juggle siteswap --enumerate --balls=3 --max_throw=5 (--period=3 | --max_period=3)\n"
+      "Vanilla (asynchronous, solo) siteswaps: throws 0-9, a-z for 10-35. docs/siteswap.md.\n"
+      "Exit status: 0 ok, 1 invalid pattern, 2 usage error.");
+  cmd->add_option("patterns", f->patterns, "PATTERN, or FROM TO with --transition");
+  cmd->add_option("--hand_period", f->hand_period,
+                  "P_hand, s between two throws of one hand (paper Table 1)")
+      ->capture_default_str();
+  cmd->add_option("--dwell_ratio", f->dwell_ratio,
+                  "D_ratio, fraction of P_hand a hand holds its ball (Table 1)")
+      ->capture_default_str();
+  cmd->add_option("--hand_separation", f->hand_separation,
+                  "m between the hands' throw points, for Eq. 3 (assumed)")
+      ->capture_default_str();
+  cmd->add_flag("--transition", f->transition, "shortest transition: juggle siteswap --transition FROM TO");
+  cmd->add_flag("--enumerate", f->enumerate, "list patterns (--balls, --max_throw, --period | --max_period)");
+  cmd->add_option("--balls", f->balls, "--enumerate: number of balls");
+  cmd->add_option("--max_throw", f->max_throw, "--enumerate: highest throw (0-35)");
+  cmd->add_option("--period", f->period, "--enumerate: exact period (1-16)");
+  cmd->add_option("--max_period", f->max_period,
+                  "--enumerate: every period from 1 to this instead of --period");
+  return [f] { return toss::RunSiteswapCommand(*f); };
 }
 
 }  // namespace juggle

@@ -11,8 +11,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "app/commands.h"
-#include "app/flags.h"
+#include "bench/benchmarks.h"
 #include "common/eigen_policy.h"
 #include "common/rng.h"
 #include "learner/networks.h"
@@ -43,21 +42,9 @@ double TimeForwardBackward(TorchNetwork* net, int batch, bool blended, int reps)
 
 }  // namespace
 
-int RunBenchMoe(int argc, char** argv, int first) {
-  const std::vector<FlagSpec> specs = {
-      {"reps", "3", "repetitions per measurement (best is reported)"},
-      {"threads", "2", "torch threads"},
-      {"ppo_samples", "20000", "samples in the PPO-throughput batch"},
-      {"worker_batch", "64", "batch of the Eigen inference measurement"},
-  };
-  absl::StatusOr<Flags> flags = Flags::Parse(argc, argv, first, specs);
-  if (!flags.ok() || flags->help()) {
-    if (!flags.ok()) std::fprintf(stderr, "error: %s\n", std::string(flags.status().message()).c_str());
-    std::printf("usage: juggle bench moe [flags]\n%s", Flags::Usage(specs).c_str());
-    return flags.ok() ? 0 : 2;
-  }
-  const int reps = static_cast<int>(*flags->GetInt("reps"));
-  torch::set_num_threads(static_cast<int>(*flags->GetInt("threads")));
+absl::Status RunMoeBench(const MoeBenchOptions& o) {
+  const int reps = o.reps;
+  torch::set_num_threads(o.threads);
   torch::manual_seed(1);
   config::ModelConfig model;  // reference: 8 experts, [128, 128], gate [128, 128]
   TorchNetwork net(model, "actor", 157, 28, true, 0.1, 0.1);
@@ -77,9 +64,9 @@ int RunBenchMoe(int argc, char** argv, int first) {
   }
 
   // PPO update throughput at the reference's network sizes (obs 157, act 28).
-  const int n = static_cast<int>(*flags->GetInt("ppo_samples"));
+  const int n = static_cast<int>(o.ppo_samples);
   config::PpoConfig ppo;
-  ppo.set_torch_threads(static_cast<int>(*flags->GetInt("threads")));
+  ppo.set_torch_threads(static_cast<int>(o.threads));
   PpoTrainer trainer(model, ppo, 157, 28, 1);
   UnrollBatch batch;
   batch.num_unrolls = n / 100;
@@ -102,10 +89,7 @@ int RunBenchMoe(int argc, char** argv, int first) {
   const auto t0 = Clock::now();
   absl::StatusOr<UpdateStats> stats = trainer.Update(batch);
   const double update_s = Seconds(t0);
-  if (!stats.ok()) {
-    std::fprintf(stderr, "error: %s\n", std::string(stats.status().message()).c_str());
-    return 1;
-  }
+  if (!stats.ok()) return stats.status();
   const int passes = ppo.epochs() * 2;  // critic epochs + actor epochs
   const double per_epoch = batch.num_samples() * passes / update_s;
   std::printf("PPO update: %ld samples, %d epochs (critic + actor) in %.2f s = %.0f samples/s "
@@ -114,7 +98,7 @@ int RunBenchMoe(int argc, char** argv, int first) {
               batch.num_samples() / update_s);
 
   // Eigen inference at a worker-sized batch.
-  const int wb = static_cast<int>(*flags->GetInt("worker_batch"));
+  const int wb = static_cast<int>(o.worker_batch);
   const EigenPolicy policy = *EigenPolicy::Create(model, trainer.ExportPolicy(), 157, 28);
   std::vector<float> obs(size_t(wb) * 157);
   for (float& x : obs) x = static_cast<float>(rng.Normal());
@@ -130,7 +114,7 @@ int RunBenchMoe(int argc, char** argv, int first) {
                                        "ppo_iteration_samples_per_s=%.0f eigen_samples_per_s_b%d=%.0f",
                                        per_epoch, batch.num_samples() / update_s, wb, eigen_rate));
   std::printf("%s\n", kv.c_str());
-  return 0;
+  return absl::OkStatus();
 }
 
 }  // namespace juggle

@@ -12,32 +12,29 @@
 #include <grpcpp/grpcpp.h>
 
 #include "absl/strings/str_cat.h"
-#include "app/commands.h"
-#include "app/flags.h"
+#include "bench/benchmarks.h"
 #include "common/chunk_codec.h"
-#include "common/config_loader.h"
-#include "common/juggle_dims.h"
+#include "envs/registry.h"
 #include "common/rng.h"
-#include "common/temp_dir.h"
+#include "common/testing/temp_dir.h"
 #include "learner/learner_server.h"
 #include "learner/ppo_trainer.h"
 #include "proto/rollout.grpc.pb.h"
 #include "worker/env_pool.h"
-#include "worker/juggle_spec.h"
+#include "envs/soccer_juggle/spec.h"
 #include "worker/rollout_collector.h"
 #include "worker/worker_client.h"
 
 namespace juggle {
 namespace {
 
+using soccer_juggle::JuggleSpec;
+using soccer_juggle::kNumActions;
+using soccer_juggle::ObservationSize;
+
 using Clock = std::chrono::steady_clock;
 
 double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-int Fail(const absl::Status& s) {
-  std::fprintf(stderr, "error: %s\n", std::string(s.message()).c_str());
-  return 1;
-}
 
 // A contribution of `unrolls` random unrolls shaped for `config`.
 Contribution SyntheticContribution(int obs_dim, int unrolls, int T, int num_nodes) {
@@ -98,34 +95,23 @@ uint64_t Register(rpc::Rollout::Stub* stub, int envs) {
 
 }  // namespace
 
-int RunBenchIngest(int argc, char** argv, int first) {
-  const std::vector<FlagSpec> specs = {
-      {"config", "configs/full.textproto", "run config (sets obs size: full = 157)"},
-      {"workers", "4", "synthetic worker streams"},
-      {"seconds", "5", "measurement time"},
-      {"unrolls_per_chunk", "8", "unrolls in each chunk"},
-  };
-  absl::StatusOr<Flags> flags = Flags::Parse(argc, argv, first, specs);
-  if (!flags.ok() || flags->help()) {
-    std::printf("usage: juggle bench ingest [flags]\n%s", Flags::Usage(specs).c_str());
-    return flags.ok() ? 0 : 2;
-  }
-  absl::StatusOr<LoadedConfig> config = LoadRunConfig(flags->Get("config"));
-  if (!config.ok()) return Fail(config.status());
+absl::Status RunIngestBench(const IngestBenchOptions& o) {
+  absl::StatusOr<LoadedConfig> config = LoadRunConfig(o.config);
+  if (!config.ok()) return config.status();
   config->run.mutable_service()->set_synchronous(false);
   config->run.mutable_service()->set_worker_timeout_s(600);
   auto server = StartLearner(*config, /*discard=*/true);
-  if (!server.ok()) return Fail(server.status());
+  if (!server.ok()) return server.status();
   std::atomic<bool> stop{false};
   std::thread trainer([&] { (*server)->Train(&stop).IgnoreError(); });
 
-  const int workers = static_cast<int>(*flags->GetInt("workers"));
+  const int workers = static_cast<int>(o.workers);
   const int T = config->run.ppo().unroll_length();
   const int obs_dim = ObservationSize(config->graph->num_nodes());
-  const Contribution c = SyntheticContribution(obs_dim, static_cast<int>(*flags->GetInt("unrolls_per_chunk")),
+  const Contribution c = SyntheticContribution(obs_dim, static_cast<int>(o.unrolls_per_chunk),
                                                T, config->graph->num_nodes());
   std::atomic<int64_t> samples{0}, bytes{0}, rejected{0};
-  const double seconds = *flags->GetDouble("seconds");
+  const double seconds = o.seconds;
   const auto start = Clock::now();
   std::vector<std::thread> threads;
   for (int w = 0; w < workers; ++w) {
@@ -163,24 +149,14 @@ int RunBenchIngest(int argc, char** argv, int first) {
               static_cast<long>(samples.load()), elapsed, static_cast<long>(rejected.load()));
   std::printf("samples_per_s=%.0f bytes_per_sample=%.1f mb_per_s=%.1f worker_cores_fed=%.1f\n", rate,
               double(bytes) / std::max<int64_t>(1, samples), bytes / elapsed / 1e6, rate / 4000.0);
-  return 0;
+  return absl::OkStatus();
 }
 
-int RunBenchBroadcast(int argc, char** argv, int first) {
-  const std::vector<FlagSpec> specs = {
-      {"config", "configs/full.textproto", "run config (sets the policy size)"},
-      {"workers", "32", "connected workers"},
-      {"rounds", "3", "broadcasts measured"},
-  };
-  absl::StatusOr<Flags> flags = Flags::Parse(argc, argv, first, specs);
-  if (!flags.ok() || flags->help()) {
-    std::printf("usage: juggle bench broadcast [flags]\n%s", Flags::Usage(specs).c_str());
-    return flags.ok() ? 0 : 2;
-  }
-  absl::StatusOr<LoadedConfig> config = LoadRunConfig(flags->Get("config"));
-  if (!config.ok()) return Fail(config.status());
-  const int workers = static_cast<int>(*flags->GetInt("workers"));
-  const int rounds = static_cast<int>(*flags->GetInt("rounds"));
+absl::Status RunBroadcastBench(const BroadcastBenchOptions& o) {
+  absl::StatusOr<LoadedConfig> config = LoadRunConfig(o.config);
+  if (!config.ok()) return config.status();
+  const int workers = o.workers;
+  const int rounds = o.rounds;
   config->run.mutable_service()->set_synchronous(true);
   config->run.mutable_service()->set_min_workers(workers);
   config->run.mutable_service()->set_worker_timeout_s(600);
@@ -190,7 +166,7 @@ int RunBenchBroadcast(int argc, char** argv, int first) {
   auto server = StartLearner(*config, false, [&](const IterationReport&) {
     published_ns = Clock::now().time_since_epoch().count();
   });
-  if (!server.ok()) return Fail(server.status());
+  if (!server.ok()) return server.status();
   std::atomic<bool> stop{false};
   std::thread trainer([&] { (*server)->Train(&stop).IgnoreError(); });
   const int obs_dim = ObservationSize(config->graph->num_nodes());
@@ -247,25 +223,16 @@ int RunBenchBroadcast(int argc, char** argv, int first) {
   std::sort(times.begin(), times.end());
   std::printf("broadcast_ms_median=%.2f workers=%d snapshot_bytes=%ld\n", times[times.size() / 2] * 1e3,
               workers, static_cast<long>(snapshot_bytes));
-  return 0;
+  return absl::OkStatus();
 }
 
-int RunBenchLocal(int argc, char** argv, int first) {
-  const std::vector<FlagSpec> specs = {
-      {"config", "configs/right_foot.textproto", "run config"},
-      {"iterations", "8", "iterations of each measurement"},
-  };
-  absl::StatusOr<Flags> flags = Flags::Parse(argc, argv, first, specs);
-  if (!flags.ok() || flags->help()) {
-    std::printf("usage: juggle bench local [flags]\n%s", Flags::Usage(specs).c_str());
-    return flags.ok() ? 0 : 2;
-  }
-  absl::StatusOr<LoadedConfig> config = LoadRunConfig(flags->Get("config"));
-  if (!config.ok()) return Fail(config.status());
+absl::Status RunLocalBench(const LocalBenchOptions& o) {
+  absl::StatusOr<LoadedConfig> config = LoadRunConfig(o.config);
+  if (!config.ok()) return config.status();
   const config::RunConfig& run = config->run;
-  const int iterations = static_cast<int>(*flags->GetInt("iterations"));
+  const int iterations = o.iterations;
   auto spec = JuggleSpec::Create(*config);
-  if (!spec.ok()) return Fail(spec.status());
+  if (!spec.ok()) return spec.status();
   const int obs_dim = (*spec)->obs_dim();
 
   // (a) + (b): sampling alone and update alone, the same loop without any service.
@@ -279,7 +246,7 @@ int RunBenchLocal(int argc, char** argv, int first) {
     auto policy = EigenPolicy::Create(run.model(), trainer.ExportPolicy(), obs_dim, kNumActions);
     collector.Collect(*policy, &batch);
     const auto t1 = Clock::now();
-    if (!trainer.Update(batch).ok()) return Fail(absl::InternalError("update failed"));
+    if (!trainer.Update(batch).ok()) return absl::InternalError("update failed");
     if (it == 0) continue;  // warm-up
     sample_s += std::chrono::duration<double>(t1 - t0).count();
     update_s += Since(t1);
@@ -292,7 +259,7 @@ int RunBenchLocal(int argc, char** argv, int first) {
   auto server = StartLearner(*config, false, [&](const IterationReport& r) {
     if (r.iteration > 1) iteration_s.push_back(r.iteration_s);  // skip warm-up
   });
-  if (!server.ok()) return Fail(server.status());
+  if (!server.ok()) return server.status();
   std::atomic<bool> stop{false}, worker_stop{false};
   std::thread worker([&] {
     WorkerOptions o;
@@ -323,7 +290,7 @@ int RunBenchLocal(int argc, char** argv, int first) {
               sample_s, update_s, sample_s + update_s, local, iteration_s.size());
   std::printf("sample_s=%.4f update_s=%.4f local_iteration_s=%.4f local_over_parts=%.3f\n", sample_s,
               update_s, local, local / (sample_s + update_s));
-  return 0;
+  return absl::OkStatus();
 }
 
 }  // namespace juggle

@@ -5,15 +5,19 @@
 #include <cstdio>
 #include <vector>
 
-#include "app/commands.h"
-#include "app/flags.h"
-#include "common/config_loader.h"
+#include "bench/benchmarks.h"
+#include "envs/registry.h"
 #include "worker/env_pool.h"
-#include "worker/juggle_env.h"
-#include "worker/juggle_spec.h"
+#include "envs/mujoco_model.h"
+#include "envs/soccer_juggle/env.h"
+#include "envs/soccer_juggle/spec.h"
 
 namespace juggle {
 namespace {
+
+using soccer_juggle::JuggleEnv;
+using soccer_juggle::JuggleSpec;
+using soccer_juggle::kNumActions;
 
 using Clock = std::chrono::steady_clock;
 
@@ -49,7 +53,8 @@ std::vector<VisitedState> RecordEnvStates(std::shared_ptr<const JuggleSpec> spec
 // trajectory without any of the env's code.
 double BareMjStepRate(const JuggleSpec& spec, const std::vector<VisitedState>& states) {
   const mjModel* m = spec.model();
-  mjData* d = mj_makeData(m);
+  MjDataPtr data(mj_makeData(m));
+  mjData* d = data.get();
   const int substeps = spec.env().substeps();
   const auto start = Clock::now();
   for (const VisitedState& s : states) {
@@ -58,9 +63,7 @@ double BareMjStepRate(const JuggleSpec& spec, const std::vector<VisitedState>& s
     mju_copy(d->qfrc_applied, s.qfrc_applied.data(), m->nv);
     for (int k = 0; k < substeps; ++k) mj_step(m, d);
   }
-  const double rate = double(states.size()) * substeps / Seconds(start);
-  mj_deleteData(d);
-  return rate;
+  return double(states.size()) * substeps / Seconds(start);
 }
 
 // Env control steps per second with zero actions (automatic resets included).
@@ -76,32 +79,12 @@ double EnvStepRate(std::shared_ptr<const JuggleSpec> spec, int envs, int threads
 
 }  // namespace
 
-int RunBenchSim(int argc, char** argv, int first) {
-  const std::vector<FlagSpec> specs = {
-      {"config", "configs/right_foot.textproto", "run config"},
-      {"envs", "32", "envs in the pool"},
-      {"steps", "300", "batch steps per measurement"},
-      {"repeats", "3", "alternating repeats of every measurement (best is reported)"},
-  };
-  absl::StatusOr<Flags> flags = Flags::Parse(argc, argv, first, specs);
-  if (!flags.ok() || flags->help()) {
-    if (!flags.ok()) std::fprintf(stderr, "error: %s\n", std::string(flags.status().message()).c_str());
-    std::printf("usage: juggle bench sim [flags]\n%s", Flags::Usage(specs).c_str());
-    return flags.ok() ? 0 : 2;
-  }
-  absl::StatusOr<LoadedConfig> config = LoadRunConfig(flags->Get("config"));
-  if (!config.ok()) {
-    std::fprintf(stderr, "error: %s\n", std::string(config.status().message()).c_str());
-    return 1;
-  }
+absl::Status RunSimBench(const SimBenchOptions& o) {
+  absl::StatusOr<LoadedConfig> config = LoadRunConfig(o.config);
+  if (!config.ok()) return config.status();
   auto spec = JuggleSpec::Create(*config);
-  if (!spec.ok()) {
-    std::fprintf(stderr, "error: %s\n", std::string(spec.status().message()).c_str());
-    return 1;
-  }
-  const int envs = static_cast<int>(*flags->GetInt("envs"));
-  const int steps = static_cast<int>(*flags->GetInt("steps"));
-  const int repeats = static_cast<int>(*flags->GetInt("repeats"));
+  if (!spec.ok()) return spec.status();
+  const int envs = o.envs, steps = o.steps, repeats = o.repeats;
   const int substeps = (*spec)->env().substeps();
 
   const std::vector<VisitedState> states = RecordEnvStates(*spec, steps * envs / 4);
@@ -126,7 +109,7 @@ int RunBenchSim(int argc, char** argv, int first) {
               "threads2_over_threads1=%.3f\n",
               mj, env1, env2, env1 * control_dt, env2 * control_dt, env1 * substeps / mj,
               env2 / env1);
-  return 0;
+  return absl::OkStatus();
 }
 
 }  // namespace juggle

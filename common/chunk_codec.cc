@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "common/outcome.h"
 #include "common/status_macros.h"
 
 namespace juggle {
@@ -66,6 +67,7 @@ std::vector<rpc::TrajectoryChunk> EncodeContribution(const Contribution& c, uint
   last.set_episode_return_sum(c.stats.return_sum);
   last.set_episode_length_sum(c.stats.length_sum);
   last.set_completions_sum(c.stats.completions_sum);
+  last.set_juggles_sum(c.stats.juggles_sum);
   for (int64_t o : c.stats.outcomes) last.add_outcomes(o);
   return chunks;
 }
@@ -118,7 +120,7 @@ absl::StatusOr<Contribution> DecodeChunk(const rpc::TrajectoryChunk& ch, int obs
     c.events.push_back({ev.edge(i), static_cast<EdgeEventType>(ev.type(i))});
   }
   bool negative = ch.episodes() < 0 || ch.episode_length_sum() < 0 || ch.completions_sum() < 0 ||
-                  ch.outcomes_size() > 64;
+                  ch.juggles_sum() < 0 || ch.outcomes_size() > kMaxOutcomes;
   for (int64_t o : ch.outcomes()) negative |= o < 0;
   if (!std::isfinite(ch.episode_return_sum()) || negative) {
     return invalid("chunk episode statistics are invalid");
@@ -127,6 +129,7 @@ absl::StatusOr<Contribution> DecodeChunk(const rpc::TrajectoryChunk& ch, int obs
   c.stats.return_sum = ch.episode_return_sum();
   c.stats.length_sum = ch.episode_length_sum();
   c.stats.completions_sum = ch.completions_sum();
+  c.stats.juggles_sum = ch.juggles_sum();
   c.stats.outcomes.assign(ch.outcomes().begin(), ch.outcomes().end());
   return c;
 }

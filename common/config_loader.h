@@ -1,5 +1,7 @@
-// Loads configs/*.textproto into a typed RunConfig and validates it. Errors name the file,
-// line, column and field; on error nothing is returned, so nothing can start half-configured.
+// The family-independent half of loading configs/*.textproto: text-format parsing with
+// file:line:col errors, the checks of the shared sections (sampling, service, ...), and file
+// helpers the families use for the files their sections name. envs/registry.h's LoadRunConfig
+// runs this and then the family's own checks; callers use that.
 #ifndef JUGGLE_COMMON_CONFIG_LOADER_H_
 #define JUGGLE_COMMON_CONFIG_LOADER_H_
 
@@ -9,29 +11,37 @@
 #include "absl/status/statusor.h"
 #include "common/control_graph.h"
 #include "common/source_locator.h"
+#include "google/protobuf/message.h"
 #include "proto/run_config.pb.h"
 
 namespace juggle {
 
 struct LoadedConfig {
-  config::RunConfig run;          // graph_file already resolved into run.graph
+  config::RunConfig run;          // files named by the family's section already inlined
   std::string config_path;
   std::string config_dir;         // relative paths in the config resolve against this
-  std::shared_ptr<const ControlGraph> graph;  // validated
-  // Locates fields of run.env, or of run.toss for a toss config (for model-dependent checks).
-  SourceLocator env_locator{""};
-  SourceLocator graph_locator{""};  // locates fields of the graph (either file)
+  SourceLocator root{""};         // locates fields of the RunConfig
+  SourceLocator family_locator{""};  // locates fields of the family's section (run.<family>)
+  // The control graph the adaptive walk runs on, validated; empty for families without one.
+  std::shared_ptr<const ControlGraph> graph = std::make_shared<const ControlGraph>();
+  SourceLocator graph_locator{""};  // locates fields of the graph (inline or its own file)
 };
 
-// Reads and validates a RunConfig file. Errors: NOT_FOUND (missing file), INVALID_ARGUMENT
-// (syntax, unknown fields, semantic checks), each message starting with "file:line:col".
-absl::StatusOr<LoadedConfig> LoadRunConfig(const std::string& path);
+// Parses `text` (from `path`) into a RunConfig and checks the sections every family shares.
+// The family's own section is left unchecked. INVALID_ARGUMENT "file:line:col: ..." for syntax
+// errors, unknown fields and out-of-range shared fields.
+absl::StatusOr<LoadedConfig> ParseSharedRunConfig(const std::string& text, const std::string& path);
 
-// As LoadRunConfig, from text; `path` names the text in messages and anchors relative paths.
-absl::StatusOr<LoadedConfig> ParseRunConfig(const std::string& text, const std::string& path);
+// Parses text-format `text` into `message`, returning a locator over it. INVALID_ARGUMENT with
+// "file:line:col: message" lines.
+absl::StatusOr<SourceLocator> ParseTextMessage(const std::string& text, const std::string& path,
+                                               google::protobuf::Message* message);
 
 // Reads a whole file. NOT_FOUND if it cannot be opened.
 absl::StatusOr<std::string> ReadFile(const std::string& path);
+// Reads a config file: as ReadFile, and INVALID_ARGUMENT for a directory ("<path> is a
+// directory, not a config file").
+absl::StatusOr<std::string> ReadConfigFile(const std::string& path);
 
 // Resolves `relative` against `dir` unless it is absolute.
 std::string ResolvePath(const std::string& dir, const std::string& relative);

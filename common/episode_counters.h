@@ -14,7 +14,8 @@ struct EpisodeCounters {
   double return_sum = 0;
   int64_t length_sum = 0;        // control steps of the finished episodes
   int64_t completions_sum = 0;   // node completions of the finished episodes
-  std::vector<int64_t> outcomes; // finished episodes by outcome value (worker/juggle_env.h)
+  int64_t juggles_sum = 0;       // juggles of the finished episodes (Env::juggles())
+  std::vector<int64_t> outcomes; // finished episodes by outcome value (common/outcome.h)
 
   void CountOutcome(int outcome) {
     if (static_cast<int>(outcomes.size()) <= outcome) outcomes.resize(outcome + 1, 0);
@@ -27,12 +28,14 @@ struct EpisodeCounters {
     return_sum += o.return_sum;
     length_sum += o.length_sum;
     completions_sum += o.completions_sum;
+    juggles_sum += o.juggles_sum;
     if (outcomes.size() < o.outcomes.size()) outcomes.resize(o.outcomes.size(), 0);
     for (size_t i = 0; i < o.outcomes.size(); ++i) outcomes[i] += o.outcomes[i];
   }
   double mean_return() const { return episodes ? return_sum / episodes : 0; }
   double mean_length() const { return episodes ? double(length_sum) / episodes : 0; }
   double mean_completions() const { return episodes ? double(completions_sum) / episodes : 0; }
+  double mean_juggles() const { return episodes ? double(juggles_sum) / episodes : 0; }
 };
 
 }  // namespace juggle

@@ -1,31 +1,35 @@
-// Why an episode ended. Shared by workers (which end episodes) and the learner (which counts
-// them by outcome on /metrics); the values travel on the wire as indices.
+// Why an episode ended. Values 0..2 mean the same in every env family; each family numbers its
+// own outcomes from kFirstFamilyOutcome on (envs/<family>/outcomes.h) and names them all through
+// EnvSpec::outcome_names(). Workers end episodes; the learner counts them by name on /metrics;
+// the values travel on the wire as indices below kMaxOutcomes.
 #ifndef JUGGLE_COMMON_OUTCOME_H_
 #define JUGGLE_COMMON_OUTCOME_H_
 
 #include <cstdint>
+#include <string>
+#include <vector>
 
 namespace juggle {
 
-// Why an episode ended (kRunning while it has not).
 enum class Outcome : uint8_t {
-  kRunning = 0,
-  kFell,            // root tilt or height beyond the limits
-  kBallLost,        // ball too low or too far from its target
-  kBadContact,      // ball touched a body not allowed in the node (or the floor)
-  kContactTiming,   // ball touched an allowed body outside the contact window
-  kAroundTheWorld,  // foot–ball angle constraint violated
-  kStallLost,       // ball left the stalling body
-  kDiverged,        // simulator warning or non-finite state
-  kTimeLimit,       // truncated at max_episode_steps (not a failure)
-  // Toss juggling (worker/toss_env.h): episodes end on these, success or not.
-  kCaught,          // catch task: the ball attached to the hand (success)
-  kDropped,         // catch task: the ball fell below the drop height
-  kReleased,        // throw task: the ball left the hand at the release beat
-  kNumOutcomes
+  kRunning = 0,    // the episode has not ended
+  kTimeLimit = 1,  // truncated at the family's step limit (not a failure: bootstrapped)
+  kDiverged = 2,   // simulator warning or non-finite state
+  kFirstFamilyOutcome = 3,
 };
-// Stable snake_case name, e.g. "ball_lost"; "unknown" for values out of range.
-const char* OutcomeName(Outcome o);
+
+// Outcome values on the wire are below this.
+constexpr int kMaxOutcomes = 64;
+
+// The family outcome number `i` (0-based).
+constexpr Outcome FamilyOutcome(int i) { return static_cast<Outcome>(3 + i); }
+
+// Names of the values shared by every family: {"running", "time_limit", "diverged"}. A family's
+// outcome_names() starts with these.
+std::vector<std::string> CommonOutcomeNames();
+
+// names[o] if `o` is in range, else "outcome_<o>".
+std::string OutcomeName(const std::vector<std::string>& names, Outcome o);
 
 }  // namespace juggle
 

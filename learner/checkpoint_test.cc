@@ -7,7 +7,7 @@
 #include <string>
 
 #include "gmock/gmock.h"
-#include "common/temp_dir.h"
+#include "common/testing/temp_dir.h"
 #include "gtest/gtest.h"
 #include "learner/ppo_trainer.h"
 #include "learner/testing/point_mass.h"

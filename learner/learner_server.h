@@ -1,10 +1,11 @@
-// The learner process: gRPC rollout service + PPO training thread + /metrics endpoint.
-// Owns everything that must survive a worker's death: policy weights and version, observation
-// normalizer, adaptive-walk edge counts, RNG and iteration, checkpointed atomically.
+// The learner process: gRPC rollout service + PPO training loop + HTTP endpoints. Owns
+// everything that must survive a worker's death: policy weights and version, observation
+// normalizer, adaptive-walk edge counts, RNG, iteration and run progress, checkpointed
+// atomically. This file assembles the parts: rollout_service.h (gRPC adapter),
+// training_loop.h (the loop), learner_metrics.h (reports), http_routes.h (HTTP).
 //
 // Threads: gRPC handler threads validate chunks and push them into the bounded ingestion
-// queue (blocking up to a deadline when full: backpressure); Train() pops, assembles batches
-// (synchronous or asynchronous mode), updates, publishes the new snapshot and checkpoints.
+// queue (blocking up to a deadline when full: backpressure); Train() runs the training loop.
 // Thread-safe as documented per method.
 #ifndef JUGGLE_LEARNER_LEARNER_SERVER_H_
 #define JUGGLE_LEARNER_LEARNER_SERVER_H_
@@ -17,29 +18,9 @@
 #include "absl/status/statusor.h"
 #include "common/config_loader.h"
 #include "common/metrics.h"
+#include "learner/learner_metrics.h"
 
 namespace juggle {
-
-// What one training iteration did (for progress lines and metrics files).
-struct IterationReport {
-  int64_t iteration = 0;
-  int64_t total_samples = 0;
-  int64_t samples = 0;
-  double samples_per_s = 0;       // over the iteration's wall time
-  double sim_s_per_s = 0;
-  double mean_return = 0;
-  double mean_episode_len = 0;
-  double completions_per_episode = 0;
-  int64_t episodes = 0;
-  double mean_policy_lag = 0;
-  double iteration_s = 0;         // wall time since the previous iteration ended
-  double wait_s = 0;              // of which waiting for data
-  double update_s = 0;            // of which the PPO update
-  int workers = 0;
-  double value_loss = 0, approx_kl = 0, actor_lr = 0;
-  std::string ToJson() const;
-  std::string ToLine() const;
-};
 
 struct LearnerOptions {
   LoadedConfig config;
@@ -57,8 +38,10 @@ struct LearnerOptions {
 
 class LearnerServer {
  public:
-  // Loads the model, restores the newest readable checkpoint if `resume`, starts the gRPC and
-  // metrics servers. Errors: config/model/checkpoint problems, ports in use.
+  // Builds the env spec (every config or model error surfaces here, before any worker comes),
+  // restores the newest readable checkpoint if `resume`, starts the gRPC and HTTP servers.
+  // Errors: config/model/checkpoint problems, a fresh run in a directory with checkpoints,
+  // ports in use.
   static absl::StatusOr<std::unique_ptr<LearnerServer>> Start(LearnerOptions options);
   ~LearnerServer();
 
@@ -76,9 +59,8 @@ class LearnerServer {
   int64_t chunks_ingested() const;
   const Metrics& metrics() const;
 
-  struct State;
-
  private:
+  struct State;
   explicit LearnerServer(std::unique_ptr<State> state);
   std::unique_ptr<State> state_;
 };

@@ -4,15 +4,17 @@
 
 #include <cstring>
 
-#include "common/env_family.h"
 
+#include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_split.h"
 #include "google/protobuf/text_format.h"
 
 namespace juggle {
 
 Sections SaveLearnerState(const LoadedConfig& config, const PpoTrainer& trainer,
-                          const AdaptiveWalk& walk) {
+                          const AdaptiveWalk& walk, const RunProgress& progress) {
   Sections s = trainer.SaveState();
   std::string text;
   google::protobuf::TextFormat::PrintToString(config.run, &text);
@@ -21,11 +23,12 @@ Sections SaveLearnerState(const LoadedConfig& config, const PpoTrainer& trainer,
   const std::vector<double>& counts = walk.counts();
   s["edge_counts"] = std::string(reinterpret_cast<const char*>(counts.data()),
                                  counts.size() * sizeof(double));
+  s["run_progress"] = absl::StrCat(progress.samples, " ", absl::StrFormat("%.3f", progress.train_seconds));
   return s;
 }
 
 absl::Status RestoreLearnerState(const Sections& sections, PpoTrainer* trainer,
-                                 AdaptiveWalk* walk) {
+                                 AdaptiveWalk* walk, RunProgress* progress) {
   auto it = sections.find("edge_counts");
   if (it == sections.end() || it->second.size() % sizeof(double) != 0) {
     return absl::DataLossError("checkpoint lacks valid edge counts");
@@ -38,8 +41,18 @@ absl::Status RestoreLearnerState(const Sections& sections, PpoTrainer* trainer,
     return absl::InvalidArgumentError(
         absl::StrCat("checkpoint edge counts do not fit this config's graph: ", s.message()));
   }
+  RunProgress restored;
+  if (auto p = sections.find("run_progress"); p != sections.end()) {
+    const std::vector<std::string> fields = absl::StrSplit(p->second, ' ');
+    if (fields.size() != 2 || !absl::SimpleAtoi(fields[0], &restored.samples) ||
+        !absl::SimpleAtod(fields[1], &restored.train_seconds)) {
+      return absl::DataLossError(absl::StrCat("checkpoint run_progress is unreadable: '",
+                                              p->second, "'"));
+    }
+  }
   if (absl::Status s = trainer->RestoreState(sections); !s.ok()) return s;
   *walk = probe;
+  if (progress != nullptr) *progress = restored;
   return absl::OkStatus();
 }
 
@@ -66,22 +79,24 @@ absl::StatusOr<LoadedCheckpoint> LoadCheckpoint(const std::string& file_or_run_d
 }
 
 absl::StatusOr<config::ExportedPolicy> ExportPolicyFromCheckpoint(const Sections& sections,
-                                                                  const LoadedConfig& config) {
-  const EnvDims dims = EnvDimsOf(config);
-  PpoTrainer trainer(config.run.model(), config.run.ppo(), dims.obs, dims.act, 0);
+                                                                  const LoadedConfig& config,
+                                                                  int obs_dim, int act_dim) {
+  PpoTrainer trainer(config.run.model(), config.run.ppo(), obs_dim, act_dim, 0);
   AdaptiveWalk walk(config.graph.get());
-  if (absl::Status s = RestoreLearnerState(sections, &trainer, &walk); !s.ok()) return s;
+  if (absl::Status s = RestoreLearnerState(sections, &trainer, &walk, nullptr); !s.ok()) return s;
   config::ExportedPolicy exported;
   *exported.mutable_model() = config.run.model();
-  exported.set_obs_dim(dims.obs);
-  exported.set_act_dim(dims.act);
+  exported.set_obs_dim(obs_dim);
+  exported.set_act_dim(act_dim);
   exported.set_parameters(trainer.ExportPolicy().Serialize());
   return exported;
 }
 
 absl::StatusOr<EigenPolicy> PolicyFromCheckpoint(const Sections& sections,
-                                                 const LoadedConfig& config) {
-  absl::StatusOr<config::ExportedPolicy> exported = ExportPolicyFromCheckpoint(sections, config);
+                                                 const LoadedConfig& config, int obs_dim,
+                                                 int act_dim) {
+  absl::StatusOr<config::ExportedPolicy> exported =
+      ExportPolicyFromCheckpoint(sections, config, obs_dim, act_dim);
   if (!exported.ok()) return exported.status();
   return PolicyFromExport(*exported);
 }

@@ -1,10 +1,11 @@
-// `juggle render` as a library call: simulate a zero-action rollout with JuggleEnv (or read a
-// recorded one), then write any of an MP4, a single PNG frame, a contact sheet and a recording.
+// `juggle render` as a library call: simulate a rollout of any env family with a policy's mean
+// action or zero action (eval/episode_runner.h, RecordRollout), or read a recorded one, then
+// write any of an MP4, a single PNG frame, a contact sheet and a recording.
 //
-// Frames are rendered at video time t = k / fps from the control-step samples (50 Hz):
-// between two samples of an episode the pose is interpolated (trajectory.h, PoseAt), so the
-// video runs in real time whatever the control rate, and a replay renders exactly the frames
-// of the live run.
+// Frames are rendered at video time t = k / fps from the control-step samples: between two
+// samples of an episode the pose is interpolated (record/trajectory.h, PoseAt), so the video
+// runs in real time whatever the control rate, and a replay renders exactly the frames of the
+// live run.
 #ifndef JUGGLE_RENDER_RENDER_JOB_H_
 #define JUGGLE_RENDER_RENDER_JOB_H_
 
@@ -17,8 +18,8 @@
 #include "common/eigen_policy.h"
 #include "render/image.h"
 #include "render/renderer.h"
-#include "render/trajectory.h"
-#include "worker/juggle_spec.h"
+#include "envs/env.h"
+#include "record/trajectory.h"
 
 namespace juggle {
 
@@ -46,7 +47,7 @@ struct RenderJobReport {
   std::string config_path;
   std::string gl_renderer;    // empty if nothing was rendered
   int episodes = 0;
-  std::vector<Outcome> episode_outcomes;  // how each episode ended (kRunning: cut by the end)
+  std::vector<std::string> episode_outcomes;  // how each episode ended ("running": cut by the end)
   double duration = 0;        // s of rollout
   int frames = 0;             // frames rendered (video + png + sheet)
   double render_seconds = 0;  // wall time in pose + render + readback (not encoding)
@@ -54,22 +55,15 @@ struct RenderJobReport {
 };
 
 // Runs the job. Errors: INVALID_ARGUMENT for bad options (unknown output extension, nothing to
-// do, unknown or non-initial --node, --record with --replay, recording/config mismatch);
-// config and model errors from LoadRunConfig / JuggleSpec::Create; FAILED_PRECONDITION for a
+// do, unknown or non-DOWN --node, --record with --replay, recording/config mismatch);
+// config and model errors from LoadRunConfig / CreateEnvSpec; FAILED_PRECONDITION for a
 // missing GL provider or ffmpeg (naming the package); PERMISSION_DENIED / NOT_FOUND for an
 // output path that cannot be written. Every output path is checked before simulating.
 absl::StatusOr<RenderJobReport> RunRenderJob(const RenderJobOptions& options);
 
-// Simulates `seconds` of control (rounded up to whole control steps) from env stream
-// (seed, 0, 0) with `policy`'s mean action (zero action if null), resetting at episode ends
-// (at `start_node` if >= 0, else a random initial node). The first sample is the reset state
-// at time 0.
-Trajectory SimulateRollout(std::shared_ptr<const JuggleSpec> spec, double seconds,
-                           uint64_t seed, int start_node, const EigenPolicy* policy = nullptr);
-
-// Renders the frame at `time` of `trajectory` with its caption (node, phase, episode time,
-// episode and how it ends). `scratch` is a work mjData of `spec`'s model.
-absl::Status RenderFrame(const JuggleSpec& spec, const Trajectory& trajectory, double time,
+// Renders the frame at `time` of `trajectory` with its caption (the family's channels, episode
+// time, episode and how it ends). `scratch` is a work mjData of `model`.
+absl::Status RenderFrame(const mjModel* model, const Trajectory& trajectory, double time,
                          mjData* scratch, Renderer* renderer, Image* out);
 
 }  // namespace juggle

@@ -7,26 +7,32 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <memory>
 #include <sstream>
 #include <string>
 
 #include "absl/strings/str_cat.h"
-#include "common/config_loader.h"
+#include "envs/registry.h"
+#include "eval/controller.h"
+#include "eval/episode_runner.h"
+#include "record/trajectory.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "render/image.h"
 #include "render/renderer.h"
-#include "render/trajectory.h"
 #include "render/video_writer.h"
-#include "worker/juggle_env.h"
-#include "worker/testing/test_configs.h"
+#include "envs/soccer_juggle/env.h"
+#include "envs/testing/test_configs.h"
 
 namespace juggle {
 namespace {
 
 using ::testing::HasSubstr;
+using soccer_juggle::JuggleEnv;
+using soccer_juggle::JuggleSpec;
+using soccer_juggle::kNumActions;
 
 const char kConfig[] = "render/testdata/right_foot.textproto";
 
@@ -102,6 +108,22 @@ class RenderTest : public ::testing::Test {
     return o;
   }
 
+  // A recorded rollout of `seconds` from stream (seed, 0, 0), episodes starting at the DOWN
+  // node, with `policy`'s mean action (zero action if null).
+  Trajectory Rollout(double seconds, uint64_t seed, const EigenPolicy* policy = nullptr) {
+    std::unique_ptr<Controller> controller;
+    if (policy != nullptr) {
+      controller = std::make_unique<PolicyController>(
+          std::shared_ptr<const EigenPolicy>(policy, [](const EigenPolicy*) {}));
+    } else {
+      controller = std::make_unique<ZeroController>(kNumActions);
+    }
+    absl::StatusOr<Trajectory> t =
+        RecordRollout(spec_, controller.get(), seconds, seed, down_, kConfig);
+    EXPECT_TRUE(t.ok()) << t.status();
+    return t.ok() ? *std::move(t) : Trajectory();
+  }
+
   std::shared_ptr<const JuggleSpec> spec_;
   int down_ = -1;
 };
@@ -161,14 +183,15 @@ TEST_F(RenderTest, Mp4OfTwoSecondsHasSixtyFrames) {
 TEST_F(RenderTest, ReplayedTrajectoryRendersTheFramesOfTheLiveSimulation) {
   std::unique_ptr<Renderer> renderer = MakeRenderer(320, 240);
   ASSERT_NE(renderer, nullptr);
-  const Trajectory live = SimulateRollout(spec_, 1.0, 7, down_);
+  const Trajectory live = Rollout(1.0, 7);
   const std::string path = TempPath("live.traj");
   ASSERT_TRUE(WriteTrajectory(live, path).ok());
   absl::StatusOr<Trajectory> replay = ReadTrajectory(path);
   ASSERT_TRUE(replay.ok()) << replay.status();
   std::remove(path.c_str());
-  ASSERT_EQ(replay->samples.size(), live.samples.size());
-  EXPECT_EQ(replay->node_names, live.node_names);
+  ASSERT_EQ(replay->num_samples(), live.num_samples());
+  EXPECT_EQ(replay->channels[replay->FindChannel("node")].labels,
+            live.channels[live.FindChannel("node")].labels);
   EXPECT_EQ(replay->config_path, live.config_path);
 
   // Independent path: step an env by hand and render its own state after k control steps.
@@ -184,15 +207,15 @@ TEST_F(RenderTest, ReplayedTrajectoryRendersTheFramesOfTheLiveSimulation) {
   Image from_env, from_replay;
   ASSERT_TRUE(renderer->Render(state.get(), "", "", &from_env).ok());
   std::unique_ptr<mjData, void (*)(mjData*)> scratch(mj_makeData(spec_->model()), mj_deleteData);
-  PoseAt(*spec_, *replay, kSteps * spec_->control_dt(), scratch.get());
+  PoseAt(spec_->model(), *replay, kSteps * spec_->control_dt(), scratch.get());
   ASSERT_TRUE(renderer->Render(scratch.get(), "", "", &from_replay).ok());
   EXPECT_TRUE(from_env.rgb == from_replay.rgb);
 
   // Every video frame time, live vs replay, including interpolated ones.
   for (double t : {0.0, 1.0 / 30, 7.0 / 30, 0.5, 29.0 / 30}) {
     Image a, b;
-    ASSERT_TRUE(RenderFrame(*spec_, live, t, scratch.get(), renderer.get(), &a).ok());
-    ASSERT_TRUE(RenderFrame(*spec_, *replay, t, scratch.get(), renderer.get(), &b).ok());
+    ASSERT_TRUE(RenderFrame(spec_->model(), live, t, scratch.get(), renderer.get(), &a).ok());
+    ASSERT_TRUE(RenderFrame(spec_->model(), *replay, t, scratch.get(), renderer.get(), &b).ok());
     EXPECT_TRUE(a.rgb == b.rgb) << "t=" << t;
   }
 }
@@ -271,7 +294,7 @@ TEST_F(RenderTest, UnknownOutputExtensionIsRejected) {
 }
 
 TEST_F(RenderTest, TruncatedRecordingIsRejected) {
-  const Trajectory t = SimulateRollout(spec_, 0.1, 1, down_);
+  const Trajectory t = Rollout(0.1, 1);
   const std::string path = TempPath("truncated.traj");
   ASSERT_TRUE(WriteTrajectory(t, path).ok());
   ASSERT_EQ(truncate(path.c_str(), ReadAll(path).size() - 3), 0);
@@ -280,12 +303,6 @@ TEST_F(RenderTest, TruncatedRecordingIsRejected) {
   EXPECT_EQ(r.status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_THAT(r.status().message(), HasSubstr("truncated"));
 }
-
-}  // namespace
-}  // namespace juggle
-
-namespace juggle {
-namespace {
 
 // A policy with constant, clearly non-zero mean actions: an MLP whose output bias is 0.5.
 std::shared_ptr<const EigenPolicy> ConstantPolicy(int obs_dim) {
@@ -310,17 +327,15 @@ std::shared_ptr<const EigenPolicy> ConstantPolicy(int obs_dim) {
 }
 
 TEST_F(RenderTest, PolicyRolloutDiffersFromZeroActionRollout) {
-  const Trajectory zero = SimulateRollout(spec_, 0.3, 7, down_);
+  const Trajectory zero = Rollout(0.3, 7);
   const auto policy = ConstantPolicy(spec_->obs_dim());
-  const Trajectory acted = SimulateRollout(spec_, 0.3, 7, down_, policy.get());
-  ASSERT_GT(zero.samples.size(), 10u);
-  ASSERT_GT(acted.samples.size(), 10u);
+  const Trajectory acted = Rollout(0.3, 7, policy.get());
+  ASSERT_GT(zero.num_samples(), 10);
+  ASSERT_GT(acted.num_samples(), 10);
   // Same start, different motion once the policy's torques act (0.2 s in).
-  EXPECT_EQ(zero.samples.front().qpos, acted.samples.front().qpos);
+  EXPECT_EQ(0, std::memcmp(zero.qpos_at(0), acted.qpos_at(0), zero.nq * sizeof(double)));
   double diff = 0;
-  for (size_t i = 0; i < zero.samples[10].qpos.size(); ++i) {
-    diff += std::abs(zero.samples[10].qpos[i] - acted.samples[10].qpos[i]);
-  }
+  for (int i = 0; i < zero.nq; ++i) diff += std::abs(zero.qpos_at(10)[i] - acted.qpos_at(10)[i]);
   EXPECT_GT(diff, 0.05);
 }
 

@@ -6,7 +6,8 @@
 #include <vector>
 
 #include "absl/strings/str_cat.h"
-#include "common/temp_dir.h"
+#include "common/testing/temp_dir.h"
+#include "envs/registry.h"
 #include "gtest/gtest.h"
 #include "learner/learner_server.h"
 #include "worker/worker_client.h"

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "gmock/gmock.h"
-#include "common/temp_dir.h"
+#include "common/testing/temp_dir.h"
 #include "gtest/gtest.h"
 #include "learner/checkpoint.h"
 #include "tests/service_test_util.h"

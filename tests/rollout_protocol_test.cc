@@ -21,20 +21,23 @@
 
 #include "absl/strings/str_cat.h"
 #include "common/chunk_codec.h"
-#include "common/config_loader.h"
+#include "envs/registry.h"
 #include "common/flat_parameters.h"
 #include "common/http_server.h"
-#include "common/juggle_dims.h"
+#include "envs/soccer_juggle/spec.h"
 #include "gmock/gmock.h"
 #include "google/protobuf/text_format.h"
 #include "google/protobuf/unknown_field_set.h"
-#include "common/temp_dir.h"
+#include "common/testing/temp_dir.h"
 #include "gtest/gtest.h"
 #include "learner/learner_server.h"
 #include "proto/rollout.grpc.pb.h"
 
 namespace juggle {
 namespace {
+
+using soccer_juggle::kNumActions;
+using soccer_juggle::ObservationSize;
 
 using ::testing::HasSubstr;
 using ::testing::Not;
@@ -208,8 +211,8 @@ TEST_F(RolloutProtocolTest, RegisterReturnsSlotIncarnationConfigAndModel) {
   config::RunConfig run;
   ASSERT_TRUE(google::protobuf::TextFormat::ParseFromString(first.run_config(), &run));
   EXPECT_EQ(run.name(), "right_foot");
-  EXPECT_FALSE(run.has_graph_file()) << "workers have no files: the graph travels inline";
-  EXPECT_EQ(run.graph().node_size(), kNodes);
+  EXPECT_FALSE(run.soccer_juggle().has_graph_file()) << "workers have no files: the graph travels inline";
+  EXPECT_EQ(run.soccer_juggle().graph().node_size(), kNodes);
 
   const rpc::RegisterResponse second = Register();
   EXPECT_EQ(second.slot(), 1);

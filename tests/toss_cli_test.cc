@@ -8,7 +8,7 @@
 #include <fstream>
 #include <string>
 
-#include "common/temp_dir.h"
+#include "common/testing/temp_dir.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "tests/service_test_util.h"

@@ -33,6 +33,7 @@ absl::StatusOr<std::unique_ptr<EnvPool>> EnvPool::Create(std::shared_ptr<const E
   for (auto& ev : pool->env_events_) ev.reserve(8);
   pool->finished_length_.assign(num_envs, 0);
   pool->finished_completions_.assign(num_envs, 0);
+  pool->finished_juggles_.assign(num_envs, 0);
   for (int t = 1; t < pool->num_threads_; ++t) {
     pool->threads_.emplace_back(&EnvPool::ThreadMain, pool.get(), t);
   }
@@ -77,6 +78,7 @@ void EnvPool::StepRange(int begin, int end) {
     if (r.outcome != Outcome::kRunning) {
       finished_length_[i] = env.steps();
       finished_completions_[i] = env.completions();
+      finished_juggles_[i] = env.juggles();
       // The walk is read-only during the batch step, so resetting here is thread-safe; the
       // reset's own sampling does not create events.
       env.Reset(walk_);
@@ -133,6 +135,7 @@ void EnvPool::Step(const float* actions) {
       stats_.return_sum += episode_return_[i];
       stats_.length_sum += finished_length_[i];
       stats_.completions_sum += finished_completions_[i];
+      stats_.juggles_sum += finished_juggles_[i];
       stats_.CountOutcome(static_cast<int>(out_.outcome[i]));
       episode_return_[i] = 0;
     }

@@ -1,7 +1,7 @@
-// EnvPool: N environments of one family (worker/env.h) stepped in lockstep on T threads (one
-// shared mjModel, one mjData per env), with automatic reset. Env i draws from Rng::ForStream(seed, worker, i), and
-// edge events are applied to the adaptive walk in env order after every batch step, so a run is
-// bit-identical for a fixed seed whatever the thread count.
+// EnvPool: N environments of one family (envs/env.h) stepped in lockstep on T threads (one
+// shared mjModel, one mjData per env), with automatic reset. Env i draws from
+// Rng::ForStream(seed, worker, i), and edge events are applied to the adaptive walk in env order
+// after every batch step, so a run is bit-identical for a fixed seed whatever the thread count.
 //
 // Thread-safety: the pool's public methods must be called from one thread; the pool's own
 // threads touch only their envs and read the walk, which is mutated only between steps.
@@ -18,7 +18,7 @@
 #include "absl/status/statusor.h"
 #include "common/adaptive_walk.h"
 #include "common/episode_counters.h"
-#include "worker/env.h"
+#include "envs/env.h"
 
 namespace juggle {
 
@@ -75,6 +75,7 @@ class EnvPool {
   std::vector<std::vector<EdgeEvent>> env_events_;
   std::vector<int> finished_length_;
   std::vector<int> finished_completions_;
+  std::vector<int> finished_juggles_;
   PoolStep out_;
   EpisodeCounters stats_;
   bool apply_events_locally_ = true;

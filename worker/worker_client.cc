@@ -11,12 +11,11 @@
 
 #include "absl/strings/str_cat.h"
 #include "common/chunk_codec.h"
-#include "common/config_loader.h"
 #include "common/eigen_policy.h"
 #include "common/flat_parameters.h"
+#include "envs/registry.h"
 #include "proto/rollout.grpc.pb.h"
 #include "worker/env_pool.h"
-#include "worker/env_registry.h"
 #include "worker/rollout_collector.h"
 
 namespace juggle {
@@ -95,15 +94,17 @@ class Session {
     }
     registered_ = true;
     incarnation_ = reg.incarnation();
+    // The learner built the same spec before it listened, so these fail only if this binary
+    // differs from the learner's: retrying cannot help.
     absl::StatusOr<LoadedConfig> config = ParseRunConfig(reg.run_config(), "<from learner>");
-    if (!config.ok()) return config.status();
+    if (!config.ok()) return Fatal(config.status());
     absl::StatusOr<std::shared_ptr<const EnvSpec>> spec =
         CreateEnvSpecFromCompiled(*config, reg.model_mjb());
-    if (!spec.ok()) return spec.status();
+    if (!spec.ok()) return Fatal(spec.status());
     const config::RunConfig& run = config->run;
     absl::StatusOr<std::unique_ptr<EnvPool>> pool =
         EnvPool::Create(*spec, o_.num_envs, o_.num_threads, run.seed(), reg.slot());
-    if (!pool.ok()) return pool.status();
+    if (!pool.ok()) return Fatal(pool.status());
     (*pool)->set_apply_events_locally(false);  // the learner owns the edge counts
     RolloutCollector collector(pool->get(), reg.unroll_length(), run.seed(), reg.slot());
     if (o_.verbose) {
@@ -137,8 +138,18 @@ class Session {
   }
 
   bool registered() const { return registered_; }
+  // The session failed in a way a reconnect cannot fix (the learner's config does not build
+  // here).
+  bool fatal() const { return fatal_; }
 
  private:
+  absl::Status Fatal(absl::Status status) {
+    fatal_ = true;
+    return absl::Status(status.code(),
+                        absl::StrCat("the learner's run config does not build on this worker: ",
+                                     status.message()));
+  }
+
   absl::Status Loop(const rpc::RegisterResponse& reg, const config::RunConfig& run, EnvPool* pool,
                     RolloutCollector* collector, const std::atomic<bool>* unknown,
                     std::atomic<double>* steps_per_s, std::atomic<int64_t>* version_seen) {
@@ -213,6 +224,7 @@ class Session {
   std::unique_ptr<rpc::Rollout::Stub> stub_;
   uint64_t incarnation_ = 0;
   bool registered_ = false;
+  bool fatal_ = false;
 };
 
 }  // namespace
@@ -230,6 +242,7 @@ absl::Status RunWorker(const WorkerOptions& options) {
     Session session(options, channel);
     const absl::Status status = session.Run();
     if (options.stop->load()) break;
+    if (session.fatal()) return status;
     if (session.registered()) {
       backoff = 0.1;
       unreachable_since = Clock::now();

@@ -1,0 +1,64 @@
+// `juggle bench sim|moe|ingest|broadcast|local`: the benchmarks of bench/ (docs/performance.md).
+#include "app/commands.h"
+#include "bench/benchmarks.h"
+
+namespace juggle {
+
+CommandBody AddBenchCommand(CLI::App* cmd) {
+  cmd->require_subcommand(1);
+  auto sim = std::make_shared<SimBenchOptions>();
+  auto moe = std::make_shared<MoeBenchOptions>();
+  auto ingest = std::make_shared<IngestBenchOptions>();
+  auto broadcast = std::make_shared<BroadcastBenchOptions>();
+  auto local = std::make_shared<LocalBenchOptions>();
+
+  CLI::App* s = cmd->add_subcommand("sim", "env steps/s on 1 and 2 threads vs bare mj_step");
+  s->add_option("--config", sim->config, "run config")->capture_default_str();
+  s->add_option("--envs", sim->envs, "envs in the pool")->check(Between(1, 10000))->capture_default_str();
+  s->add_option("--steps", sim->steps, "batch steps per measurement")->check(Between(1, 1e6))->capture_default_str();
+  s->add_option("--repeats", sim->repeats, "alternating repeats (best is reported)")
+      ->check(Between(1, 100))->capture_default_str();
+
+  CLI::App* m = cmd->add_subcommand("moe", "layer-wise vs weight-blended MoE, PPO update and "
+                                             "Eigen inference speed");
+  m->add_option("--reps", moe->reps, "repetitions per measurement (best is reported)")
+      ->check(Between(1, 100))->capture_default_str();
+  m->add_option("--threads", moe->threads, "torch threads")->check(Between(1, 256))->capture_default_str();
+  m->add_option("--ppo_samples", moe->ppo_samples, "samples in the PPO-throughput batch")
+      ->check(Between(1, 1e7))->capture_default_str();
+  m->add_option("--worker_batch", moe->worker_batch, "batch of the Eigen inference measurement")
+      ->check(Between(1, 1e6))->capture_default_str();
+
+  CLI::App* i = cmd->add_subcommand("ingest", "unrolls/s one learner ingests from synthetic "
+                                              "workers over loopback");
+  i->add_option("--config", ingest->config, "run config (sets the obs size)")->capture_default_str();
+  i->add_option("--workers", ingest->workers, "synthetic worker streams")
+      ->check(Between(1, 4096))->capture_default_str();
+  i->add_option("--seconds", ingest->seconds, "measurement time")->check(Between(0.1, 3600))->capture_default_str();
+  i->add_option("--unrolls_per_chunk", ingest->unrolls_per_chunk, "unrolls in each chunk")
+      ->check(Between(1, 10000))->capture_default_str();
+
+  CLI::App* b = cmd->add_subcommand("broadcast", "snapshot broadcast time to connected workers");
+  b->add_option("--config", broadcast->config, "run config (sets the policy size)")->capture_default_str();
+  b->add_option("--workers", broadcast->workers, "connected workers")
+      ->check(Between(1, 4096))->capture_default_str();
+  b->add_option("--rounds", broadcast->rounds, "broadcasts measured")->check(Between(1, 1000))->capture_default_str();
+
+  CLI::App* l = cmd->add_subcommand("local", "local-mode iteration time vs sampling alone + "
+                                             "update alone");
+  l->add_option("--config", local->config, "run config")->capture_default_str();
+  l->add_option("--iterations", local->iterations, "iterations of each measurement")
+      ->check(Between(1, 100000))->capture_default_str();
+
+  return [=] {
+    absl::Status status;
+    if (s->parsed()) status = RunSimBench(*sim);
+    if (m->parsed()) status = RunMoeBench(*moe);
+    if (i->parsed()) status = RunIngestBench(*ingest);
+    if (b->parsed()) status = RunBroadcastBench(*broadcast);
+    if (l->parsed()) status = RunLocalBench(*local);
+    return status.ok() ? 0 : Fail(status);
+  };
+}
+
+}  // namespace juggle

@@ -1,0 +1,111 @@
+#include "app/learner_flags.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include "absl/strings/str_cat.h"
+#include "envs/registry.h"
+#include "learner/checkpoint.h"
+#include "learner/learner_state.h"
+
+namespace juggle {
+namespace {
+
+std::string DefaultRunDir(const config::RunConfig& run) {
+  return absl::StrCat("runs/", run.name().empty() ? "run" : run.name());
+}
+
+// Prints one progress line per iteration and appends it to <run_dir>/metrics.jsonl.
+std::function<void(const IterationReport&)> ProgressReporter(const std::string& run_dir) {
+  auto metrics = std::make_shared<std::ofstream>(run_dir + "/metrics.jsonl", std::ios::app);
+  return [metrics](const IterationReport& r) {
+    *metrics << r.ToJson() << "\n";
+    metrics->flush();
+    std::printf("%s\n", r.ToLine().c_str());
+    std::fflush(stdout);
+  };
+}
+
+// --init_from: a new run that starts from another run's checkpoint (fine-tuning under another
+// config, e.g. toss in-loop training). The checkpoint is copied into <run_dir>/checkpoints,
+// which must hold none yet; the run then resumes from it.
+absl::Status SeedRunFromCheckpoint(const std::string& source, const std::string& run_dir) {
+  CheckpointDir dir(run_dir + "/checkpoints");
+  if (!dir.List().empty()) {
+    return absl::FailedPreconditionError(absl::StrCat(
+        "--init_from: run directory ", run_dir, " already holds checkpoints (newest ",
+        dir.List().front(), "); choose another --run_dir, or --resume without --init_from"));
+  }
+  absl::StatusOr<LoadedCheckpoint> checkpoint = LoadCheckpoint(source);
+  if (!checkpoint.ok()) return checkpoint.status();
+  const std::string name = std::filesystem::path(checkpoint->path).filename().string();
+  std::error_code error;
+  std::filesystem::create_directories(dir.dir(), error);
+  if (error) {
+    return absl::PermissionDeniedError(absl::StrCat("cannot create ", dir.dir(), ": ",
+                                                    error.message()));
+  }
+  if (absl::Status s = WriteCheckpointFile(dir.dir() + "/" + name, checkpoint->sections); !s.ok()) {
+    return s;
+  }
+  std::printf("starting from %s\n", checkpoint->path.c_str());
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+void AddLearnerFlags(CLI::App* cmd, LearnerFlags* f) {
+  cmd->add_option("--config", f->config, "run config (protobuf text format)")
+      ->capture_default_str();
+  cmd->add_option("--run_dir", f->run_dir,
+                  "run directory: checkpoints/ and metrics.jsonl (default runs/<name>)");
+  cmd->add_flag("--resume", f->resume,
+                "continue from the newest readable checkpoint in the run directory");
+  cmd->add_option("--init_from", f->init_from,
+                  "start a new run from this checkpoint (file or run directory): fine-tuning "
+                  "under this config");
+  cmd->add_option("--iterations", f->iterations,
+                  "stop after this many iterations (0: the config's ppo.iterations)")
+      ->check(AtLeast(0))
+      ->capture_default_str();
+  cmd->add_option("--minutes", f->minutes, "stop after this many minutes (0: no limit)")
+      ->check(AtLeast(0))
+      ->capture_default_str();
+  cmd->add_option("--metrics_port", f->metrics_port,
+                  "HTTP port of /metrics and the dashboard (-1: the config's "
+                  "service.metrics_port; 0: any free port)")
+      ->check(Between(-1, 65535))
+      ->capture_default_str();
+}
+
+absl::StatusOr<LearnerOptions> MakeLearnerOptions(const LearnerFlags& flags) {
+  absl::StatusOr<LoadedConfig> config = LoadRunConfig(flags.config);
+  if (!config.ok()) return config.status();
+  LearnerOptions o;
+  o.run_dir = flags.run_dir.empty() ? DefaultRunDir(config->run) : flags.run_dir;
+  o.config = std::move(*config);
+  o.resume = flags.resume;
+  o.max_iterations = flags.iterations;
+  o.max_minutes = flags.minutes;
+  o.metrics_port = flags.metrics_port;
+  std::error_code error;
+  std::filesystem::create_directories(o.run_dir, error);
+  if (error) {
+    return absl::PermissionDeniedError(absl::StrCat("cannot create run directory ", o.run_dir,
+                                                    ": ", error.message()));
+  }
+  if (!flags.init_from.empty()) {
+    if (o.resume) {
+      return absl::InvalidArgumentError(
+          "--init_from starts a new run; it cannot be combined with --resume");
+    }
+    if (absl::Status s = SeedRunFromCheckpoint(flags.init_from, o.run_dir); !s.ok()) return s;
+    o.resume = true;  // from the copied checkpoint
+  }
+  o.on_iteration = ProgressReporter(o.run_dir);
+  return o;
+}
+
+}  // namespace juggle

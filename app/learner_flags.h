@@ -1,0 +1,34 @@
+// The flags `juggle train` and `juggle learner` share, and the LearnerOptions they make:
+// config, run directory, --resume / --init_from, limits, progress reporting.
+#ifndef JUGGLE_APP_LEARNER_FLAGS_H_
+#define JUGGLE_APP_LEARNER_FLAGS_H_
+
+#include <cstdint>
+#include <string>
+
+#include "absl/status/statusor.h"
+#include "app/command.h"
+#include "learner/learner_server.h"
+
+namespace juggle {
+
+struct LearnerFlags {
+  std::string config = "configs/right_foot.textproto";
+  std::string run_dir;    // empty: runs/<config name>
+  bool resume = false;
+  std::string init_from;  // a checkpoint (file or run directory) a new run starts from
+  int64_t iterations = 0;
+  double minutes = 0;
+  int metrics_port = -1;
+};
+
+void AddLearnerFlags(CLI::App* cmd, LearnerFlags* flags);
+
+// Loads the config, prepares the run directory (copying --init_from's checkpoint into it) and
+// installs a progress reporter that prints a line per iteration and appends it to
+// <run_dir>/metrics.jsonl.
+absl::StatusOr<LearnerOptions> MakeLearnerOptions(const LearnerFlags& flags);
+
+}  // namespace juggle
+
+#endif  // JUGGLE_APP_LEARNER_FLAGS_H_

@@ -1,0 +1,40 @@
+// `juggle worker` (and the `juggle-worker` binary): a simulation worker of a cluster run. Links
+// worker/ only: no libtorch, no GL.
+#include <cstdio>
+
+#include "app/command.h"
+#include "app/commands.h"
+#include "app/signals.h"
+#include "worker/worker_client.h"
+
+namespace juggle {
+
+CommandBody AddWorkerCommand(CLI::App* cmd) {
+  auto o = std::make_shared<WorkerOptions>();
+  o->learner_address = "127.0.0.1:50051";
+  cmd->add_option("--learner", o->learner_address, "learner address host:port")
+      ->capture_default_str();
+  cmd->add_option("--envs", o->num_envs, "environments in this worker")
+      ->check(Between(1, 100000))
+      ->capture_default_str();
+  cmd->add_option("--threads", o->num_threads, "simulation threads")
+      ->check(Between(1, 1024))
+      ->capture_default_str();
+  cmd->add_option("--slot", o->requested_slot,
+                  "worker slot (seeds its envs); -1 lets the learner choose")
+      ->check(AtLeast(-1))
+      ->capture_default_str();
+  cmd->add_option("--give_up_after", o->give_up_after_s,
+                  "exit after this many seconds without a learner (0: never)")
+      ->check(AtLeast(0))
+      ->capture_default_str();
+  return [o] {
+    o->stop = InstallStopSignals();
+    const absl::Status status = RunWorker(*o);
+    if (!status.ok()) return Fail(status);
+    std::printf("worker: stopped\n");
+    return 0;
+  };
+}
+
+}  // namespace juggle

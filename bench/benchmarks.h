@@ -1,0 +1,57 @@
+// Benchmarks as library functions: each prints its measurements as ratios measured side by side
+// in one run, ending with a key=value line (docs/performance.md). `juggle bench <name>`
+// (app/bench_command.cc) parses their options.
+#ifndef JUGGLE_BENCH_BENCHMARKS_H_
+#define JUGGLE_BENCH_BENCHMARKS_H_
+
+#include <string>
+
+#include "absl/status/status.h"
+
+namespace juggle {
+
+struct SimBenchOptions {
+  std::string config = "configs/right_foot.textproto";
+  int envs = 32;      // envs in the pool
+  int steps = 300;    // batch steps per measurement
+  int repeats = 3;    // alternating repeats of every measurement (best is reported)
+};
+// Env steps/s on 1 and 2 threads vs bare mj_step of the same states.
+absl::Status RunSimBench(const SimBenchOptions& options);
+
+struct MoeBenchOptions {
+  int reps = 3;             // repetitions per measurement (best is reported)
+  int threads = 2;          // torch threads
+  int ppo_samples = 20000;  // samples in the PPO-throughput batch
+  int worker_batch = 64;    // batch of the Eigen inference measurement
+};
+// Layer-wise vs weight-blended MoE, PPO update and Eigen inference speed.
+absl::Status RunMoeBench(const MoeBenchOptions& options);
+
+struct IngestBenchOptions {
+  std::string config = "configs/full.textproto";  // sets the obs size (full = 157)
+  int workers = 4;                                // synthetic worker streams
+  double seconds = 5;                             // measurement time
+  int unrolls_per_chunk = 8;
+};
+// Unrolls/s one learner ingests from synthetic workers over loopback.
+absl::Status RunIngestBench(const IngestBenchOptions& options);
+
+struct BroadcastBenchOptions {
+  std::string config = "configs/full.textproto";  // sets the policy size
+  int workers = 32;                               // connected workers
+  int rounds = 3;                                 // broadcasts measured
+};
+// Snapshot broadcast time to connected workers.
+absl::Status RunBroadcastBench(const BroadcastBenchOptions& options);
+
+struct LocalBenchOptions {
+  std::string config = "configs/right_foot.textproto";
+  int iterations = 8;  // iterations of each measurement
+};
+// Local-mode iteration time vs sampling alone + update alone.
+absl::Status RunLocalBench(const LocalBenchOptions& options);
+
+}  // namespace juggle
+
+#endif  // JUGGLE_BENCH_BENCHMARKS_H_

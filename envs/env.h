@@ -1,0 +1,101 @@
+// The environment interface EnvPool, RolloutCollector and the evaluation loop run, whatever the
+// family (envs/registry.h lists them). EnvSpec holds what never changes during a run (the
+// compiled model, sizes, the control graph) and makes envs; Env is one episode's mutable state.
+#ifndef JUGGLE_ENVS_ENV_H_
+#define JUGGLE_ENVS_ENV_H_
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <mujoco/mujoco.h>
+
+#include "common/adaptive_walk.h"
+#include "common/control_graph.h"
+#include "common/outcome.h"
+#include "common/rng.h"
+#include "record/trajectory.h"
+
+namespace juggle {
+
+struct StepResult {
+  float reward = 0;
+  Outcome outcome = Outcome::kRunning;
+  // Ended without bootstrapping: every outcome but running and the time limit (a caught ball
+  // and a release end toss episodes this way too).
+  bool terminated() const { return outcome != Outcome::kRunning && outcome != Outcome::kTimeLimit; }
+  bool truncated() const { return outcome == Outcome::kTimeLimit; }
+};
+
+// A named number about an episode (e.g. "release_velocity_error") or a recorded channel value.
+struct NamedValue {
+  std::string name;
+  double value = 0;
+};
+
+// One environment. Thread-compatible: one thread at a time. Envs do not reset themselves.
+class Env {
+ public:
+  virtual ~Env() = default;
+  // Starts an episode; events are cleared.
+  virtual void Reset(const AdaptiveWalk& walk) = 0;
+  // Starts an episode at graph node `node` (tools: render --node). False, with nothing
+  // changed, for families that cannot.
+  virtual bool ResetAt(int node, const AdaptiveWalk& walk) { return false; }
+  // Advances one control step. REQUIRES: `action` holds act_dim values (clamped to [−1, 1] by
+  // the env) and the episode has not ended.
+  virtual StepResult Step(const float* action, const AdaptiveWalk& walk) = 0;
+  // REQUIRES: `obs` holds obs_dim floats.
+  virtual void WriteObservation(float* obs) const = 0;
+  // Edge events of the last step (empty for families without a control graph).
+  virtual const std::vector<EdgeEvent>& events() const { return no_events_; }
+  // Control steps of the current episode.
+  virtual int steps() const = 0;
+  // Node id the env is in (graph node; 0 for families without a graph).
+  virtual int node() const { return 0; }
+  // Successes of the current episode so far (nodes completed; toss: 1 after a catch or a
+  // release).
+  virtual int completions() const = 0;
+  // Juggles of the current episode so far: touches that sent the ball on to where it had to go
+  // (soccer: completed UP and stall nodes; toss: good throws). The evaluation's headline number.
+  virtual int juggles() const { return completions(); }
+  // Simulator state, for tests and tools. Mutating it is the caller's risk.
+  virtual mjData* data() = 0;
+  virtual const mjData* data() const = 0;
+  // Named numbers about the episode that just ended (after the step that ended it), e.g. a
+  // throw's release errors. The evaluation averages each over the episodes that report it.
+  virtual void AppendEpisodeMetrics(std::vector<NamedValue>* out) const {}
+  // The family's annotation channels of the current state, in the order of
+  // EnvSpec::annotation_channels() (soccer: node, phase; toss: hand modes). Recorded with
+  // every trajectory sample (record/trajectory.h).
+  virtual void AppendAnnotations(std::vector<double>* out) const {}
+
+ private:
+  std::vector<EdgeEvent> no_events_;
+};
+
+class EnvSpec : public std::enable_shared_from_this<EnvSpec> {
+ public:
+  virtual ~EnvSpec() = default;
+  // The family's name, as in RunConfig's `family` oneof ("soccer_juggle", "toss").
+  virtual std::string family() const = 0;
+  virtual int obs_dim() const = 0;
+  virtual int act_dim() const = 0;
+  // Seconds of simulated time per env step.
+  virtual double control_dt() const = 0;
+  // The control graph the adaptive walk runs on (empty for families without one).
+  virtual const ControlGraph& graph() const = 0;
+  virtual const mjModel* model() const = 0;
+  // Names of every outcome value this family's envs return, indexed by value (starts with
+  // CommonOutcomeNames()).
+  virtual std::vector<std::string> outcome_names() const = 0;
+  // The channels Env::AppendAnnotations writes (default: none).
+  virtual std::vector<AnnotationChannel> annotation_channels() const { return {}; }
+  // A new env drawing from `rng`. REQUIRES: this spec is owned by a shared_ptr.
+  virtual std::unique_ptr<Env> NewEnv(Rng rng) const = 0;
+};
+
+}  // namespace juggle
+
+#endif  // JUGGLE_ENVS_ENV_H_

@@ -1,0 +1,41 @@
+// One environment family: the RunConfig `family` case that selects it, the checks and file
+// inlining of its section, and its EnvSpec factory. Implementations are stateless singletons
+// (Thread-safe); envs/registry.cc lists them. Adding a family: docs/adding_an_env_family.md.
+#ifndef JUGGLE_ENVS_ENV_FAMILY_H_
+#define JUGGLE_ENVS_ENV_FAMILY_H_
+
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "absl/status/statusor.h"
+#include "common/config_loader.h"
+#include "envs/env.h"
+#include "proto/run_config.pb.h"
+
+namespace juggle {
+
+class EnvFamily {
+ public:
+  virtual ~EnvFamily() = default;
+  // The oneof field's name, e.g. "soccer_juggle".
+  virtual std::string_view name() const = 0;
+  virtual config::RunConfig::FamilyCase config_case() const = 0;
+  // Checks the family's section of `config->run` and inlines every file it names (so workers
+  // receive one self-contained config); sets config->graph for families with a control graph.
+  // Errors: INVALID_ARGUMENT / NOT_FOUND, each starting with "file:line:col: field".
+  virtual absl::Status Prepare(LoadedConfig* config) const = 0;
+  // Compiles the family's MJCF (or, given non-empty `model_mjb`, loads those mj_saveModel bytes)
+  // and resolves everything against it. Errors name the config field or the MJCF problem.
+  // REQUIRES: `config` went through Prepare.
+  virtual absl::StatusOr<std::shared_ptr<const EnvSpec>> CreateSpec(
+      const LoadedConfig& config, const std::string& model_mjb) const = 0;
+  // Sets the family's episode step limit in `run` so that episodes may last `seconds` of
+  // simulated time (evaluations with long episodes: `juggle eval --max_seconds`).
+  // REQUIRES: `run` selects this family and was prepared; seconds > 0.
+  virtual void SetMaxEpisodeSeconds(double seconds, config::RunConfig* run) const = 0;
+};
+
+}  // namespace juggle
+
+#endif  // JUGGLE_ENVS_ENV_FAMILY_H_

@@ -1,0 +1,278 @@
+#include "envs/soccer_juggle/env.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "envs/soccer_juggle/reference_pose.h"
+
+namespace juggle::soccer_juggle {
+
+namespace {
+
+// MuJoCo warnings that mean the simulation can no longer be trusted.
+constexpr int kWatchedWarnings[] = {mjWARN_BADQACC, mjWARN_BADQPOS, mjWARN_BADQVEL,
+                                    mjWARN_CONTACTFULL, mjWARN_CNSTRFULL};
+
+// sin²(θ/2) of the rotation between unit quaternions a and b.
+double RotationSin2(const double* a, const double* b) {
+  const double dot = mju_dot(a, b, 4);
+  return std::max(0.0, 1.0 - dot * dot);
+}
+
+}  // namespace
+
+JuggleEnv::JuggleEnv(std::shared_ptr<const JuggleSpec> spec, Rng rng)
+    : spec_(std::move(spec)), model_(spec_->model()), data_(mj_makeData(model_)), rng_(rng) {
+  events_.reserve(8);
+}
+
+std::unique_ptr<Env> JuggleSpec::NewEnv(Rng rng) const {
+  return std::make_unique<JuggleEnv>(
+      std::static_pointer_cast<const JuggleSpec>(shared_from_this()), rng);
+}
+
+void JuggleEnv::Reset(const AdaptiveWalk& walk) {
+  events_.clear();
+  spec_->cursor().Reset(walk, &rng_, &cursor_);
+  PlaceAtReference();
+}
+
+bool JuggleEnv::ResetAt(int node, const AdaptiveWalk& walk) {
+  events_.clear();
+  spec_->cursor().ResetAt(node, walk, &rng_, &cursor_);
+  PlaceAtReference();
+  return true;
+}
+
+void JuggleEnv::PlaceAtReference() {
+  steps_ = 0;
+  mj_resetData(model_, data_.get());
+  ComputeReferencePose(*spec_, cursor_.current, cursor_.phase, &reference_);
+  mju_copy(data_->qpos, reference_.data(), kCharacterNq);
+  const BallReference ball = spec_->cursor().DesiredBall(cursor_, cursor_.phase);
+  double* ball_qpos = data_->qpos + spec_->ball_qpos();
+  ball_qpos[0] = reference_[0] + ball.x;
+  ball_qpos[1] = reference_[1] + ball.y;
+  ball_qpos[2] = ball.z;
+  ball_qpos[3] = 1;
+  ball_qpos[4] = ball_qpos[5] = ball_qpos[6] = 0;
+  mju_zero(data_->qvel, model_->nv);
+  mj_forward(model_, data_.get());
+}
+
+void JuggleEnv::ApplyTorques(const double* feedforward) {
+  const double h = model_->opt.timestep;
+  const double* qpos = data_->qpos;
+  const double* qvel = data_->qvel;
+  double* tau = data_->qfrc_applied;
+  for (int j = 0; j < kNumJoints; ++j) {
+    const ActuatedJoint& joint = spec_->joint(j);
+    const int dof = joint.dof_adr;
+    if (joint.dofs == 3) {
+      // Stable PD: kp·(err − h·q̇); the damping kd·q̇ is the joint's implicit damping.
+      double err[3];
+      mju_subQuat(err, reference_.data() + joint.qpos_adr, qpos + joint.qpos_adr);
+      for (int d = 0; d < 3; ++d) {
+        tau[dof + d] = joint.kp * (err[d] - h * qvel[dof + d]) + feedforward[dof + d];
+      }
+    } else {
+      const double err = reference_[joint.qpos_adr] - qpos[joint.qpos_adr];
+      tau[dof] = joint.kp * (err - h * qvel[dof]) + feedforward[dof];
+    }
+  }
+  const config::Vec3& force = spec_->env().ball_force();
+  double* xfrc = data_->xfrc_applied + 6 * spec_->ball_body();
+  xfrc[0] = force.x();
+  xfrc[1] = force.y();
+  xfrc[2] = force.z();
+}
+
+bool JuggleEnv::Diverged() const {
+  for (int w : kWatchedWarnings) {
+    if (data_->warning[w].number > 0) return true;
+  }
+  for (int i = 0; i < model_->nq; ++i) {
+    if (!std::isfinite(data_->qpos[i])) return true;
+  }
+  for (int i = 0; i < model_->nv; ++i) {
+    if (!std::isfinite(data_->qvel[i])) return true;
+  }
+  return false;
+}
+
+Outcome JuggleEnv::CheckBallContacts(double substep_phase) const {
+  const int ball_geom = spec_->ball_geom();
+  const NodeRuntime& rt = spec_->node_runtime(cursor_.current);
+  const config::NodeSpec& node = spec_->graph().node(cursor_.current).spec;
+  const bool stall = node.stage() == config::STALL;
+  const double ball_z = data_->qpos[spec_->ball_qpos() + 2];
+  for (int i = 0; i < data_->ncon; ++i) {
+    const mjContact& c = data_->contact[i];
+    if (c.geom1 != ball_geom && c.geom2 != ball_geom) continue;
+    const int other = c.geom1 == ball_geom ? c.geom2 : c.geom1;
+    const int body = model_->geom_bodyid[other];
+    if (!rt.contact_allowed[body]) return kBadContact;
+    if (!stall && std::abs(spec_->cursor().SecondsFromContact(cursor_, substep_phase)) >
+                      node.contact_window_s() + 1e-9) {
+      return kContactTiming;
+    }
+    if (ball_z < spec_->env().termination().min_ball_height()) return kBallLost;
+  }
+  return Outcome::kRunning;
+}
+
+Outcome JuggleEnv::CheckTermination(const BallReference& ball_ref) const {
+  const config::TerminationConfig& term = spec_->env().termination();
+  const double* qpos = data_->qpos;
+  if (RotationSin2(qpos + 3, kUprightQuat) > term.max_tilt_sin2()) return kFell;
+  if (qpos[2] < term.min_root_height()) return kFell;
+  const double* ball = qpos + spec_->ball_qpos();
+  if (std::abs(ball[0] - qpos[0] - ball_ref.x) > term.max_ball_dx() ||
+      std::abs(ball[1] - qpos[1] - ball_ref.y) > term.max_ball_dy() ||
+      ball[2] < term.min_ball_height()) {
+    return kBallLost;
+  }
+  const NodeRuntime& rt = spec_->node_runtime(cursor_.current);
+  if (rt.atw_foot_body >= 0 && !rt.atw_angle.empty() && cursor_.phase_speed > 0) {
+    const bool up = spec_->graph().node(cursor_.current).stage == config::UP;
+    const double local = (cursor_.phase - (up ? 0.5 : 0.0)) / 0.5;  // [0, 1] over the node
+    const double skip = rt.atw_skip_steps * cursor_.phase_speed / 0.5;
+    if (local > skip && local < 1.0 - skip) {
+      const int bins = static_cast<int>(rt.atw_angle.size());
+      const int bin = std::clamp(static_cast<int>(local * bins), 0, bins - 1);
+      const double* foot = data_->xpos + 3 * rt.atw_foot_body;
+      const double psi = std::atan2(foot[2] - ball[2], foot[1] - ball[1]);
+      const double desired = rt.atw_angle[bin];
+      const double dc = std::cos(psi) - std::cos(desired);
+      const double ds = std::sin(psi) - std::sin(desired);
+      if (dc * dc + ds * ds > rt.atw_max_chord2) return kAroundTheWorld;
+    }
+  }
+  if (rt.stall_body >= 0) {
+    const double* body = data_->xpos + 3 * rt.stall_body;
+    double diff[3];
+    mju_sub3(diff, ball, body);
+    if (mju_norm3(diff) > rt.stall_max_distance) return kStallLost;
+  }
+  return Outcome::kRunning;
+}
+
+float JuggleEnv::ComputeReward(const BallReference& ball_ref) const {
+  const config::RewardConfig& w = spec_->env().reward();
+  const double* qpos = data_->qpos;
+  const double* qvel = data_->qvel;
+  double joint_err = 0;
+  for (int j = 0; j < kNumJoints; ++j) {
+    const ActuatedJoint& joint = spec_->joint(j);
+    const int adr = joint.qpos_adr;
+    if (joint.dofs == 3) {
+      joint_err += RotationSin2(qpos + adr, reference_.data() + adr);
+    } else {
+      const double d = qpos[adr] - reference_[adr];
+      joint_err += d * d;
+    }
+  }
+  const double dz = qpos[2] - reference_[2];
+  const double pos_err = qvel[0] * qvel[0] + qvel[1] * qvel[1] + dz * dz;
+  const double ori_err = RotationSin2(qpos + 3, reference_.data() + 3);
+  const double* ball = qpos + spec_->ball_qpos();
+  const double bx = ball_ref.x - (ball[0] - qpos[0]);
+  const double by = ball_ref.y - (ball[1] - qpos[1]);
+  const double bz = ball_ref.z - ball[2];
+  const double ball_err = bx * bx + by * by + w.ball_z_weight() * bz * bz;
+  const double r = w.w_position() * std::exp(-pos_err) +
+                   w.w_orientation() * std::exp(-w.orientation_k() * ori_err) +
+                   w.w_joint() * std::exp(-w.joint_k() * joint_err) +
+                   w.w_ball() * std::exp(-ball_err);
+  return static_cast<float>(w.scale() * r);
+}
+
+StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
+  events_.clear();
+  const double phase0 = cursor_.phase;
+  ComputeReferencePose(*spec_, cursor_.current, phase0, &reference_);
+  const BallReference ball_ref = spec_->cursor().DesiredBall(cursor_, phase0);
+
+  double feedforward[kCharacterNv] = {0};
+  const double unit = spec_->env().action_torque();
+  for (int j = 0; j < kNumJoints; ++j) {
+    const ActuatedJoint& joint = spec_->joint(j);
+    for (int d = 0; d < joint.dofs; ++d) {
+      const int dof = joint.dof_adr + d;
+      const double a = std::clamp(static_cast<double>(action[dof - 6]), -1.0, 1.0);
+      feedforward[dof] = unit * joint.torque_scale * a;
+    }
+  }
+
+  StepResult result;
+  const int substeps = spec_->env().substeps();
+  for (int k = 0; k < substeps && result.outcome == Outcome::kRunning; ++k) {
+    ApplyTorques(feedforward);
+    for (int w : kWatchedWarnings) data_->warning[w].number = 0;
+    mj_step(model_, data_.get());
+    if (Diverged()) {
+      result.outcome = Outcome::kDiverged;
+      break;
+    }
+    result.outcome = CheckBallContacts(phase0 + cursor_.phase_speed * (k + 1) / substeps);
+  }
+
+  if (result.outcome == Outcome::kRunning) {
+    spec_->cursor().Advance(walk, &rng_, &cursor_, &events_);
+    result.outcome = CheckTermination(ball_ref);
+  }
+  result.reward = result.outcome == Outcome::kDiverged ? 0.0f : ComputeReward(ball_ref);
+  ++steps_;
+  if (result.outcome == Outcome::kRunning && steps_ >= spec_->env().max_episode_steps()) {
+    result.outcome = Outcome::kTimeLimit;
+  }
+  if (result.terminated()) spec_->cursor().Fail(cursor_, &events_);
+  return result;
+}
+
+void JuggleEnv::WriteObservation(float* obs) const {
+  const double* qpos = data_->qpos;
+  const double* qvel = data_->qvel;
+  int i = 0;
+  obs[i++] = qpos[2];
+  obs[i++] = (qpos[3] - M_SQRT1_2) * 4;
+  obs[i++] = (qpos[4] - M_SQRT1_2) * 4;
+  obs[i++] = qpos[5] * 4;
+  obs[i++] = qpos[6] * 4;
+  for (int adr : {spec_->joint(kChest).qpos_adr, spec_->joint(kNeck).qpos_adr}) {
+    obs[i++] = qpos[adr];
+    for (int c = 1; c < 4; ++c) obs[i++] = qpos[adr + c] * 2;
+  }
+  for (int q = spec_->joint(kRightShoulder).qpos_adr; q < kCharacterNq; ++q) obs[i++] = qpos[q];
+  for (int c = 0; c < 3; ++c) obs[i++] = qvel[c];
+  double world[3];
+  mju_rotVecQuat(world, qvel + 3, qpos + 3);  // root angular velocity: local -> world
+  for (int c = 0; c < 3; ++c) obs[i++] = world[c];
+  for (int v = 6; v < kCharacterNv; ++v) obs[i++] = qvel[v] / 10;
+  obs[i++] = cursor_.apex_height;  // the release's always-zero "speed" slot carries H here
+  const double* ball = qpos + spec_->ball_qpos();
+  const double* ball_vel = qvel + spec_->ball_dof();
+  for (int c = 0; c < 3; ++c) obs[i++] = ball[c] - qpos[c];
+  for (int c = 0; c < 3; ++c) obs[i++] = ball_vel[c] / 10;
+  mju_rotVecQuat(world, ball_vel + 3, ball + 3);
+  for (int c = 0; c < 3; ++c) obs[i++] = world[c] / 10;
+  obs[i++] = cursor_.phase_speed * 15;  // = release's phase units (150 per cycle) / 10
+  obs[i++] = std::cos(2 * M_PI * cursor_.phase);
+  obs[i++] = std::sin(2 * M_PI * cursor_.phase);
+  const int n = spec_->graph().num_nodes();
+  std::fill(obs + i, obs + i + 3 * n, 0.0f);
+  obs[i + cursor_.current] = 1;
+  obs[i + n + cursor_.next] = 1;
+  obs[i + 2 * n + cursor_.next_next] = 1;
+  // Never hand a non-finite number to a policy.
+  for (int k = 0; k < kObsBase; ++k) {
+    if (!std::isfinite(obs[k])) obs[k] = 0;
+  }
+}
+
+void JuggleEnv::AppendAnnotations(std::vector<double>* out) const {
+  out->push_back(cursor_.current);
+  out->push_back(cursor_.phase);
+}
+
+}  // namespace juggle::soccer_juggle

@@ -1,0 +1,87 @@
+// One soccer-juggling environment: a humanoid and a ball in MuJoCo, driven by stable PD
+// tracking of the control graph's reference pose plus the policy's feed-forward torques.
+//
+// Control step (50 Hz) = `substeps` physics steps (400 Hz). Order within Step():
+//   1. reference pose and ball reference at the current (pre-step) phase;
+//   2. per substep: PD + feed-forward torques into qfrc_applied, mj_step, divergence check,
+//      ball-contact checks (allowed bodies, timing window, ball height);
+//   3. advance the graph cursor (transitions, edge events);
+//   4. reward (post-step state vs the step-1 reference) and termination checks.
+// The env does not reset itself; EnvPool does. Thread-compatible: one thread at a time.
+#ifndef JUGGLE_ENVS_SOCCER_JUGGLE_ENV_H_
+#define JUGGLE_ENVS_SOCCER_JUGGLE_ENV_H_
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <mujoco/mujoco.h>
+
+#include "common/adaptive_walk.h"
+#include "envs/soccer_juggle/graph_cursor.h"
+#include "common/rng.h"
+#include "envs/env.h"
+#include "envs/mujoco_model.h"
+#include "envs/soccer_juggle/outcomes.h"
+#include "envs/soccer_juggle/spec.h"
+
+namespace juggle::soccer_juggle {
+
+class JuggleEnv : public juggle::Env {
+ public:
+  JuggleEnv(std::shared_ptr<const JuggleSpec> spec, Rng rng);
+  JuggleEnv(const JuggleEnv&) = delete;
+  JuggleEnv& operator=(const JuggleEnv&) = delete;
+
+  // Starts an episode at a random initial node (character at the reference pose, ball at its
+  // apex, both at rest). Events are cleared.
+  void Reset(const AdaptiveWalk& walk) override;
+  // Starts an episode at DOWN node `node` (REQUIRES: a DOWN node). Returns true.
+  bool ResetAt(int node, const AdaptiveWalk& walk) override;
+
+  // Advances one control step. REQUIRES: `action` holds kNumActions values in [−1, 1] (clamped
+  // here) and the episode has not ended. Events of this step: events().
+  StepResult Step(const float* action, const AdaptiveWalk& walk) override;
+
+  // Observation of the current state. REQUIRES: `obs` holds spec().obs_dim() floats.
+  void WriteObservation(float* obs) const override;
+
+  const std::vector<EdgeEvent>& events() const override { return events_; }
+  const CursorState& cursor() const { return cursor_; }
+  const JuggleSpec& spec() const { return *spec_; }
+  int steps() const override { return steps_; }
+  int node() const override { return cursor_.current; }
+  int completions() const override { return cursor_.completions; }
+  // Completed UP and STALL nodes: touches that sent the ball on to the next node's apex (or held
+  // it through a stall step).
+  int juggles() const override { return cursor_.juggles; }
+  // Simulator state, for tests and tools (render, record). Mutating it is the caller's risk.
+  mjData* data() override { return data_.get(); }
+  const mjData* data() const override { return data_.get(); }
+  // node, phase (JuggleSpec::annotation_channels).
+  void AppendAnnotations(std::vector<double>* out) const override;
+  // Reference pose the PD tracked during the last step (or set at reset).
+  const CharacterPose& reference_pose() const { return reference_; }
+
+ private:
+  void ApplyTorques(const double* feedforward);
+  Outcome CheckBallContacts(double substep_phase) const;
+  Outcome CheckTermination(const BallReference& ball_ref) const;
+  float ComputeReward(const BallReference& ball_ref) const;
+  bool Diverged() const;
+  void PlaceAtReference();
+
+  std::shared_ptr<const JuggleSpec> spec_;
+  const mjModel* model_;
+  MjDataPtr data_;
+  Rng rng_;
+  CursorState cursor_;
+  CharacterPose reference_{};
+  std::vector<EdgeEvent> events_;
+  int steps_ = 0;
+  int warning_count_ = 0;   // sum of the watched MuJoCo warning counters at the last check
+};
+
+}  // namespace juggle::soccer_juggle
+
+#endif  // JUGGLE_ENVS_SOCCER_JUGGLE_ENV_H_

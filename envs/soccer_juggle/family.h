@@ -1,0 +1,16 @@
+// The soccer-juggling family (seed 000): a humanoid juggles a ball along a control graph.
+// RunConfig.soccer_juggle; spec, env, reference poses and the graph cursor live in this folder,
+// in namespace juggle::soccer_juggle.
+#ifndef JUGGLE_ENVS_SOCCER_JUGGLE_FAMILY_H_
+#define JUGGLE_ENVS_SOCCER_JUGGLE_FAMILY_H_
+
+#include "envs/env_family.h"
+
+namespace juggle::soccer_juggle {
+
+// The family's descriptor (a stateless singleton).
+const EnvFamily& Family();
+
+}  // namespace juggle::soccer_juggle
+
+#endif  // JUGGLE_ENVS_SOCCER_JUGGLE_FAMILY_H_

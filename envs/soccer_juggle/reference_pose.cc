@@ -1,0 +1,167 @@
+#include "envs/soccer_juggle/reference_pose.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace juggle::soccer_juggle {
+
+const double kUprightQuat[4] = {M_SQRT1_2, M_SQRT1_2, 0, 0};
+
+void SetBallJointRotation(const JuggleSpec& spec, JointId j, const double rotvec[3],
+                          CharacterPose* pose) {
+  double* q = pose->data() + spec.joint(j).qpos_adr;
+  double v[3] = {rotvec[0], rotvec[1], rotvec[2]};
+  const double angle = mju_normalize3(v);
+  if (angle < 1e-12) {
+    q[0] = 1; q[1] = q[2] = q[3] = 0;
+    return;
+  }
+  mju_axisAngle2Quat(q, v, angle);
+}
+
+void SetBallJointAxisRotation(const JuggleSpec& spec, JointId j, int axis, double angle,
+                              CharacterPose* pose) {
+  double rotvec[3] = {0, 0, 0};
+  rotvec[axis] = angle;
+  SetBallJointRotation(spec, j, rotvec, pose);
+}
+
+void SetHinge(const JuggleSpec& spec, JointId j, double angle, CharacterPose* pose) {
+  (*pose)[spec.joint(j).qpos_adr] = angle;
+}
+
+CharacterPose StandingPose(const JuggleSpec& spec) {
+  CharacterPose pose = spec.rest_pose();
+  pose[0] = 0;
+  pose[1] = 0;
+  pose[2] = spec.env().root_height();
+  std::copy(kUprightQuat, kUprightQuat + 4, pose.begin() + 3);
+  return pose;
+}
+
+namespace {
+
+constexpr int kX = 0;
+constexpr int kZ = 2;
+
+void LegSwingPose(const JuggleSpec& spec, const config::LegSwing& g, double phase,
+                  CharacterPose* pose) {
+  const double s = g.hold_peak() ? 1.0 : std::sin(M_PI * phase);
+  const bool left = g.side() == config::LEFT;
+  const JointId hip = left ? kLeftHip : kRightHip;
+  const JointId knee = left ? kLeftKnee : kRightKnee;
+  const JointId ankle = left ? kLeftAnkle : kRightAnkle;
+  SetBallJointAxisRotation(spec, hip, kZ, g.hip_amplitude() * s, pose);
+  SetHinge(spec, knee, -g.knee_amplitude() * s, pose);
+  if (g.ankle_amplitude() != 0) {
+    SetBallJointAxisRotation(spec, ankle, kZ, g.ankle_amplitude() * s, pose);
+  }
+  if (g.stance_roll() != 0) {
+    // Tilting the stance leg toward the kicking side moves the pelvis over the stance foot:
+    // a rotation by −a about x tilts the limb toward +z (the character's right).
+    const double roll = left ? g.stance_roll() : -g.stance_roll();
+    SetBallJointAxisRotation(spec, left ? kRightHip : kLeftHip, kX, roll, pose);
+    SetBallJointAxisRotation(spec, left ? kRightAnkle : kLeftAnkle, kX, -roll, pose);
+  }
+}
+
+// Drops the root along a lever of length `lever` swung by `knee` (rad, ≤ 0 when bent).
+void LeverRoot(double lever, double knee, CharacterPose* pose) {
+  (*pose)[2] -= lever * (1 - std::cos(knee));
+  (*pose)[0] += lever * std::sin(-knee);
+}
+
+void HeadDipPose(const JuggleSpec& spec, const config::HeadDip& g, double phase,
+                 CharacterPose* pose) {
+  if (g.hold()) {
+    SetBallJointAxisRotation(spec, kNeck, kZ, g.neck_pitch(), pose);
+    return;
+  }
+  if (phase >= 0.5) return;  // straight legs from the contact on
+  const double s2 = std::sin(2 * M_PI * phase);
+  for (JointId ankle : {kRightAnkle, kLeftAnkle}) {
+    SetBallJointAxisRotation(spec, ankle, kZ, g.amplitude() * s2, pose);
+  }
+  for (JointId knee : {kRightKnee, kLeftKnee}) SetHinge(spec, knee, -g.amplitude() * s2, pose);
+  LeverRoot(g.lever(), -g.amplitude() * s2, pose);
+}
+
+void ChestLeanPose(const JuggleSpec& spec, const config::ChestLean& g, double phase,
+                   CharacterPose* pose) {
+  const double s = g.hold() ? 1.0 : std::sin(M_PI * phase);
+  for (JointId ankle : {kRightAnkle, kLeftAnkle}) {
+    SetBallJointAxisRotation(spec, ankle, kZ, g.ankle_amplitude() * s, pose);
+  }
+  for (JointId knee : {kRightKnee, kLeftKnee}) SetHinge(spec, knee, -g.knee(), pose);
+  LeverRoot(g.lever(), -g.knee(), pose);
+  SetBallJointAxisRotation(spec, kChest, kZ, g.chest_amplitude() * s, pose);
+}
+
+// Interpolates two poses: slerp for quaternions (root and ball joints), lerp otherwise.
+void InterpolatePoses(const JuggleSpec& spec, const CharacterPose& a, const CharacterPose& b,
+                      double t, CharacterPose* out) {
+  for (int i = 0; i < 3; ++i) (*out)[i] = (1 - t) * a[i] + t * b[i];
+  auto slerp = [&](int adr) {
+    double qa[4] = {a[adr], a[adr + 1], a[adr + 2], a[adr + 3]};
+    double qb[4] = {b[adr], b[adr + 1], b[adr + 2], b[adr + 3]};
+    if (mju_dot(qa, qb, 4) < 0) mju_scl(qb, qb, -1, 4);
+    double dv[3];
+    mju_subQuat(dv, qb, qa);  // qa * quat(dv) = qb
+    mju_scl3(dv, dv, t);
+    double* q = out->data() + adr;
+    mju_copy4(q, qa);
+    mju_quatIntegrate(q, dv, 1.0);
+  };
+  slerp(3);
+  for (int j = 0; j < kNumJoints; ++j) {
+    const ActuatedJoint& joint = spec.joint(j);
+    if (joint.dofs == 3) {
+      slerp(joint.qpos_adr);
+    } else {
+      (*out)[joint.qpos_adr] = (1 - t) * a[joint.qpos_adr] + t * b[joint.qpos_adr];
+    }
+  }
+}
+
+void KeyframePose(const JuggleSpec& spec, const NodeRuntime& rt, double phase,
+                  CharacterPose* pose) {
+  const std::vector<double>& ph = rt.keyframe_phase;
+  if (phase <= ph.front()) {
+    *pose = rt.keyframe_pose.front();
+    return;
+  }
+  if (phase >= ph.back()) {
+    *pose = rt.keyframe_pose.back();
+    return;
+  }
+  const size_t hi = std::upper_bound(ph.begin(), ph.end(), phase) - ph.begin();
+  const size_t lo = hi - 1;
+  const double t = (phase - ph[lo]) / std::max(ph[hi] - ph[lo], 1e-12);
+  InterpolatePoses(spec, rt.keyframe_pose[lo], rt.keyframe_pose[hi], t, pose);
+}
+
+}  // namespace
+
+void ComputeReferencePose(const JuggleSpec& spec, int node, double phase, CharacterPose* pose) {
+  const config::ReferencePose& ref = spec.graph().node(node).spec.pose();
+  if (ref.has_keyframes()) {
+    KeyframePose(spec, spec.node_runtime(node), phase, pose);
+    return;
+  }
+  *pose = StandingPose(spec);
+  switch (ref.generator_case()) {
+    case config::ReferencePose::kLegSwing:
+      LegSwingPose(spec, ref.leg_swing(), phase, pose);
+      break;
+    case config::ReferencePose::kHeadDip:
+      HeadDipPose(spec, ref.head_dip(), phase, pose);
+      break;
+    case config::ReferencePose::kChestLean:
+      ChestLeanPose(spec, ref.chest_lean(), phase, pose);
+      break;
+    default:
+      break;
+  }
+}
+
+}  // namespace juggle::soccer_juggle

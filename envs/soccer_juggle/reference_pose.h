@@ -1,0 +1,32 @@
+// Kinematic reference poses (the PD targets) of the control-graph nodes, as functions of the
+// phase. Generators follow the release (reference-juggle.md §2.4); keyframes are authored in
+// the config. Poses use DeepMimic's y-up joint frames (x forward, y up, z = right).
+#ifndef JUGGLE_ENVS_SOCCER_JUGGLE_REFERENCE_POSE_H_
+#define JUGGLE_ENVS_SOCCER_JUGGLE_REFERENCE_POSE_H_
+
+#include "envs/soccer_juggle/spec.h"
+
+namespace juggle::soccer_juggle {
+
+// Sets ball joint `j` of `pose` to the rotation with rotation vector `rotvec` (rad).
+void SetBallJointRotation(const JuggleSpec& spec, JointId j, const double rotvec[3],
+                          CharacterPose* pose);
+// Same with a single-axis rotation: axis 0 = x, 1 = y, 2 = z.
+void SetBallJointAxisRotation(const JuggleSpec& spec, JointId j, int axis, double angle,
+                              CharacterPose* pose);
+// Sets hinge `j` to `angle` (rad).
+void SetHinge(const JuggleSpec& spec, JointId j, double angle, CharacterPose* pose);
+
+// The standing pose: root at (0, 0, height), upright-forward, every joint at the rest pose.
+CharacterPose StandingPose(const JuggleSpec& spec);
+
+// Writes the reference pose of `node` at phase φ into `pose` (root x, y relative to the
+// episode's anchor). Deterministic and allocation-free.
+void ComputeReferencePose(const JuggleSpec& spec, int node, double phase, CharacterPose* pose);
+
+// The upright-forward root orientation (w, x, y, z) = (√½, √½, 0, 0).
+extern const double kUprightQuat[4];
+
+}  // namespace juggle::soccer_juggle
+
+#endif  // JUGGLE_ENVS_SOCCER_JUGGLE_REFERENCE_POSE_H_

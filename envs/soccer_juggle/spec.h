@@ -1,0 +1,121 @@
+// JuggleSpec: everything an environment needs that never changes during a run — the compiled
+// MuJoCo model, the validated control graph, the per-joint PD gains, the resolved per-node
+// data (allowed contact bodies, keyframes, around-the-world angle tables). Built once,
+// validated once, then shared read-only by every env on every thread (thread-safe to read).
+#ifndef JUGGLE_ENVS_SOCCER_JUGGLE_SPEC_H_
+#define JUGGLE_ENVS_SOCCER_JUGGLE_SPEC_H_
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <mujoco/mujoco.h>
+
+#include "absl/status/statusor.h"
+#include "common/config_loader.h"
+#include "common/control_graph.h"
+#include "envs/soccer_juggle/graph_cursor.h"
+#include "envs/env.h"
+#include "envs/mujoco_model.h"
+
+namespace juggle::soccer_juggle {
+
+constexpr int kNumActions = 28;    // actuated DoF of the humanoid
+constexpr int kObsBase = 88;       // observation floats before the three node one-hots
+
+// Observation size for a control graph with `num_nodes` nodes.
+constexpr int ObservationSize(int num_nodes) { return kObsBase + 3 * num_nodes; }
+
+// The 12 actuated joints, in qpos order (reference generalized-coordinate order).
+enum JointId {
+  kChest = 0, kNeck, kRightShoulder, kRightElbow, kLeftShoulder, kLeftElbow,
+  kRightHip, kRightKnee, kRightAnkle, kLeftHip, kLeftKnee, kLeftAnkle, kNumJoints
+};
+extern const char* const kJointNames[kNumJoints];
+
+constexpr int kCharacterNq = 43;   // root 7 + 8 ball joints × 4 + 4 hinges
+constexpr int kCharacterNv = 34;   // root 6 + 8 × 3 + 4
+
+using CharacterPose = std::array<double, kCharacterNq>;
+
+struct ActuatedJoint {
+  int qpos_adr = 0;
+  int dof_adr = 0;
+  int dofs = 1;           // 3 for ball joints, 1 for hinges
+  double kp = 0;          // N·m/rad
+  double kd = 0;          // N·m·s/rad (set as joint damping: implicit in Euler)
+  double torque_scale = 1;
+};
+
+// Per-node data resolved against the model.
+struct NodeRuntime {
+  std::vector<char> contact_allowed;   // by body id
+  // Keyframes as full character poses (only for keyframe generators), sorted by phase.
+  std::vector<double> keyframe_phase;
+  std::vector<CharacterPose> keyframe_pose;
+  // Around-the-world: foot body and desired ψ (rad) at equally spaced phases over the node.
+  int atw_foot_body = -1;
+  std::vector<double> atw_angle;
+  double atw_max_chord2 = 0;   // squared chord length of the allowed angle
+  int atw_skip_steps = 0;
+  // Stall: body the ball must stay near.
+  int stall_body = -1;
+  double stall_max_distance = 0;
+};
+
+class JuggleSpec : public EnvSpec {
+ public:
+  // Compiles the model named by the config and resolves everything against it. Errors
+  // (INVALID_ARGUMENT / NOT_FOUND) name the config file, line and field, or the MJCF error.
+  static absl::StatusOr<std::shared_ptr<const JuggleSpec>> Create(const LoadedConfig& config);
+  // As Create, from a model compiled elsewhere (mj_saveModel bytes, as the learner ships it).
+  static absl::StatusOr<std::shared_ptr<const JuggleSpec>> CreateFromCompiled(
+      const LoadedConfig& config, const std::string& model_mjb);
+  JuggleSpec(const JuggleSpec&) = delete;
+  JuggleSpec& operator=(const JuggleSpec&) = delete;
+
+  std::string family() const override { return "soccer_juggle"; }
+  const mjModel* model() const override { return model_.get(); }
+  const LoadedConfig& config() const { return config_; }
+  const config::EnvConfig& env() const { return config_.run.soccer_juggle().env(); }
+  // Locates fields of `env` in the config file.
+  SourceLocator env_locator() const { return config_.family_locator.Nested({{"env"}}); }
+  const ControlGraph& graph() const override { return *config_.graph; }
+  const GraphCursor& cursor() const { return cursor_; }
+  const ActuatedJoint& joint(int j) const { return joints_[j]; }
+  const NodeRuntime& node_runtime(int n) const { return nodes_[n]; }
+  const CharacterPose& rest_pose() const { return rest_pose_; }
+
+  int obs_dim() const override { return ObservationSize(graph().num_nodes()); }
+  int act_dim() const override { return kNumActions; }
+  std::unique_ptr<Env> NewEnv(Rng rng) const override;
+  double control_dt() const override { return env().sim_dt() * env().substeps(); }
+  std::vector<std::string> outcome_names() const override;
+  // node (index into graph node names), phase.
+  std::vector<AnnotationChannel> annotation_channels() const override;
+  int root_body() const { return root_body_; }
+  int ball_body() const { return ball_body_; }
+  int ball_geom() const { return ball_geom_; }
+  int ball_qpos() const { return ball_qpos_; }
+  int ball_dof() const { return ball_dof_; }
+
+ private:
+  JuggleSpec(LoadedConfig config, MjModelPtr model);
+  static absl::StatusOr<std::shared_ptr<const JuggleSpec>> Build(const LoadedConfig& config,
+                                                                MjModelPtr model);
+
+  LoadedConfig config_;
+  MjModelPtr model_;
+  GraphCursor cursor_;
+  std::array<ActuatedJoint, kNumJoints> joints_;
+  std::vector<NodeRuntime> nodes_;
+  CharacterPose rest_pose_{};
+  int root_body_ = -1, ball_body_ = -1, ball_geom_ = -1, ball_qpos_ = -1, ball_dof_ = -1;
+
+  friend class JuggleSpecBuilder;
+};
+
+}  // namespace juggle::soccer_juggle
+
+#endif  // JUGGLE_ENVS_SOCCER_JUGGLE_SPEC_H_

@@ -1,0 +1,76 @@
+// Test helpers: shipped configs (paths relative to the repository root, where ctest runs),
+// temporary config files, and "file:line:col" of text in a config under test.
+#ifndef JUGGLE_ENVS_TESTING_TEST_CONFIGS_H_
+#define JUGGLE_ENVS_TESTING_TEST_CONFIGS_H_
+
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "absl/strings/str_cat.h"
+#include "envs/registry.h"
+#include "envs/soccer_juggle/spec.h"
+#include "gtest/gtest.h"
+
+namespace juggle::testing {
+
+inline std::string RepoPath(const std::string& relative) {
+  const char* root = std::getenv("JUGGLE_SOURCE_DIR");
+  return root ? std::string(root) + "/" + relative : relative;
+}
+
+// Loads configs/<name>.textproto; fails the test on error.
+inline absl::StatusOr<LoadedConfig> LoadShippedConfig(const std::string& name) {
+  absl::StatusOr<LoadedConfig> config = LoadRunConfig(RepoPath("configs/" + name + ".textproto"));
+  EXPECT_TRUE(config.ok()) << config.status();
+  return config;
+}
+
+// Loads configs/<name>.textproto and builds its soccer-juggling spec; fails the test on error.
+inline std::shared_ptr<const soccer_juggle::JuggleSpec> LoadSpec(const std::string& name) {
+  absl::StatusOr<LoadedConfig> config = LoadShippedConfig(name);
+  if (!config.ok()) return nullptr;
+  absl::StatusOr<std::shared_ptr<const soccer_juggle::JuggleSpec>> spec =
+      soccer_juggle::JuggleSpec::Create(*config);
+  EXPECT_TRUE(spec.ok()) << spec.status();
+  return spec.ok() ? *spec : nullptr;
+}
+
+// Writes `text` to a fresh file under the test's temp dir; returns its path.
+inline std::string WriteTemp(const std::string& name, const std::string& text) {
+  std::string dir = ::testing::TempDir();
+  while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+  const std::string path = absl::StrCat(dir, "/", name);
+  std::ofstream(path) << text;
+  return path;
+}
+
+// "<file>:<line>:<column>" of the `occurrence`-th (0-based) appearance of `needle` in `text`,
+// 1-based like the loader's messages. Fails the test if there is no such appearance.
+inline std::string Loc(const std::string& file, const std::string& text, const std::string& needle,
+                       int occurrence = 0) {
+  size_t pos = std::string::npos;
+  size_t from = 0;
+  for (int i = 0; i <= occurrence; ++i) {
+    pos = text.find(needle, from);
+    if (pos == std::string::npos) {
+      ADD_FAILURE() << "'" << needle << "' occurs fewer than " << occurrence + 1 << " times";
+      return "<missing>";
+    }
+    from = pos + 1;
+  }
+  int line = 1;
+  size_t line_start = 0;
+  for (size_t i = 0; i < pos; ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      line_start = i + 1;
+    }
+  }
+  return absl::StrCat(file, ":", line, ":", pos - line_start + 1);
+}
+
+}  // namespace juggle::testing
+
+#endif  // JUGGLE_ENVS_TESTING_TEST_CONFIGS_H_

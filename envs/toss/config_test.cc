@@ -1,0 +1,117 @@
+// Loading toss-juggling configs: recorded start states and partner policies are inlined for the
+// workers; bad ones fail naming the file, line and field.
+#include <string>
+
+#include "envs/registry.h"
+#include "envs/testing/test_configs.h"
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+
+namespace juggle::toss {
+namespace {
+
+using ::juggle::testing::WriteTemp;
+using ::testing::HasSubstr;
+
+TEST(TossConfigTest, StartStatesFileIsInlinedIntoTheTossConfig) {
+  WriteTemp("arm_states.textproto",
+            "state { angle: [0, 1, -2, 0.5] speed: [0, 3, -4, 1] }\n"
+            "state { angle: [0, 0.9, -1.5, 0] speed: [0, 0, 0, 0] }\n");
+  const std::string config_path = WriteTemp(
+      "uses_arm_states.textproto",
+      "toss {\n  task: CATCH\n  start_states_file: \"arm_states.textproto\"\n}\n");
+  const absl::StatusOr<LoadedConfig> loaded = LoadRunConfig(config_path);
+  ASSERT_TRUE(loaded.ok()) << loaded.status();
+  const config::TossConfig& toss = loaded->run.toss();
+  EXPECT_FALSE(toss.has_start_states_file()) << "workers receive the states inline";
+  ASSERT_EQ(toss.start_state_size(), 2);
+  EXPECT_EQ(toss.start_state(0).angle(2), -2);
+  EXPECT_EQ(toss.start_state(0).speed(1), 3);
+  EXPECT_EQ(toss.start_state(1).angle(1), 0.9);
+}
+
+TEST(TossConfigTest, StartStateWithoutFourJointsIsAnErrorNamingTheState) {
+  const absl::StatusOr<LoadedConfig> loaded = ParseRunConfig(
+      "toss {\n  task: THROW\n  start_state { angle: [0, 1, -2, 0] speed: [0, 0, 0, 0] }\n"
+      "  start_state { angle: [1, -2, 0] speed: [0, 0, 0] }\n}\n",
+      "c.textproto");
+  ASSERT_EQ(loaded.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("c.textproto:3"));
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("start state 1 has 3 angles"));
+}
+
+TEST(TossConfigTest, MissingStartStatesFileIsNotFoundNamingTheField) {
+  const absl::StatusOr<LoadedConfig> loaded = ParseRunConfig(
+      "toss {\n  task: CATCH\n  start_states_file: \"no_such_states.textproto\"\n}\n",
+      "c.textproto");
+  ASSERT_EQ(loaded.status().code(), absl::StatusCode::kNotFound);
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("c.textproto:3"));
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("no_such_states.textproto"));
+}
+
+TEST(TossConfigTest, KeepingNoCheckpointsIsAnErrorNamingTheField) {
+  const absl::StatusOr<LoadedConfig> loaded = ParseRunConfig(
+      "toss {\n  task: CATCH\n}\nservice {\n  keep_checkpoints: 0\n}\n", "c.textproto");
+  ASSERT_EQ(loaded.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("c.textproto:5"));
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("keep_checkpoints"));
+}
+
+TEST(TossConfigTest, LoopPolicyFilesAreInlinedForTheWorkers) {
+  config::ExportedPolicy policy;
+  policy.set_obs_dim(12);
+  policy.set_act_dim(4);
+  policy.set_parameters("JGLP-bytes");
+  WriteTemp("partner.jglpolicy", policy.SerializeAsString());
+  const std::string config_path = WriteTemp(
+      "uses_partners.textproto",
+      "toss {\n  task: THROW\n  loop {\n    pattern: \"3\"\n"
+      "    catch_policy_file: \"partner.jglpolicy\"\n"
+      "    throw_policy_file: \"partner.jglpolicy\"\n  }\n}\n");
+  const absl::StatusOr<LoadedConfig> loaded = LoadRunConfig(config_path);
+  ASSERT_TRUE(loaded.ok()) << loaded.status();
+  const config::TossLoopConfig& loop = loaded->run.toss().loop();
+  EXPECT_FALSE(loop.has_catch_policy_file());
+  EXPECT_FALSE(loop.has_throw_policy_file());
+  EXPECT_EQ(loop.catch_policy().parameters(), "JGLP-bytes");
+  EXPECT_EQ(loop.throw_policy().obs_dim(), 12);
+}
+
+TEST(TossConfigTest, MissingLoopPolicyFileIsNotFoundNamingTheLineAndTheExportCommand) {
+  const absl::StatusOr<LoadedConfig> loaded = ParseRunConfig(
+      "toss {\n  task: THROW\n  loop {\n    pattern: \"3\"\n"
+      "    catch_policy_file: \"no_such.jglpolicy\"\n  }\n}\n",
+      "c.textproto");
+  ASSERT_EQ(loaded.status().code(), absl::StatusCode::kNotFound);
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("c.textproto:5"));
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("juggle export-policy"));
+}
+
+TEST(TossConfigTest, LoopWithoutAThrowPartnerIsAnErrorNamingTheField) {
+  config::ExportedPolicy policy;
+  policy.set_parameters("x");
+  WriteTemp("catch_only.jglpolicy", policy.SerializeAsString());
+  const std::string config_path = WriteTemp(
+      "one_partner.textproto",
+      "toss {\n  task: THROW\n  loop {\n    pattern: \"3\"\n"
+      "    catch_policy_file: \"catch_only.jglpolicy\"\n  }\n}\n");
+  const absl::StatusOr<LoadedConfig> loaded = LoadRunConfig(config_path);
+  ASSERT_EQ(loaded.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("throw_policy_file"));
+}
+
+TEST(TossConfigTest, LoopPolicyFileThatIsNotAnExportIsAnErrorNamingFileAndLine) {
+  WriteTemp("not_a_policy.jglpolicy", "state { angle: [0, 1, -2, 0.5] }\n");
+  const std::string config_path = WriteTemp(
+      "bad_partner.textproto",
+      "toss {\n  task: CATCH\n  loop {\n    pattern: \"3\"\n"
+      "    catch_policy_file: \"not_a_policy.jglpolicy\"\n"
+      "    throw_policy_file: \"not_a_policy.jglpolicy\"\n  }\n}\n");
+  const absl::StatusOr<LoadedConfig> loaded = LoadRunConfig(config_path);
+  ASSERT_EQ(loaded.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("bad_partner.textproto:5"));
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("juggle export-policy"));
+}
+
+}  // namespace
+}  // namespace juggle::toss

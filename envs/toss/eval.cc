@@ -1,0 +1,139 @@
+#include "envs/toss/eval.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "common/status_macros.h"
+#include "envs/toss/dims.h"
+#include "google/protobuf/text_format.h"
+
+namespace juggle::toss {
+namespace {
+
+// Median of the throws over seeds first_seed..first_seed + seeds − 1.
+absl::StatusOr<int> MedianThrows(std::shared_ptr<const TossSpec> spec, const Siteswap& pattern,
+                                 TossPolicies policies, int max_throws, int first_seed, int seeds,
+                                 std::vector<int>* all, StartStates* start_states) {
+  std::vector<int> throws;
+  for (int s = first_seed; s < first_seed + seeds; ++s) {
+    ASSIGN_OR_RETURN(JuggleRunResult r, RunOnce(spec, pattern, policies, max_throws, s));
+    throws.push_back(r.throws);
+    if (start_states) start_states->Add(r);
+  }
+  if (all) *all = throws;
+  std::sort(throws.begin(), throws.end());
+  const size_t n = throws.size();
+  return n % 2 ? throws[n / 2] : (throws[n / 2 - 1] + throws[n / 2]) / 2;
+}
+
+// Writes `states` as a text-format TossArmStates file.
+absl::Status WriteArmStates(const std::vector<TossArmState>& states, const std::string& path,
+                            const std::string& what) {
+  config::TossArmStates message;
+  for (const TossArmState& s : states) {
+    config::TossArmState* m = message.add_state();
+    for (int j = 0; j < kTossJoints; ++j) {
+      m->add_angle(s.angle[j]);
+      m->add_speed(s.speed[j]);
+    }
+  }
+  std::string text;
+  if (!google::protobuf::TextFormat::PrintToString(message, &text)) {
+    return absl::InternalError("cannot print the arm states");
+  }
+  std::ofstream out(path);
+  out << "# proto-file: proto/envs/toss.proto\n# proto-message: juggle.config.TossArmStates\n"
+      << "# " << states.size() << " arm states (right arm's frame: neck, shoulder, elbow, wrist; "
+      << "rad, rad/s) " << what << ", written by `juggle toss --record-states`.\n"
+      << text;
+  out.close();
+  return out ? absl::OkStatus() : absl::DataLossError(absl::StrCat("error writing ", path));
+}
+
+}  // namespace
+
+void StartStates::Add(const JuggleRunResult& r) {
+  catch_starts.insert(catch_starts.end(), r.catch_starts.begin(), r.catch_starts.end());
+  throw_starts.insert(throw_starts.end(), r.throw_starts.begin(), r.throw_starts.end());
+}
+
+absl::StatusOr<JuggleRunResult> RunOnce(std::shared_ptr<const TossSpec> spec,
+                                        const Siteswap& pattern, TossPolicies policies,
+                                        int max_throws, uint64_t seed,
+                                        TrajectoryBuilder* recording) {
+  JugglerOptions options;
+  options.max_throws = max_throws;
+  options.seed = seed;
+  ASSIGN_OR_RETURN(std::unique_ptr<TossJuggler> juggler,
+                   TossJuggler::Create(std::move(spec), pattern, policies, options));
+  return juggler->Run(recording);
+}
+
+absl::StatusOr<std::shared_ptr<const TossSpec>> SpecWithWind(const LoadedConfig& base,
+                                                             double wind) {
+  LoadedConfig config = base;
+  config.run.mutable_toss()->set_wind_force(wind);
+  return TossSpec::Create(config);
+}
+
+absl::StatusOr<TossEvalReport> EvaluateToss(const LoadedConfig& base, TossPolicies policies,
+                                            const TossEvalOptions& o,
+                                            const std::function<void(const std::string&)>& progress) {
+  auto say = [&](const std::string& line) {
+    if (progress) progress(line);
+  };
+  ASSIGN_OR_RETURN(std::shared_ptr<const TossSpec> spec,
+                   SpecWithWind(base, base.run.toss().wind_force()));
+  TossEvalReport report;
+  bool basic_chain = true;
+  for (const std::string& text : o.patterns) {
+    ASSIGN_OR_RETURN(Siteswap pattern, Siteswap::Parse(text));
+    PatternResult r;
+    r.pattern = text;
+    r.balls = pattern.balls();
+    ASSIGN_OR_RETURN(r.median_throws,
+                     MedianThrows(spec, pattern, policies, o.max_throws, o.first_seed, o.seeds,
+                                  &r.throws, o.keep_start_states ? &report.start_states : nullptr));
+    std::string per_seed;
+    for (int t : r.throws) absl::StrAppend(&per_seed, " ", t);
+    say(absl::StrFormat("%-8s %5d %8d  %s", text, r.balls, r.median_throws, per_seed));
+    if (pattern.period() == 1 && pattern.balls() >= 3) {
+      // Basic patterns count upwards from 3 without a gap.
+      if (basic_chain && r.median_throws >= 100 &&
+          pattern.balls() == std::max(3, report.max_basic_pattern + 1)) {
+        report.max_basic_pattern = pattern.balls();
+      } else if (r.median_throws < 100) {
+        basic_chain = false;
+      }
+    }
+    report.patterns.push_back(std::move(r));
+  }
+  // Wind sweep: the largest force at which the median over the seeds still reaches 100 throws
+  // of "3".
+  const Siteswap three = *Siteswap::Parse("3");
+  double max_wind = -1;
+  for (double wind = 0; wind <= o.wind_max + 1e-9; wind += o.wind_step) {
+    ASSIGN_OR_RETURN(std::shared_ptr<const TossSpec> windy, SpecWithWind(base, wind));
+    ASSIGN_OR_RETURN(int median,
+                     MedianThrows(windy, three, policies, 100, o.first_seed, o.seeds, nullptr,
+                                  nullptr));
+    report.wind_sweep.push_back({wind, median});
+    say(absl::StrFormat("wind %.3f N: median %d throws of 3", wind, median));
+    if (median < 100) break;
+    max_wind = wind;
+  }
+  report.max_wind_n = std::max(0.0, max_wind);
+  return report;
+}
+
+absl::Status WriteStartStates(const StartStates& states, const std::string& prefix) {
+  RETURN_IF_ERROR(WriteArmStates(states.catch_starts, prefix + "_catch.textproto",
+                                 "of throwing hands at their releases"));
+  return WriteArmStates(states.throw_starts, prefix + "_throw.textproto",
+                        "of catching hands at their catches");
+}
+
+}  // namespace juggle::toss

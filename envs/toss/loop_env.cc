@@ -1,0 +1,107 @@
+#include "envs/toss/loop_env.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "envs/toss/outcomes.h"
+
+namespace juggle::toss {
+
+TossLoopEnv::TossLoopEnv(std::shared_ptr<const TossSpec> spec, Rng rng)
+    : spec_(std::move(spec)), rng_(rng) {
+  StartRun();
+}
+
+void TossLoopEnv::StartRun() {
+  const config::TossLoopConfig& loop = spec_->toss().loop();
+  const std::vector<Siteswap>& patterns = spec_->loop_patterns();
+  const Siteswap& pattern = patterns[rng_.UniformInt(patterns.size())];
+  JugglerOptions options;
+  options.max_throws = loop.max_throws();
+  options.seed = rng_.NextU64();
+  options.start_noise = loop.start_noise();
+  // The spec validated the patterns (ball counts) when it was built.
+  juggler_ = *TossJuggler::Create(spec_, pattern,
+                                  TossPolicies{spec_->loop_catcher(), spec_->loop_thrower()},
+                                  options);
+  ++runs_started_;
+}
+
+bool TossLoopEnv::InSegment() const {
+  if (TrainsThrow()) return juggler_->HoldsThrow(Hand::kRight);
+  return juggler_->world().held_by(Hand::kRight) < 0 && juggler_->IncomingBall(Hand::kRight) >= 0;
+}
+
+void TossLoopEnv::Reset(const AdaptiveWalk&) {
+  steps_ = 0;
+  completions_ = 0;
+  // Each run reaches a segment within a few beats (every pattern throws from both hands), so
+  // this ends; a run that ends first is replaced.
+  while (juggler_->over() || !InSegment()) {
+    if (juggler_->over()) {
+      StartRun();
+    } else {
+      juggler_->Step();
+    }
+  }
+}
+
+StepResult TossLoopEnv::Step(const float* action, const AdaptiveWalk&) {
+  const bool running = juggler_->Step(action);
+  ++steps_;
+  StepResult r;
+  if (!running && juggler_->result().end == JuggleEnd::kDiverged) {
+    r.outcome = Outcome::kDiverged;
+    return r;
+  }
+  const config::TossConfig& t = spec_->toss();
+  const double effort_weight = TrainsThrow() ? t.w_throw_effort() : t.w_catch_effort();
+  const double effort = -effort_weight * juggler_->world().Effort(Hand::kRight);
+  r = TrainsThrow() ? ThrowOutcome() : CatchOutcome();
+  if (r.outcome == kCaught) completions_ = 1;
+  r.reward += static_cast<float>(effort);
+  if (r.outcome == Outcome::kRunning && (!running || steps_ >= t.max_episode_steps())) {
+    r.outcome = Outcome::kTimeLimit;  // not this segment's failure: bootstrap
+  }
+  return r;
+}
+
+StepResult TossLoopEnv::CatchOutcome() const {
+  const config::TossConfig& t = spec_->toss();
+  const HandEvents& e = juggler_->events(Hand::kRight);
+  StepResult r;
+  if (e.caught) {
+    r.reward = static_cast<float>(-t.w_catch_height() * std::min(e.catch_height_error, 1.0));
+    r.outcome = kCaught;
+  } else if (juggler_->over() && juggler_->end_hand() == Hand::kRight &&
+             (juggler_->result().end == JuggleEnd::kDropped ||
+              juggler_->result().end == JuggleEnd::kMissedBeat)) {
+    r.reward = static_cast<float>(-t.w_catch_height());
+    r.outcome = kDropped;
+  }
+  return r;
+}
+
+StepResult TossLoopEnv::ThrowOutcome() {
+  const config::TossConfig& t = spec_->toss();
+  const HandEvents& e = juggler_->events(Hand::kRight);
+  StepResult r;
+  if (!e.released) return r;
+  const double dpx = e.release_position.x - spec_->home_x(Hand::kRight);
+  const double dpz = e.release_position.z - spec_->home_z();
+  const double dvx = e.release_velocity.x - e.target_velocity.x;
+  const double dvz = e.release_velocity.z - e.target_velocity.z;
+  r.reward = static_cast<float>(-t.w_release_position() * (dpx * dpx + dpz * dpz) -
+                                t.w_release_velocity() * (dvx * dvx + dvz * dvz));
+  r.outcome = kReleased;
+  if (e.good_throw) completions_ = 1;
+  return r;
+}
+
+void TossLoopEnv::WriteObservation(float* obs) const {
+  float full[kTossThrowObs];
+  juggler_->WriteObservation(Hand::kRight, full);
+  std::copy(full, full + spec_->obs_dim(), obs);
+}
+
+}  // namespace juggle::toss

@@ -1,0 +1,68 @@
+// TossLoopEnv: in-loop training of a toss policy (toss.loop set). The env runs the two-arm
+// pattern runtime (TossJuggler) on patterns drawn from loop.pattern; the learning policy drives
+// the right arm whenever it is in the config task's mode, the frozen partner policies drive
+// everything else. So the policy trains on exactly the states the runtime produces: catches
+// that start in a throw's follow-through, throws that start from off-centre catches.
+//
+// An episode is one segment of the right arm in the task's mode:
+//   CATCH  from the moment the hand is empty with a ball due at it, to the catch
+//          (−w2·min(|z̄ − z|, 1), kCaught, one completion) or the failure of that ball: it drops
+//          or the hand's beat comes without it (−w2, kDropped). Per step −w1·effort.
+//   THROW  from the moment the hand holds a ball it will release, to the release at its beat
+//          (−w4·|p̄ − p|² − w5·|v̄ − v|², kReleased; a completion if IsGoodThrow). Per step
+//          −w3·effort.
+// Reset advances the runtime with the partner policies to the next such segment; when the
+// juggling run ends (any drop, a missed beat, loop.max_throws) a new run starts on a freshly
+// drawn pattern. A run that ends inside a segment for a reason that is not the segment's own
+// failure truncates the episode (kTimeLimit, bootstrapped). Divergence ends it (kDiverged).
+// Observations are the runtime's: S_catch / S_throw of the right arm.
+#ifndef JUGGLE_ENVS_TOSS_LOOP_ENV_H_
+#define JUGGLE_ENVS_TOSS_LOOP_ENV_H_
+
+#include <memory>
+#include <vector>
+
+#include "common/rng.h"
+#include "envs/env.h"
+#include "envs/toss/juggler.h"
+#include "envs/toss/spec.h"
+
+namespace juggle::toss {
+
+class TossLoopEnv : public juggle::Env {
+ public:
+  // REQUIRES: spec->in_loop().
+  TossLoopEnv(std::shared_ptr<const TossSpec> spec, Rng rng);
+
+  void Reset(const AdaptiveWalk& walk) override;
+  StepResult Step(const float* action, const AdaptiveWalk& walk) override;
+  void WriteObservation(float* obs) const override;
+  int steps() const override { return steps_; }
+  int completions() const override { return completions_; }
+  mjData* data() override { return juggler_->mutable_world()->data(); }
+  const mjData* data() const override { return juggler_->world().data(); }
+
+  // The runtime of the current juggling run (for tests).
+  const TossJuggler& juggler() const { return *juggler_; }
+  // Juggling runs started so far.
+  int runs_started() const { return runs_started_; }
+
+ private:
+  bool TrainsThrow() const { return spec_->toss().task() == config::THROW; }
+  // The right arm is in the task's mode.
+  bool InSegment() const;
+  void StartRun();
+  StepResult CatchOutcome() const;
+  StepResult ThrowOutcome();
+
+  std::shared_ptr<const TossSpec> spec_;
+  Rng rng_;
+  std::unique_ptr<TossJuggler> juggler_;
+  int steps_ = 0;
+  int completions_ = 0;
+  int runs_started_ = 0;
+};
+
+}  // namespace juggle::toss
+
+#endif  // JUGGLE_ENVS_TOSS_LOOP_ENV_H_

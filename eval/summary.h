@@ -1,0 +1,42 @@
+// What an evaluation reports: the distribution of juggles per episode (median, 10th and 90th
+// percentiles, the fraction reaching 10 and 20), mean return, completions and episode length,
+// and how episodes ended, printed as the `key=value` line commands end with. Pure functions.
+#ifndef JUGGLE_EVAL_SUMMARY_H_
+#define JUGGLE_EVAL_SUMMARY_H_
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "eval/episode_runner.h"
+
+namespace juggle {
+
+struct EvalSummary {
+  int episodes = 0;
+  double median_juggles = 0;
+  double p10_juggles = 0;
+  double p90_juggles = 0;
+  double mean_juggles = 0;
+  double frac_juggles_ge_10 = 0;
+  double frac_juggles_ge_20 = 0;
+  double mean_return = 0;
+  double mean_completions = 0;
+  double mean_episode_s = 0;
+  std::map<std::string, int> outcomes;             // by name, episodes that ended so
+  std::map<std::string, double> mean_metrics;       // Env::AppendEpisodeMetrics, averaged
+};
+
+// Percentile of `values` by linear interpolation between order statistics (numpy's default):
+// q in [0, 1]. 0 for no values.
+double Percentile(std::vector<double> values, double q);
+
+EvalSummary Summarize(const std::vector<EpisodeResult>& episodes, double control_dt,
+                      const std::vector<std::string>& outcome_names);
+
+// "episodes=50 median_juggles=12 p10_juggles=4 ... mean_episode_s=9.870 ball_lost=31 ..."
+std::string SummaryLine(const EvalSummary& summary);
+
+}  // namespace juggle
+
+#endif  // JUGGLE_EVAL_SUMMARY_H_

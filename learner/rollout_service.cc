@@ -1,0 +1,149 @@
+#include "learner/rollout_service.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "absl/strings/str_cat.h"
+#include "common/chunk_codec.h"
+
+namespace juggle {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+grpc::Status ToGrpc(const absl::Status& s) {
+  return grpc::Status(static_cast<grpc::StatusCode>(s.code()), std::string(s.message()));
+}
+
+}  // namespace
+
+grpc::Status RolloutService::Register(grpc::ServerContext*, const rpc::RegisterRequest* req,
+                                      rpc::RegisterResponse* resp) {
+  if (req->num_envs() < 1) {
+    return ToGrpc(absl::InvalidArgumentError("register: num_envs must be >= 1"));
+  }
+  std::optional<uint64_t> replaced;
+  const WorkerInfo w = d_.registry->Register(req->requested_slot(), req->num_envs(),
+                                             req->hostname(), Clock::now(), &replaced);
+  if (replaced) d_.metrics->Add("juggle_worker_restarts_total", 1);
+  const WorkerBootstrap& b = *d_.bootstrap;
+  resp->set_slot(w.slot);
+  resp->set_incarnation(w.incarnation);
+  resp->set_run_config(b.config_text);
+  resp->set_model_mjb(b.model_mjb);
+  resp->set_synchronous(b.synchronous);
+  resp->set_unroll_length(b.unroll_length);
+  std::printf("worker slot %d registered (incarnation %lx, %d envs, host %s)\n", w.slot,
+              static_cast<unsigned long>(w.incarnation), w.num_envs, req->hostname().c_str());
+  std::fflush(stdout);
+  return grpc::Status::OK;
+}
+
+grpc::Status RolloutService::StreamTrajectories(
+    grpc::ServerContext*, grpc::ServerReaderWriter<rpc::ChunkAck, rpc::TrajectoryChunk>* stream) {
+  rpc::TrajectoryChunk chunk;
+  while (stream->Read(&chunk)) {
+    rpc::ChunkAck ack;
+    const absl::Status status = Ingest(chunk);
+    ack.set_accepted(status.ok());
+    ack.set_code(static_cast<int>(status.code()));
+    ack.set_message(std::string(status.message()));
+    ack.set_latest_version(current_version());
+    if (!stream->Write(ack)) break;
+  }
+  return grpc::Status::OK;
+}
+
+grpc::Status RolloutService::GetPolicy(grpc::ServerContext* ctx, const rpc::PolicyRequest* req,
+                                       grpc::ServerWriter<rpc::PolicyChunk>* writer) {
+  if (!d_.registry->Find(req->incarnation())) {
+    d_.metrics->Add("juggle_policy_requests_rejected_total", 1, {{"reason", "unregistered"}});
+    return ToGrpc(absl::FailedPreconditionError(absl::StrCat(
+        "unregistered incarnation ", req->incarnation(), ": call Register first")));
+  }
+  const auto deadline = std::min(ctx->deadline(),
+                                 std::chrono::system_clock::now() + std::chrono::seconds(30));
+  const auto steady_deadline = Clock::now() + (deadline - std::chrono::system_clock::now());
+  std::shared_ptr<const PolicySnapshot> snap =
+      req->min_version() < 0 ? d_.store->Current()
+                             : d_.store->WaitNewer(req->min_version(), steady_deadline);
+  constexpr size_t kChunk = 1 << 20;
+  size_t offset = 0;
+  bool first = true;
+  do {
+    rpc::PolicyChunk out;
+    if (first) {
+      out.set_version(snap->version);
+      out.set_total_bytes(static_cast<int64_t>(snap->params.size()));
+      for (double c : snap->edge_counts) out.add_edge_counts(c);
+      first = false;
+    }
+    const size_t n = std::min(kChunk, snap->params.size() - offset);
+    out.set_data(snap->params.substr(offset, n));
+    offset += n;
+    if (!writer->Write(out)) return grpc::Status(grpc::StatusCode::CANCELLED, "client gone");
+  } while (offset < snap->params.size());
+  return grpc::Status::OK;
+}
+
+grpc::Status RolloutService::Heartbeat(grpc::ServerContext*, const rpc::HeartbeatRequest* req,
+                                       rpc::HeartbeatResponse* resp) {
+  resp->set_known(d_.registry->Touch(req->incarnation(), Clock::now(), req->policy_version(),
+                                     req->env_steps_per_s()));
+  resp->set_latest_version(current_version());
+  return grpc::Status::OK;
+}
+
+absl::Status RolloutService::Reject(const std::string& reason, absl::Status status) {
+  d_.metrics->Add("juggle_chunks_rejected_total", 1, {{"reason", reason}});
+  return status;
+}
+
+absl::Status RolloutService::Ingest(const rpc::TrajectoryChunk& chunk) {
+  const WorkerBootstrap& b = *d_.bootstrap;
+  const std::optional<WorkerInfo> worker = d_.registry->Find(chunk.incarnation());
+  if (!worker) {
+    return Reject("unregistered",
+                  absl::FailedPreconditionError(absl::StrCat(
+                      "unregistered incarnation ", chunk.incarnation(), ": call Register first")));
+  }
+  d_.registry->Touch(chunk.incarnation(), Clock::now());
+  const int64_t current = current_version();
+  if (chunk.policy_version() > current) {
+    return Reject("unknown_version", absl::FailedPreconditionError(absl::StrCat(
+                                         "chunk policy version ", chunk.policy_version(),
+                                         " is newer than the learner's ", current)));
+  }
+  if (chunk.policy_version() < current - b.max_policy_lag) {
+    d_.metrics->Add("juggle_unrolls_dropped_total", chunk.num_unrolls(), {{"reason", "stale"}});
+    return Reject("stale_version", absl::FailedPreconditionError(absl::StrCat(
+                                       "chunk policy version ", chunk.policy_version(),
+                                       " is more than ", b.max_policy_lag,
+                                       " behind the learner's ", current)));
+  }
+  if (chunk.unroll_length() != b.unroll_length) {
+    return Reject("invalid", absl::InvalidArgumentError(
+                                 absl::StrCat("chunk unroll_length ", chunk.unroll_length(),
+                                              " differs from the run's ", b.unroll_length)));
+  }
+  absl::StatusOr<Contribution> decoded =
+      DecodeChunk(chunk, b.obs_dim, b.act_dim, b.num_nodes, b.num_edges);
+  if (!decoded.ok()) return Reject("invalid", decoded.status());
+  ChunkPart part;
+  part.slot = worker->slot;
+  part.incarnation = chunk.incarnation();
+  part.sequence = chunk.sequence();
+  part.part = chunk.part();
+  part.num_parts = chunk.num_parts();
+  part.version = chunk.policy_version();
+  part.data = std::move(*decoded);
+  if (!d_.queue->Push(std::move(part), Clock::now() + std::chrono::seconds(30))) {
+    return Reject("queue_full", absl::ResourceExhaustedError(
+                                    "the learner's ingestion queue stayed full for 30 s"));
+  }
+  d_.metrics->Set("juggle_queue_depth", static_cast<double>(d_.queue->size()));
+  return absl::OkStatus();
+}
+
+}  // namespace juggle

@@ -1,0 +1,68 @@
+// The gRPC adapter of proto/rollout.proto on the learner: registers workers, validates chunks and
+// enqueues them (backpressure: a full queue blocks the stream up to 30 s), serves policy
+// snapshots (long-poll up to 30 s) and heartbeats. Holds no training state.
+// Thread-safe: gRPC calls it from many threads; everything it uses is thread-safe or immutable.
+#ifndef JUGGLE_LEARNER_ROLLOUT_SERVICE_H_
+#define JUGGLE_LEARNER_ROLLOUT_SERVICE_H_
+
+#include <atomic>
+#include <cstdint>
+#include <string>
+
+#include "absl/status/status.h"
+#include "common/bounded_queue.h"
+#include "common/metrics.h"
+#include "learner/contribution_assembler.h"
+#include "learner/policy_store.h"
+#include "learner/worker_registry.h"
+#include "proto/rollout.grpc.pb.h"
+
+namespace juggle {
+
+// What every worker is told at registration, and the shapes its chunks must have. Immutable.
+struct WorkerBootstrap {
+  std::string config_text;  // RunConfig text, every file it names inlined
+  std::string model_mjb;    // the compiled model
+  bool synchronous = true;
+  int max_policy_lag = 0;   // versions a chunk may lag (0 in synchronous mode)
+  int unroll_length = 0;
+  int obs_dim = 0, act_dim = 0, num_nodes = 0, num_edges = 0;
+};
+
+class RolloutService final : public rpc::Rollout::Service {
+ public:
+  struct Deps {  // all outlive the service
+    WorkerRegistry* registry;
+    PolicyStore* store;
+    BoundedQueue<ChunkPart>* queue;
+    Metrics* metrics;
+    const WorkerBootstrap* bootstrap;
+  };
+  explicit RolloutService(Deps deps) : d_(deps) {}
+
+  grpc::Status Register(grpc::ServerContext* context, const rpc::RegisterRequest* request,
+                        rpc::RegisterResponse* response) override;
+  grpc::Status StreamTrajectories(
+      grpc::ServerContext* context,
+      grpc::ServerReaderWriter<rpc::ChunkAck, rpc::TrajectoryChunk>* stream) override;
+  grpc::Status GetPolicy(grpc::ServerContext* context, const rpc::PolicyRequest* request,
+                         grpc::ServerWriter<rpc::PolicyChunk>* writer) override;
+  grpc::Status Heartbeat(grpc::ServerContext* context, const rpc::HeartbeatRequest* request,
+                         rpc::HeartbeatResponse* response) override;
+
+  // The ingest rules for one chunk, as StreamTrajectories applies them: OK and enqueued, or
+  // FAILED_PRECONDITION (unregistered incarnation, version ahead of the learner or beyond the
+  // allowed lag), INVALID_ARGUMENT (shapes, values), RESOURCE_EXHAUSTED (queue full for 30 s).
+  // Rejections are counted in juggle_chunks_rejected_total by reason.
+  absl::Status Ingest(const rpc::TrajectoryChunk& chunk);
+
+ private:
+  absl::Status Reject(const std::string& reason, absl::Status status);
+  int64_t current_version() const { return d_.store->Current()->version; }
+
+  Deps d_;
+};
+
+}  // namespace juggle
+
+#endif  // JUGGLE_LEARNER_ROLLOUT_SERVICE_H_

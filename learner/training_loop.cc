@@ -1,0 +1,125 @@
+#include "learner/training_loop.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <optional>
+
+#include "absl/strings/str_cat.h"
+
+namespace juggle {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+}  // namespace
+
+absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
+  const config::ServiceConfig& svc = *d_.service;
+  const auto start = Clock::now();
+  ContributionAssembler assembler;
+  std::vector<int> reported_slots;
+  auto last_end = Clock::now();
+  while (!stop->load()) {
+    if (limits_.max_iterations > 0 && d_.trainer->iteration() >= limits_.max_iterations) break;
+    if (limits_.max_minutes > 0 && Seconds(Clock::now() - start) > limits_.max_minutes * 60) break;
+    if (std::optional<ChunkPart> part = d_.queue->Pop(Clock::now() + std::chrono::milliseconds(100))) {
+      ++*d_.chunks_ingested;
+      if (d_.discard_data) continue;
+      if (absl::Status added = assembler.Add(std::move(*part)); !added.ok()) {
+        d_.metrics->Add("juggle_chunks_rejected_total", 1, {{"reason", "inconsistent_parts"}});
+        std::fprintf(stderr, "warning: %s\n", std::string(added.message()).c_str());
+      }
+    }
+    d_.metrics->Set("juggle_queue_depth", static_cast<double>(d_.queue->size()));
+    const auto now = Clock::now();
+    for (uint64_t dead : d_.registry->Expire(now, std::chrono::duration<double>(svc.worker_timeout_s()))) {
+      d_.metrics->Add("juggle_worker_timeouts_total", 1);
+      std::printf("worker incarnation %lx timed out; its partial data is discarded\n",
+                  static_cast<unsigned long>(dead));
+    }
+    const std::vector<WorkerInfo> live = d_.registry->Live();
+    std::vector<uint64_t> live_incarnations;
+    std::vector<int> live_slots;
+    int live_envs = 0;
+    for (const WorkerInfo& w : live) {
+      live_incarnations.push_back(w.incarnation);
+      live_slots.push_back(w.slot);
+      live_envs += w.num_envs;
+    }
+    assembler.DropAllBut(live_incarnations);
+    RecordWorkers(live, now, &reported_slots, d_.metrics);
+
+    // A batch for the current version, by mode.
+    const int64_t version = d_.trainer->version();
+    int64_t dropped = 0;
+    std::optional<Contribution> batch;
+    if (svc.synchronous()) {
+      if (static_cast<int>(live.size()) >= std::max(1, svc.min_workers())) {
+        batch = assembler.TakeSync(version, live_slots, &dropped);
+      }
+    } else {
+      const int wanted = svc.unrolls_per_iteration() > 0 ? svc.unrolls_per_iteration() : live_envs;
+      if (wanted > 0) batch = assembler.TakeAsync(version, svc.max_policy_lag(), wanted, &dropped);
+    }
+    if (dropped) d_.metrics->Add("juggle_unrolls_dropped_total", dropped, {{"reason", "stale"}});
+    if (!batch) continue;
+
+    // Update. The events were validated against the graph by DecodeChunk.
+    const auto t_update = Clock::now();
+    for (const EdgeEvent& e : batch->events) d_.walk->Apply(e).IgnoreError();
+    double lag_sum = 0;
+    for (int64_t v : batch->batch.policy_version) {
+      d_.metrics->Observe("juggle_policy_lag", static_cast<double>(version - v));
+      lag_sum += version - v;
+    }
+    absl::StatusOr<UpdateStats> update =
+        d_.trainer->Update(batch->batch, svc.synchronous() ? 0 : svc.max_policy_lag());
+    if (!update.ok()) {
+      d_.metrics->Add("juggle_unrolls_dropped_total", batch->batch.num_unrolls, {{"reason", "update"}});
+      std::fprintf(stderr, "warning: batch rejected by the trainer: %s\n",
+                   std::string(update.status().message()).c_str());
+      continue;
+    }
+    d_.publish_snapshot();
+    const auto t_end = Clock::now();
+
+    // Report.
+    IterationReport r;
+    r.iteration = d_.trainer->iteration();
+    r.samples = batch->batch.num_samples();
+    r.iteration_s = Seconds(t_end - last_end);
+    d_.progress->samples += r.samples;
+    d_.progress->train_seconds += r.iteration_s;
+    r.total_samples = d_.progress->samples;
+    r.train_seconds = d_.progress->train_seconds;
+    r.wait_s = Seconds(t_update - last_end);
+    r.update_s = Seconds(t_end - t_update);
+    r.samples_per_s = r.samples / std::max(r.iteration_s, 1e-9);
+    r.sim_s_per_s = r.samples_per_s * d_.control_dt;
+    const EpisodeCounters& ep = batch->stats;
+    r.episodes = ep.episodes;
+    r.mean_return = ep.mean_return();
+    r.mean_episode_len = ep.mean_length();
+    r.completions_per_episode = ep.mean_completions();
+    r.juggles_per_episode = ep.mean_juggles();
+    r.mean_policy_lag = batch->batch.num_unrolls ? lag_sum / batch->batch.num_unrolls : 0;
+    r.workers = static_cast<int>(live.size());
+    r.value_loss = update->value_loss;
+    r.approx_kl = update->approx_kl;
+    r.actor_lr = update->actor_lr;
+    last_end = t_end;
+    RecordIteration(r, ep, d_.outcome_names, d_.metrics);
+    if (d_.on_iteration) d_.on_iteration(r);
+    if (svc.checkpoint_every() > 0 && r.iteration % svc.checkpoint_every() == 0) {
+      if (absl::Status s = d_.checkpoint(); !s.ok()) return s;
+    }
+  }
+  // Workers long-polling for a newer policy get the current one at once, not at their deadline.
+  d_.release_workers();
+  return d_.checkpoint();
+}
+
+}  // namespace juggle

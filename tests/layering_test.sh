@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# The codemap's dependency rules (README "Codemap", docs/DESIGN.md), checked on every
+# #include of the project's C++ files. Fails naming each file:line that crosses a forbidden
+# boundary. Run from the repository root (ctest does).
+#   tests/layering_test.sh            check the repository
+#   tests/layering_test.sh --self-test   check that a tree with violations fails
+set -uo pipefail
+cd "$(dirname "$0")/.."
+if [ "${1:-}" = "--self-test" ]; then
+  tree=$(mktemp -d)
+  mkdir -p "$tree/tests" "$tree/worker" "$tree/envs" "$tree/common"
+  cp "$0" "$tree/tests/layering_test.sh"
+  printf '#include "learner/learner_server.h"\n' > "$tree/worker/a.cc"
+  printf '#include <torch/torch.h>\n' > "$tree/envs/b.cc"
+  printf '#include "envs/env.h"\n#include <mujoco/mujoco.h>\n' > "$tree/common/c.h"
+  printf '#include "common/rng.h"\n#include <mujoco/mujoco.h>\n' > "$tree/envs/ok.cc"
+  out=$(bash "$tree/tests/layering_test.sh" 2>&1); status=$?
+  rm -rf "$tree"
+  echo "$out"
+  # Exactly the four planted violations, and a failing exit status.
+  [ $status -ne 0 ] && [ "$(echo "$out" | grep -c 'must not')" -eq 4 ] || { echo "self-test FAILED"; exit 1; }
+  echo "self-test passed"
+  exit 0
+fi
+
+# Project folders each folder may include (besides itself), and the libraries it may use.
+declare -A PROJECT=(
+  [common]="proto"
+  [record]="common proto"
+  [envs]="record common proto"
+  [worker]="envs record common proto"
+  [eval]="envs record common proto"
+  [learner]="envs record common proto"
+  [render]="eval envs record common proto"
+  [bench]="worker learner eval envs record common proto"
+  [app]="worker learner render eval bench envs record common proto"
+  [tests]="worker learner render eval envs record common proto"
+)
+declare -A LIBS=(
+  [common]=""
+  [record]="mujoco"
+  [envs]="mujoco"
+  [worker]="mujoco grpc"
+  [eval]="mujoco"
+  [learner]="mujoco grpc torch"
+  [render]="mujoco gl"
+  [bench]="mujoco grpc torch"
+  [app]="mujoco grpc torch gl"
+  [tests]="mujoco grpc torch"
+)
+
+# The library an include belongs to ("" for the standard library, Abseil, Eigen, protobuf,
+# gtest and other always-allowed headers).
+library_of() {
+  case "$1" in
+    mujoco/*) echo mujoco ;;
+    grpc/*|grpcpp/*|proto/rollout.grpc.pb.h) echo grpc ;;
+    torch/*|ATen/*|c10/*) echo torch ;;
+    EGL/*|GL/*|GLES*/*) echo gl ;;
+    *) echo "" ;;
+  esac
+}
+
+violations=0
+checked=0
+for folder in "${!PROJECT[@]}"; do
+  [ -d "$folder" ] || continue
+  while IFS= read -r file; do
+    checked=$((checked + 1))
+    while IFS=: read -r line include; do
+      target=$(echo "$include" | sed -E 's/^#include [<"]([^">]+)[">].*/\1/')
+      top=${target%%/*}
+      if [ -n "${PROJECT[$top]+x}" ] && [ "$top" != "$folder" ]; then
+        if ! [[ " ${PROJECT[$folder]} " == *" $top "* ]]; then
+          echo "$file:$line: $folder/ must not include $top/ ($target)"
+          violations=$((violations + 1))
+        fi
+      fi
+      lib=$(library_of "$target")
+      if [ -n "$lib" ] && ! [[ " ${LIBS[$folder]} " == *" $lib "* ]]; then
+        echo "$file:$line: $folder/ must not use $lib ($target)"
+        violations=$((violations + 1))
+      fi
+    done < <(grep -n '^#include ' "$file" | sed -E 's/^([0-9]+):/\1:/')
+  done < <(find "$folder" -name '*.h' -o -name '*.cc' | sort)
+done
+
+# worker/ and learner/ never include each other (covered above); say what was checked.
+echo "layering: $checked files checked, $violations violation(s)"
+[ "$violations" -eq 0 ]

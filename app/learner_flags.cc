@@ -17,9 +17,9 @@ std::string DefaultRunDir(const config::RunConfig& run) {
   return absl::StrCat("runs/", run.name().empty() ? "run" : run.name());
 }
 
-// Prints one progress line per iteration and appends it to <run_dir>/metrics.jsonl.
-std::function<void(const IterationReport&)> ProgressReporter(const std::string& run_dir) {
-  auto metrics = std::make_shared<std::ofstream>(run_dir + "/metrics.jsonl", std::ios::app);
+// Prints one progress line per iteration and appends it to metrics.jsonl.
+std::function<void(const IterationReport&)> ProgressReporter(
+    std::shared_ptr<std::ofstream> metrics) {
   return [metrics](const IterationReport& r) {
     *metrics << r.ToJson() << "\n";
     metrics->flush();
@@ -104,7 +104,14 @@ absl::StatusOr<LearnerOptions> MakeLearnerOptions(const LearnerFlags& flags) {
     if (absl::Status s = SeedRunFromCheckpoint(flags.init_from, o.run_dir); !s.ok()) return s;
     o.resume = true;  // from the copied checkpoint
   }
-  o.on_iteration = ProgressReporter(o.run_dir);
+  auto metrics = std::make_shared<std::ofstream>(o.run_dir + "/metrics.jsonl", std::ios::app);
+  o.on_iteration = ProgressReporter(metrics);
+  o.on_eval = [metrics](const InRunEvaluation& e) {
+    *metrics << e.ToJson() << "\n";
+    metrics->flush();
+    std::printf("%s: %s\n", e.ToShort().c_str(), SummaryLine(e.summary).c_str());
+    std::fflush(stdout);
+  };
   return o;
 }
 

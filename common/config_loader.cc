@@ -94,6 +94,20 @@ absl::StatusOr<LoadedConfig> ParseSharedRunConfig(const std::string& text,
     return absl::InvalidArgumentError(absl::StrCat(
         loaded.root.Nested({{"service"}}).Where({{"keep_checkpoints"}}), ": must be >= 1"));
   }
+  const config::EvaluationConfig& eval = run.evaluation();
+  const SourceLocator eval_where = loaded.root.Nested({{"evaluation"}});
+  if (!(eval.every_minutes() >= 0) || eval.every_iterations() < 0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(eval_where.Where({{"every_minutes"}}), ": periods must be >= 0"));
+  }
+  if (eval.episodes() < 1 || eval.episodes() > 10000) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(eval_where.Where({{"episodes"}}), ": must lie in [1, 10000]"));
+  }
+  if (!(eval.max_seconds() > 0 && eval.max_seconds() <= 3600)) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(eval_where.Where({{"max_seconds"}}), ": must lie in (0, 3600]"));
+  }
   return loaded;
 }
 

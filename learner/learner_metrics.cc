@@ -21,11 +21,13 @@ std::string IterationReport::ToJson() const {
 }
 
 std::string IterationReport::ToLine() const {
-  return absl::StrFormat(
+  std::string line = absl::StrFormat(
       "iter %5d  samples %9d  %7.0f samples/s  %5.1f sim-s/s  return %7.3f  ep_len %6.1f  "
       "juggles/ep %5.2f  lag %.2f  workers %d  %.2fs (wait %.2f, update %.2f)",
       iteration, total_samples, samples_per_s, sim_s_per_s, mean_return, mean_episode_len,
       juggles_per_episode, mean_policy_lag, workers, iteration_s, wait_s, update_s);
+  if (!latest_eval.empty()) absl::StrAppend(&line, "  | ", latest_eval);
+  return line;
 }
 
 void DeclareLearnerMetrics(Metrics* m) {
@@ -54,6 +56,17 @@ void DeclareLearnerMetrics(Metrics* m) {
              "Node completions per episode, last iteration.");
   m->Declare("juggle_juggles_per_episode", "gauge", "Juggles per episode, last iteration.");
   m->Declare("juggle_episodes_total", "counter", "Episodes ended, by outcome.");
+  m->Declare("juggle_eval_median_juggles", "gauge",
+             "Median juggles per episode of the last in-run evaluation.");
+  m->Declare("juggle_eval_frac_juggles_ge_10", "gauge",
+             "Fraction of the last in-run evaluation's episodes with at least 10 juggles.");
+  m->Declare("juggle_evaluations_total", "counter", "In-run evaluations run.");
+}
+
+void RecordEvaluation(const EvalSummary& summary, Metrics* m) {
+  m->Set("juggle_eval_median_juggles", summary.median_juggles);
+  m->Set("juggle_eval_frac_juggles_ge_10", summary.frac_juggles_ge_10);
+  m->Add("juggle_evaluations_total", 1);
 }
 
 void RecordIteration(const IterationReport& r, const EpisodeCounters& ep,

@@ -11,6 +11,7 @@
 #include "common/episode_counters.h"
 #include "common/metrics.h"
 #include "common/outcome.h"
+#include "eval/summary.h"
 #include "learner/worker_registry.h"
 
 namespace juggle {
@@ -34,6 +35,7 @@ struct IterationReport {
   double update_s = 0;            // of which the PPO update
   int workers = 0;
   double value_loss = 0, approx_kl = 0, actor_lr = 0;
+  std::string latest_eval;        // the last in-run evaluation, short (progress line only)
   std::string ToJson() const;
   std::string ToLine() const;
 };
@@ -45,6 +47,9 @@ void DeclareLearnerMetrics(Metrics* metrics);
 // (`outcome_names` from the env spec).
 void RecordIteration(const IterationReport& report, const EpisodeCounters& episodes,
                      const std::vector<std::string>& outcome_names, Metrics* metrics);
+
+// The last in-run evaluation's juggles distribution (eval/summary.h).
+void RecordEvaluation(const EvalSummary& summary, Metrics* metrics);
 
 // Per-worker series (heartbeat age, env steps/s) for the live workers; the series of workers
 // no longer live are removed. `reported_slots` carries the slots reported last time.

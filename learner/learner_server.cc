@@ -20,6 +20,7 @@
 #include "learner/checkpoint.h"
 #include "learner/contribution_assembler.h"
 #include "learner/http_routes.h"
+#include "learner/in_run_eval.h"
 #include "learner/learner_state.h"
 #include "learner/policy_store.h"
 #include "learner/ppo_trainer.h"
@@ -44,6 +45,7 @@ struct LearnerServer::State {
   std::unique_ptr<RolloutService> service;
   std::unique_ptr<grpc::Server> grpc_server;
   std::unique_ptr<HttpServer> http;
+  std::unique_ptr<InRunEvaluator> evaluator;
   int port = 0;
   bool shut_down = false;
   std::atomic<int64_t> chunks_ingested{0};
@@ -135,6 +137,7 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
   s->registry = std::make_unique<WorkerRegistry>(entropy());
   s->queue = std::make_unique<BoundedQueue<ChunkPart>>(
       std::max(1, config.run.service().queue_capacity()));
+  ASSIGN_OR_RETURN(s->evaluator, InRunEvaluator::Create(config));
   DeclareLearnerMetrics(&s->metrics);
   s->PublishSnapshot();
 
@@ -181,6 +184,11 @@ absl::Status LearnerServer::Train(const std::atomic<bool>* stop) {
   deps.release_workers = [&s] { s.store.Close(); };
   deps.checkpoint = [&s] { return s.Checkpoint(); };
   deps.on_iteration = s.options.on_iteration;
+  deps.evaluator = s.evaluator.get();
+  deps.model = &run.model();
+  deps.obs_dim = s.bootstrap.obs_dim;
+  deps.act_dim = s.bootstrap.act_dim;
+  deps.on_eval = s.options.on_eval;
   deps.discard_data = s.options.discard_data;
   TrainingLoop::Limits limits;
   limits.max_iterations =

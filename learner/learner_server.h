@@ -18,6 +18,7 @@
 #include "absl/status/statusor.h"
 #include "common/config_loader.h"
 #include "common/metrics.h"
+#include "learner/in_run_eval.h"
 #include "learner/learner_metrics.h"
 
 namespace juggle {
@@ -32,6 +33,7 @@ struct LearnerOptions {
   int64_t max_iterations = 0;   // 0: the config's ppo.iterations (0 = until stopped)
   double max_minutes = 0;
   std::function<void(const IterationReport&)> on_iteration;
+  std::function<void(const InRunEvaluation&)> on_eval;  // in-run evaluations (may be empty)
   // Benchmarks only: accept and count chunks but never train (measures ingestion alone).
   bool discard_data = false;
 };

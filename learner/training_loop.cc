@@ -22,6 +22,7 @@ absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
   ContributionAssembler assembler;
   std::vector<int> reported_slots;
   auto last_end = Clock::now();
+  std::string latest_eval;
   while (!stop->load()) {
     if (limits_.max_iterations > 0 && d_.trainer->iteration() >= limits_.max_iterations) break;
     if (limits_.max_minutes > 0 && Seconds(Clock::now() - start) > limits_.max_minutes * 60) break;
@@ -110,9 +111,29 @@ absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
     r.value_loss = update->value_loss;
     r.approx_kl = update->approx_kl;
     r.actor_lr = update->actor_lr;
+    r.latest_eval = latest_eval;
     last_end = t_end;
     RecordIteration(r, ep, d_.outcome_names, d_.metrics);
     if (d_.on_iteration) d_.on_iteration(r);
+    if (d_.evaluator != nullptr && d_.evaluator->enabled() &&
+        d_.evaluator->Due(r.iteration, d_.progress->train_seconds)) {
+      // The evaluation's wall time counts as training time (it is part of the run) but not
+      // as the next iteration's.
+      const auto t_eval = Clock::now();
+      absl::StatusOr<EigenPolicy> policy = EigenPolicy::Create(
+          *d_.model, d_.trainer->ExportPolicy(), d_.obs_dim, d_.act_dim);
+      if (policy.ok()) {
+        InRunEvaluation e = d_.evaluator->Run(*policy, r.iteration, d_.progress->samples,
+                                              d_.progress->train_seconds);
+        const double spent = Seconds(Clock::now() - t_eval);
+        d_.progress->train_seconds += spent;
+        e.train_seconds = d_.progress->train_seconds;
+        latest_eval = e.ToShort();
+        RecordEvaluation(e.summary, d_.metrics);
+        if (d_.on_eval) d_.on_eval(e);
+      }
+      last_end = Clock::now();
+    }
     if (svc.checkpoint_every() > 0 && r.iteration % svc.checkpoint_every() == 0) {
       if (absl::Status s = d_.checkpoint(); !s.ok()) return s;
     }

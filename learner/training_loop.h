@@ -17,6 +17,7 @@
 #include "common/bounded_queue.h"
 #include "common/metrics.h"
 #include "learner/contribution_assembler.h"
+#include "learner/in_run_eval.h"
 #include "learner/learner_metrics.h"
 #include "learner/learner_state.h"
 #include "learner/ppo_trainer.h"
@@ -46,6 +47,11 @@ class TrainingLoop {
     std::function<void()> release_workers;         // at the end: no newer policy will come
     std::function<absl::Status()> checkpoint;      // every checkpoint_every iterations and at the end
     std::function<void(const IterationReport&)> on_iteration;  // may be empty
+    // The in-run evaluation (may be null or disabled) and who hears of its results.
+    InRunEvaluator* evaluator = nullptr;
+    const config::ModelConfig* model = nullptr;  // to rebuild the policy for the evaluation
+    int obs_dim = 0, act_dim = 0;
+    std::function<void(const InRunEvaluation&)> on_eval;  // may be empty
     bool discard_data = false;       // benchmarks: count chunks, never train
   };
   TrainingLoop(Deps deps, Limits limits) : d_(std::move(deps)), limits_(limits) {}

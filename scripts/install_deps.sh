@@ -10,7 +10,7 @@ PACKAGES=(
   libprotobuf-dev protobuf-compiler
   libgrpc++-dev protobuf-compiler-grpc
   libtorch-dev libopenblas0-openmp
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
   ffmpeg libegl-dev libopengl-dev libegl1 libegl-mesa0 libgl1-mesa-dri zlib1g-dev
 )
 

@@ -47,6 +47,15 @@ bool JuggleEnv::ResetAt(int node, const AdaptiveWalk& walk) {
 void JuggleEnv::PlaceAtReference() {
   steps_ = 0;
   mj_resetData(model_, data_.get());
+  const config::StartVariation& start = spec_->env().start();
+  // A random phase of the initial DOWN node: the fall is already under way.
+  double fall_s = 0;
+  if (start.random_phase_fraction() > 0 &&
+      spec_->graph().node(cursor_.current).stage == config::DOWN &&
+      rng_.Uniform() < start.random_phase_fraction()) {
+    cursor_.phase = rng_.Uniform(0, start.max_phase());
+    fall_s = cursor_.phase / cursor_.phase_speed * spec_->control_dt();
+  }
   ComputeReferencePose(*spec_, cursor_.current, cursor_.phase, &reference_);
   mju_copy(data_->qpos, reference_.data(), kCharacterNq);
   const BallReference ball = spec_->cursor().DesiredBall(cursor_, cursor_.phase);
@@ -57,7 +66,32 @@ void JuggleEnv::PlaceAtReference() {
   ball_qpos[3] = 1;
   ball_qpos[4] = ball_qpos[5] = ball_qpos[6] = 0;
   mju_zero(data_->qvel, model_->nv);
+  data_->qvel[spec_->ball_dof() + 2] = -spec_->env().gravity() * fall_s;
+  PerturbStart(start);
   mj_forward(model_, data_.get());
+}
+
+void JuggleEnv::PerturbStart(const config::StartVariation& start) {
+  double* qpos = data_->qpos;
+  double* qvel = data_->qvel;
+  auto noise = [this](double amplitude) {
+    return amplitude > 0 ? rng_.Uniform(-amplitude, amplitude) : 0.0;
+  };
+  double* ball = qpos + spec_->ball_qpos();
+  double* ball_vel = qvel + spec_->ball_dof();
+  for (int c = 0; c < 3; ++c) ball[c] += noise(start.ball_position());
+  for (int c = 0; c < 3; ++c) ball_vel[c] += noise(start.ball_velocity());
+  for (int j = 0; j < kNumJoints; ++j) {
+    const ActuatedJoint& joint = spec_->joint(j);
+    if (joint.dofs == 3) {
+      double rotation[3];
+      for (double& r : rotation) r = noise(start.joint_angle());
+      mju_quatIntegrate(qpos + joint.qpos_adr, rotation, 1.0);
+    } else {
+      qpos[joint.qpos_adr] += noise(start.joint_angle());
+    }
+    for (int d = 0; d < joint.dofs; ++d) qvel[joint.dof_adr + d] += noise(start.joint_speed());
+  }
 }
 
 void JuggleEnv::ApplyTorques(const double* feedforward) {

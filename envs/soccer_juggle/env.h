@@ -33,8 +33,9 @@ class JuggleEnv : public juggle::Env {
   JuggleEnv(const JuggleEnv&) = delete;
   JuggleEnv& operator=(const JuggleEnv&) = delete;
 
-  // Starts an episode at a random initial node (character at the reference pose, ball at its
-  // apex, both at rest). Events are cleared.
+  // Starts an episode at a random initial node: character at the reference pose, ball at its
+  // apex, both at rest, then varied by env().start() (noise, optionally a random phase). Events
+  // are cleared.
   void Reset(const AdaptiveWalk& walk) override;
   // Starts an episode at DOWN node `node` (REQUIRES: a DOWN node). Returns true.
   bool ResetAt(int node, const AdaptiveWalk& walk) override;
@@ -69,7 +70,12 @@ class JuggleEnv : public juggle::Env {
   Outcome CheckTermination(const BallReference& ball_ref) const;
   float ComputeReward(const BallReference& ball_ref) const;
   bool Diverged() const;
+  // Character at the reference pose of the cursor's node and phase (a random phase of a DOWN
+  // node when start.random_phase_fraction draws it), ball on its reference path, both moved by
+  // the start variation.
   void PlaceAtReference();
+  // Adds env().start()'s noise to the ball and the actuated joints.
+  void PerturbStart(const config::StartVariation& start);
 
   std::shared_ptr<const JuggleSpec> spec_;
   const mjModel* model_;

@@ -20,7 +20,7 @@ constexpr float kZeroAction[kNumActions] = {0};
 class JuggleEnvTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    spec_ = testing::LoadSpec("right_foot");
+    spec_ = testing::LoadSpec("right_foot_paper");  // no start variation: exact starts
     ASSERT_NE(spec_, nullptr);
     walk_ = std::make_unique<AdaptiveWalk>(&spec_->graph());
     env_ = std::make_unique<JuggleEnv>(spec_, Rng(11));
@@ -174,6 +174,100 @@ TEST_F(JuggleEnvTest, RewardIsAtMostPointOneAndNearItOnTheReference) {
   const StepResult r = env_->Step(kZeroAction, *walk_);
   EXPECT_LE(r.reward, 0.1f + 1e-6f);
   EXPECT_GT(r.reward, 0.08f);
+}
+
+// The start variation of the recipe's config: within its ranges, different per seed, the same
+// for the same seed.
+class StartVariationTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    spec_ = testing::LoadSpec("right_foot");
+    exact_ = testing::LoadSpec("right_foot_paper");
+    ASSERT_NE(spec_, nullptr);
+    ASSERT_NE(exact_, nullptr);
+    walk_ = std::make_unique<AdaptiveWalk>(&spec_->graph());
+    down_ = *spec_->graph().FindNode("right_foot_down");
+  }
+  std::vector<double> StartState(const std::shared_ptr<const JuggleSpec>& spec, uint64_t seed) {
+    JuggleEnv env(spec, Rng::ForStream(seed, 0, 3));
+    env.ResetAt(down_, *walk_);
+    const mjData* d = env.data();
+    std::vector<double> state(d->qpos, d->qpos + spec->model()->nq);
+    state.insert(state.end(), d->qvel, d->qvel + spec->model()->nv);
+    return state;
+  }
+  std::shared_ptr<const JuggleSpec> spec_, exact_;
+  std::unique_ptr<AdaptiveWalk> walk_;
+  int down_ = -1;
+};
+
+TEST_F(StartVariationTest, SameSeedSameStartAndOtherSeedsOtherStarts) {
+  EXPECT_EQ(StartState(spec_, 5), StartState(spec_, 5));
+  EXPECT_NE(StartState(spec_, 5), StartState(spec_, 6));
+  EXPECT_EQ(StartState(exact_, 5), StartState(exact_, 6)) << "no variation: one start";
+}
+
+TEST_F(StartVariationTest, EveryPerturbationStaysInsideItsConfiguredRange) {
+  const config::StartVariation& v = spec_->env().start();
+  ASSERT_GT(v.ball_position(), 0);
+  ASSERT_GT(v.joint_speed(), 0);
+  const int nq = spec_->model()->nq;
+  const std::vector<double> nominal = StartState(exact_, 1);
+  double max_ball_pos = 0, max_ball_vel = 0, max_hinge = 0, max_speed = 0, max_rotation = 0;
+  for (uint64_t seed = 0; seed < 200; ++seed) {
+    const std::vector<double> s = StartState(spec_, seed);
+    for (int c = 0; c < 3; ++c) {
+      max_ball_pos = std::max(max_ball_pos, std::abs(s[spec_->ball_qpos() + c] - nominal[spec_->ball_qpos() + c]));
+      max_ball_vel = std::max(max_ball_vel, std::abs(s[nq + spec_->ball_dof() + c]));
+    }
+    for (int j = 0; j < kNumJoints; ++j) {
+      const ActuatedJoint& joint = spec_->joint(j);
+      for (int d = 0; d < joint.dofs; ++d) {
+        max_speed = std::max(max_speed, std::abs(s[nq + joint.dof_adr + d]));
+      }
+      if (joint.dofs == 1) {
+        max_hinge = std::max(max_hinge, std::abs(s[joint.qpos_adr] - nominal[joint.qpos_adr]));
+      } else {
+        double rotation[3];
+        mju_subQuat(rotation, s.data() + joint.qpos_adr, nominal.data() + joint.qpos_adr);
+        for (double r : rotation) max_rotation = std::max(max_rotation, std::abs(r));
+      }
+    }
+  }
+  EXPECT_LE(max_ball_pos, v.ball_position());
+  EXPECT_GT(max_ball_pos, 0.8 * v.ball_position()) << "200 draws reach near the range's edge";
+  EXPECT_LE(max_ball_vel, v.ball_velocity());
+  EXPECT_GT(max_ball_vel, 0.8 * v.ball_velocity());
+  EXPECT_LE(max_hinge, v.joint_angle());
+  EXPECT_LE(max_speed, v.joint_speed());
+  EXPECT_GT(max_speed, 0.8 * v.joint_speed());
+  // A rotation of ± a about each axis in turn stays within ~√3·a of the nominal.
+  EXPECT_LE(max_rotation, std::sqrt(3.0) * v.joint_angle() + 1e-9);
+  EXPECT_GT(max_rotation, 0.5 * v.joint_angle());
+}
+
+TEST_F(StartVariationTest, RandomPhaseStartsPlaceTheBallOnItsFallAtThatPhase) {
+  LoadedConfig config = exact_->config();
+  config::StartVariation* start =
+      config.run.mutable_soccer_juggle()->mutable_env()->mutable_start();
+  start->set_random_phase_fraction(1.0);
+  start->set_max_phase(0.3);
+  auto spec = JuggleSpec::Create(config);
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  const double g = (*spec)->env().gravity();
+  const double apex = (*spec)->graph().node(down_).spec.apex_height();
+  for (uint64_t seed = 0; seed < 20; ++seed) {
+    JuggleEnv env(*spec, Rng::ForStream(seed, 0, 0));
+    env.ResetAt(down_, *walk_);
+    const double phase = env.cursor().phase;
+    EXPECT_GE(phase, 0);
+    EXPECT_LE(phase, 0.3);
+    // Ballistic: v = −g·t and z = apex − ½·g·t² at t = φ / phase_speed control steps.
+    const double t = phase / env.cursor().phase_speed * (*spec)->control_dt();
+    const double* ball = env.data()->qpos + (*spec)->ball_qpos();
+    EXPECT_NEAR(ball[2], apex - 0.5 * g * t * t, 1e-9);
+    EXPECT_NEAR(env.data()->qvel[(*spec)->ball_dof() + 2], -g * t, 1e-9);
+  }
 }
 
 }  // namespace

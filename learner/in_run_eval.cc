@@ -1,0 +1,76 @@
+#include "learner/in_run_eval.h"
+
+#include <chrono>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "common/status_macros.h"
+#include "envs/registry.h"
+#include "eval/controller.h"
+#include "eval/episode_runner.h"
+
+namespace juggle {
+
+std::string InRunEvaluation::ToJson() const {
+  std::string outcomes;
+  for (const auto& [name, count] : summary.outcomes) {
+    absl::StrAppend(&outcomes, outcomes.empty() ? "" : ", ", "\"", name, "\": ", count);
+  }
+  return absl::StrFormat(
+      "{\"event\": \"eval\", \"iteration\": %d, \"samples\": %d, \"train_s\": %.1f, "
+      "\"eval_s\": %.2f, \"episodes\": %d, \"median_juggles\": %g, \"p10_juggles\": %g, "
+      "\"p90_juggles\": %g, \"mean_juggles\": %.3f, \"frac_juggles_ge_10\": %.3f, "
+      "\"frac_juggles_ge_20\": %.3f, \"mean_return\": %.4f, \"mean_episode_s\": %.3f, "
+      "\"outcomes\": {%s}}",
+      iteration, samples, train_seconds, eval_seconds, summary.episodes, summary.median_juggles,
+      summary.p10_juggles, summary.p90_juggles, summary.mean_juggles, summary.frac_juggles_ge_10,
+      summary.frac_juggles_ge_20, summary.mean_return, summary.mean_episode_s, outcomes);
+}
+
+std::string InRunEvaluation::ToShort() const {
+  return absl::StrFormat("eval @%.1f min: median %g juggles (p90 %g, >=10: %.0f%%)",
+                         train_seconds / 60, summary.median_juggles, summary.p90_juggles,
+                         100 * summary.frac_juggles_ge_10);
+}
+
+absl::StatusOr<std::unique_ptr<InRunEvaluator>> InRunEvaluator::Create(const LoadedConfig& base) {
+  std::unique_ptr<InRunEvaluator> e(new InRunEvaluator());
+  e->config_ = base.run.evaluation();
+  e->every_minutes_ = e->config_.every_minutes();
+  e->every_iterations_ = e->config_.every_iterations();
+  if (!e->enabled()) return e;
+  LoadedConfig config = base;
+  ASSIGN_OR_RETURN(const EnvFamily* family, FamilyOf(config.run));
+  family->SetMaxEpisodeSeconds(e->config_.max_seconds(), &config.run);
+  ASSIGN_OR_RETURN(e->spec_, CreateEnvSpec(config));
+  return e;
+}
+
+bool InRunEvaluator::Due(int64_t iteration, double train_seconds) const {
+  if (every_iterations_ > 0 && iteration - last_iteration_ >= every_iterations_) return true;
+  return every_minutes_ > 0 && train_seconds - last_seconds_ >= every_minutes_ * 60;
+}
+
+InRunEvaluation InRunEvaluator::Run(const EigenPolicy& policy, int64_t iteration,
+                                    int64_t samples, double train_seconds) {
+  const auto start = std::chrono::steady_clock::now();
+  PolicyController controller(std::shared_ptr<const EigenPolicy>(&policy, [](const EigenPolicy*) {}));
+  EpisodeOptions options;
+  options.episodes = config_.episodes();
+  options.seed = config_.seed();
+  InRunEvaluation result;
+  result.iteration = iteration;
+  result.samples = samples;
+  result.train_seconds = train_seconds;
+  absl::StatusOr<EpisodeReport> report = RunEpisodes(spec_, &controller, options);
+  if (report.ok()) {
+    result.summary = Summarize(report->episodes, spec_->control_dt(), spec_->outcome_names());
+  }
+  result.eval_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  last_iteration_ = iteration;
+  last_seconds_ = train_seconds;
+  return result;
+}
+
+}  // namespace juggle

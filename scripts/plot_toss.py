@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Plots a `juggle toss --record` CSV as an SVG (standard library only).
+"""Plots a `juggle toss --record` trajectory as an SVG (standard library only).
 
-usage: scripts/plot_toss.py TRAJECTORY.csv OUT.svg [--seconds S] [--title TEXT]
+usage: scripts/plot_toss.py RUN.traj OUT.svg [--seconds S] [--title TEXT]
 
 Two panels over the first S seconds (default 3): every ball's height and horizontal position
 (one colour per ball; thin while held, thick in flight) with both palms in grey. Crossing
@@ -9,20 +9,27 @@ throws (odd values) show as balls moving between the hands' x; a drop as a ball 
 below the palms.
 """
 import argparse
-import csv
 import sys
 
 from svg_axes import axes
+from trajectory import read_trajectory
 
 COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2"]
 
 
 def read(path, seconds):
-    with open(path, newline="") as f:
-        rows = [r for r in csv.DictReader(f) if float(r["time"]) <= seconds + 1e-9]
+    try:
+        _, channels, rows = read_trajectory(path)
+    except (OSError, ValueError) as e:
+        sys.exit(f"error: {e}")
+    rows = [r for r in rows if r["time"] <= seconds + 1e-9]
     if not rows:
         sys.exit(f"error: {path} has no rows within {seconds} s")
-    balls = sum(1 for k in rows[0] if k.endswith("_mode"))
+    balls = sum(1 for name, _ in channels if name.startswith("ball") and name.endswith("_mode"))
+    # Ball modes as the runtime numbers them: 0 parked, 1 free (in flight), 2 held.
+    for r in rows:
+        for b in range(balls):
+            r[f"ball{b}_mode"] = str(int(r[f"ball{b}_mode"]))
     return rows, balls
 
 
@@ -35,7 +42,7 @@ def panel(rows, balls, key, top, height, width, title, lo, hi):
         out.append(f'<text x="{px(t):.1f}" y="{top+height+14}" font-size="11" text-anchor="middle" '
                    f'font-family="sans-serif">{t:.1f}</text>')
         t += 0.5
-    for palm in ("r_palm", "l_palm"):
+    for palm in ("right_palm", "left_palm"):
         pts = " ".join(f"{px(float(r['time'])):.1f},{py(float(r[f'{palm}_{key}'])):.1f}" for r in rows)
         out.append(f'<polyline points="{pts}" fill="none" stroke="#bbb" stroke-width="6" '
                    f'stroke-linejoin="round"/>')

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "envs/toss/outcomes.h"
+#include "envs/toss/reward.h"
 
 namespace juggle::toss {
 
@@ -55,8 +56,7 @@ StepResult TossLoopEnv::Step(const float* action, const AdaptiveWalk&) {
     return r;
   }
   const config::TossConfig& t = spec_->toss();
-  const double effort_weight = TrainsThrow() ? t.w_throw_effort() : t.w_catch_effort();
-  const double effort = -effort_weight * juggler_->world().Effort(Hand::kRight);
+  const double effort = EffortReward(t, juggler_->world().Effort(Hand::kRight));
   r = TrainsThrow() ? ThrowOutcome() : CatchOutcome();
   if (r.outcome == kCaught) completions_ = 1;
   r.reward += static_cast<float>(effort);
@@ -71,12 +71,12 @@ StepResult TossLoopEnv::CatchOutcome() const {
   const HandEvents& e = juggler_->events(Hand::kRight);
   StepResult r;
   if (e.caught) {
-    r.reward = static_cast<float>(-t.w_catch_height() * std::min(e.catch_height_error, 1.0));
+    r.reward = static_cast<float>(CatchReward(t, e.catch_height_error));
     r.outcome = kCaught;
   } else if (juggler_->over() && juggler_->end_hand() == Hand::kRight &&
              (juggler_->result().end == JuggleEnd::kDropped ||
               juggler_->result().end == JuggleEnd::kMissedBeat)) {
-    r.reward = static_cast<float>(-t.w_catch_height());
+    r.reward = static_cast<float>(DropReward(t));
     r.outcome = kDropped;
   }
   return r;
@@ -87,12 +87,11 @@ StepResult TossLoopEnv::ThrowOutcome() {
   const HandEvents& e = juggler_->events(Hand::kRight);
   StepResult r;
   if (!e.released) return r;
-  const double dpx = e.release_position.x - spec_->home_x(Hand::kRight);
-  const double dpz = e.release_position.z - spec_->home_z();
-  const double dvx = e.release_velocity.x - e.target_velocity.x;
-  const double dvz = e.release_velocity.z - e.target_velocity.z;
-  r.reward = static_cast<float>(-t.w_release_position() * (dpx * dpx + dpz * dpz) -
-                                t.w_release_velocity() * (dvx * dvx + dvz * dvz));
+  const Vec2 dp{e.release_position.x - spec_->home_x(Hand::kRight),
+                e.release_position.z - spec_->home_z()};
+  const Vec2 dv{e.release_velocity.x - e.target_velocity.x,
+                e.release_velocity.z - e.target_velocity.z};
+  r.reward = static_cast<float>(ReleaseReward(t, dp, dv));
   r.outcome = kReleased;
   if (e.good_throw) completions_ = 1;
   return r;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "envs/toss/outcomes.h"
+#include "envs/toss/reward.h"
 
 namespace juggle::toss {
 
@@ -103,15 +104,15 @@ StepResult TossTaskEnv::Step(const float* action, const AdaptiveWalk&) {
 StepResult TossTaskEnv::StepCatch() {
   const config::TossConfig& t = spec_->toss();
   StepResult r;
-  double reward = -t.w_catch_effort() * world_.Effort(hand_);
+  double reward = EffortReward(t, world_.Effort(hand_));
   if (world_.CanCatch(0, hand_)) {
     const double height_error = std::abs(t.hand_z() - world_.ball_position(0).z);
     world_.Hold(0, hand_);
-    reward += t.w_catch_height() * -std::min(height_error, 1.0);
+    reward += CatchReward(t, height_error);
     r.outcome = kCaught;
     completions_ = 1;
   } else if (world_.ball_position(0).z < t.drop_z()) {
-    reward -= t.w_catch_height();
+    reward += DropReward(t);
     r.outcome = kDropped;
   }
   r.reward = static_cast<float>(reward);
@@ -121,16 +122,15 @@ StepResult TossTaskEnv::StepCatch() {
 StepResult TossTaskEnv::StepThrow() {
   const config::TossConfig& t = spec_->toss();
   StepResult r;
-  double reward = -t.w_throw_effort() * world_.Effort(hand_);
+  double reward = EffortReward(t, world_.Effort(hand_));
   if (steps_ >= release_step_) {
     const Vec2 p = world_.palm_position(hand_);
     const Vec2 v = world_.Release(0);
-    const double dpx = p.x - spec_->home_x(hand_), dpz = p.z - spec_->home_z();
-    const double dvx = v.x - target_velocity_.x, dvz = v.z - target_velocity_.z;
-    release_position_error_ = std::hypot(dpx, dpz);
-    release_velocity_error_ = std::hypot(dvx, dvz);
-    reward += -t.w_release_position() * (dpx * dpx + dpz * dpz) -
-              t.w_release_velocity() * (dvx * dvx + dvz * dvz);
+    const Vec2 dp{p.x - spec_->home_x(hand_), p.z - spec_->home_z()};
+    const Vec2 dv{v.x - target_velocity_.x, v.z - target_velocity_.z};
+    release_position_error_ = std::hypot(dp.x, dp.z);
+    release_velocity_error_ = std::hypot(dv.x, dv.z);
+    reward += ReleaseReward(t, dp, dv);
     if (IsGoodThrow(*spec_, hand_, throw_value_, p, v)) completions_ = 1;
     r.outcome = kReleased;
     released_ = true;

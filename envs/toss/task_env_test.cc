@@ -57,25 +57,6 @@ TEST(TossSpecTest, UnreachableHomePointIsAnErrorNamingTheField) {
   EXPECT_NE(spec.status().message().find("out of the arm's reach"), std::string::npos);
 }
 
-TEST(TossConfigTest, TossConfigWithAGraphOrWithoutATaskIsRejected) {
-  absl::StatusOr<LoadedConfig> with_graph =
-      ParseRunConfig("toss { task: THROW }\ngraph_file: \"g.textproto\"\n", "c.textproto");
-  ASSERT_FALSE(with_graph.ok());
-  EXPECT_NE(with_graph.status().message().find("c.textproto:2:1"), std::string::npos)
-      << with_graph.status();
-  absl::StatusOr<LoadedConfig> no_task = ParseRunConfig("toss { kp: 1000 }\n", "c.textproto");
-  ASSERT_FALSE(no_task.ok());
-  EXPECT_NE(no_task.status().message().find("task"), std::string::npos) << no_task.status();
-}
-
-TEST(TossConfigTest, NegativeStartSpeedNoiseIsAnErrorNamingFileLineAndField) {
-  absl::StatusOr<LoadedConfig> config =
-      ParseRunConfig("toss {\n  task: CATCH\n  start_speed_noise: -1\n}\n", "c.textproto");
-  ASSERT_FALSE(config.ok());
-  EXPECT_NE(config.status().message().find("c.textproto:3"), std::string::npos) << config.status();
-  EXPECT_NE(config.status().message().find("start_speed_noise"), std::string::npos);
-}
-
 class TossWorldTest : public ::testing::Test {
  protected:
   void SetUp() override {

@@ -155,6 +155,12 @@ absl::StatusOr<UpdateStats> PpoTrainer::Update(const UnrollBatch& batch, int64_t
   // Actor: clipped surrogate + action-magnitude regularizer.
   updates = 0;
   const double clip = ppo_.clip();
+  const bool adaptive_lr = ppo_.desired_kl() > 0;
+  torch::Tensor start_mean;  // the policy the iteration started from (adaptive learning rate)
+  if (adaptive_lr) {
+    torch::NoGradGuard no_grad;
+    start_mean = net.Mean(obs);
+  }
   for (int epoch = 0; epoch < ppo_.epochs(); ++epoch) {
     const torch::Tensor perm = torch::randperm(n, torch::kLong);
     for (int m = 0; m < minibatches; ++m) {
@@ -174,6 +180,7 @@ absl::StatusOr<UpdateStats> PpoTrainer::Update(const UnrollBatch& batch, int64_t
       impl_->actor_opt->step();
       stats.policy_loss += loss.item<double>();
       stats.approx_kl += (old - log_prob).mean().item<double>();
+      if (adaptive_lr) AdaptLearningRate(mean.detach(), start_mean.index_select(0, idx));
       stats.clip_fraction += ((ratio - 1).abs() > clip).to(torch::kFloat32).mean().item<double>();
       ++updates;
     }
@@ -184,8 +191,10 @@ absl::StatusOr<UpdateStats> PpoTrainer::Update(const UnrollBatch& batch, int64_t
     stats.clip_fraction /= updates;
   }
 
-  actor_lr_ = actor_lr_ > ppo_.min_actor_lr() ? actor_lr_ * ppo_.lr_decay() : ppo_.min_actor_lr();
-  actor_lr_ = std::max(actor_lr_, ppo_.min_actor_lr());
+  if (!adaptive_lr) {
+    actor_lr_ = actor_lr_ > ppo_.min_actor_lr() ? actor_lr_ * ppo_.lr_decay() : ppo_.min_actor_lr();
+    actor_lr_ = std::max(actor_lr_, ppo_.min_actor_lr());
+  }
   if (ppo_.normalize_observations()) {
     // After the update, so this iteration trained with the statistics the workers used.
     impl_->normalizer.Update(batch.obs.data(), n);
@@ -198,6 +207,24 @@ absl::StatusOr<UpdateStats> PpoTrainer::Update(const UnrollBatch& batch, int64_t
   ++version_;
   ++iteration_;
   return stats;
+}
+
+void PpoTrainer::AdaptLearningRate(const torch::Tensor& mean, const torch::Tensor& start_mean) {
+  // KL(π_start || π) of diagonal Gaussians with the same σ: Σ (μ − μ_start)² / (2σ²).
+  torch::NoGradGuard no_grad;
+  const torch::Tensor var = torch::exp(2 * impl_->net->log_std.detach());
+  const double kl = ((mean - start_mean).pow(2) / (2 * var)).sum(-1).mean().item<double>();
+  if (kl > 2 * ppo_.desired_kl()) {
+    actor_lr_ = std::max(ppo_.min_actor_lr(), actor_lr_ / 1.5);
+  } else if (kl < ppo_.desired_kl() / 2) {
+    actor_lr_ = std::min(ppo_.max_actor_lr(), actor_lr_ * 1.5);
+  }
+  for (auto& g : impl_->actor_opt->param_groups()) {
+    static_cast<torch::optim::AdamOptions&>(g.options()).lr(actor_lr_);
+  }
+  for (auto& g : impl_->critic_opt->param_groups()) {
+    static_cast<torch::optim::AdamOptions&>(g.options()).lr(actor_lr_ * ppo_.critic_lr_factor());
+  }
 }
 
 namespace {

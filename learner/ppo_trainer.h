@@ -17,6 +17,10 @@
 #include "common/unroll_batch.h"
 #include "proto/run_config.pb.h"
 
+namespace at {
+class Tensor;  // libtorch stays out of this header
+}  // namespace at
+
 namespace juggle {
 
 struct UpdateStats {
@@ -64,6 +68,9 @@ class PpoTrainer {
   struct Impl;
 
  private:
+  // desired_kl: sets the learning rate from the KL between the iteration's starting means and
+  // the current ones (minibatch rows), and applies it to both optimizers.
+  void AdaptLearningRate(const at::Tensor& mean, const at::Tensor& start_mean);
   std::unique_ptr<Impl> impl_;
   config::PpoConfig ppo_;
   int obs_dim_, act_dim_;

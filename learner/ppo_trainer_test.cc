@@ -36,6 +36,32 @@ TEST(PpoTrainerTest, LearnsToDriveAPointMassToTheGoal) {
   EXPECT_GT(trained, 0.6) << "untrained " << untrained;
 }
 
+// The adaptive learning rate follows the KL: a tiny target drives it down to its floor, a huge
+// one up to its ceiling; the release's decay would do neither in 6 iterations.
+double LearningRateAfter(double desired_kl, int iterations) {
+  config::PpoConfig ppo = SmallPpo();
+  ppo.set_desired_kl(desired_kl);
+  ppo.set_actor_lr(1e-3);
+  ppo.set_min_actor_lr(1e-5);
+  ppo.set_max_actor_lr(1e-2);
+  ppo.set_reset_optimizer_each_iteration(false);
+  PpoTrainer trainer(SmallModel(), ppo, 2, 2, 5);
+  std::vector<PointMass> envs;
+  for (int i = 0; i < 16; ++i) envs.emplace_back(100 + i);
+  Rng rng(7);
+  UnrollBatch batch;
+  for (int it = 0; it < iterations; ++it) {
+    Collect(trainer, &envs, &rng, &batch);
+    EXPECT_TRUE(trainer.Update(batch).ok());
+  }
+  return trainer.actor_lr();
+}
+
+TEST(PpoTrainerTest, AdaptiveLearningRateFallsAboveTheTargetKlAndRisesBelowIt) {
+  EXPECT_NEAR(LearningRateAfter(/*desired_kl=*/1e-12, 6), 1e-5, 1e-12);
+  EXPECT_NEAR(LearningRateAfter(/*desired_kl=*/1e6, 6), 1e-2, 1e-12);
+}
+
 TEST(PpoTrainerTest, MalformedBatchIsRejectedAndChangesNothing) {
   PpoTrainer trainer(SmallModel(), SmallPpo(), 2, 2, 5);
   std::vector<PointMass> envs(4, PointMass(1));

@@ -46,6 +46,7 @@ bool JuggleEnv::ResetAt(int node, const AdaptiveWalk& walk) {
 
 void JuggleEnv::PlaceAtReference() {
   steps_ = 0;
+  kick_touched_ = kick_rewarded_ = false;
   mj_resetData(model_, data_.get());
   const config::StartVariation& start = spec_->env().start();
   // A random phase of the initial DOWN node: the fall is already under way.
@@ -134,7 +135,7 @@ bool JuggleEnv::Diverged() const {
   return false;
 }
 
-Outcome JuggleEnv::CheckBallContacts(double substep_phase) const {
+Outcome JuggleEnv::CheckBallContacts(double substep_phase) {
   const int ball_geom = spec_->ball_geom();
   const NodeRuntime& rt = spec_->node_runtime(cursor_.current);
   const config::NodeSpec& node = spec_->graph().node(cursor_.current).spec;
@@ -146,6 +147,7 @@ Outcome JuggleEnv::CheckBallContacts(double substep_phase) const {
     const int other = c.geom1 == ball_geom ? c.geom2 : c.geom1;
     const int body = model_->geom_bodyid[other];
     if (!rt.contact_allowed[body]) return kBadContact;
+    touched_this_step_ = true;
     if (!stall && std::abs(spec_->cursor().SecondsFromContact(cursor_, substep_phase)) >
                       node.contact_window_s() + 1e-9) {
       return kContactTiming;
@@ -221,8 +223,38 @@ float JuggleEnv::ComputeReward(const BallReference& ball_ref) const {
   return static_cast<float>(w.scale() * r);
 }
 
+float JuggleEnv::KickReward() {
+  if (touched_this_step_) {
+    kick_touched_ = true;
+    return 0;
+  }
+  const config::RewardConfig& w = spec_->env().reward();
+  const double* ball = data_->qpos + spec_->ball_qpos();
+  const double* ball_vel = data_->qvel + spec_->ball_dof();
+  if (!kick_touched_ || kick_rewarded_ || ball_vel[2] <= 0 || w.w_kick() == 0) return 0;
+  kick_rewarded_ = true;
+  // The DOWN node the ball is sent to: the next one after the current node.
+  const CursorState& c = cursor_;
+  int target = c.next;
+  if (spec_->graph().node(c.current).stage == config::DOWN) target = c.next_next;
+  if (spec_->graph().node(target).stage != config::DOWN) return 0;  // stalls: no ballistic target
+  const config::NodeSpec& node = spec_->graph().node(target).spec;
+  const double g = spec_->env().gravity();
+  const double vz = ball_vel[2];
+  const double apex = ball[2] + vz * vz / (2 * g);
+  const double drop = std::max(0.0, ball[2] - node.contact_height());
+  const double t_land = (vz + std::sqrt(vz * vz + 2 * g * drop)) / g;
+  const double* root = data_->qpos;
+  const double dx = ball[0] + ball_vel[0] * t_land - root[0] - node.ball_target().x();
+  const double dy = ball[1] + ball_vel[1] * t_land - root[1] - node.ball_target().y();
+  const double de = apex - NominalApexHeight(node, g);
+  return static_cast<float>(
+      w.w_kick() * std::exp(-w.kick_apex_k() * de * de - w.kick_landing_k() * (dx * dx + dy * dy)));
+}
+
 StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
   events_.clear();
+  touched_this_step_ = false;
   const double phase0 = cursor_.phase;
   ComputeReferencePose(*spec_, cursor_.current, phase0, &reference_);
   const BallReference ball_ref = spec_->cursor().DesiredBall(cursor_, phase0);
@@ -252,10 +284,15 @@ StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
   }
 
   if (result.outcome == Outcome::kRunning) {
+    const int before = cursor_.current;
     spec_->cursor().Advance(walk, &rng_, &cursor_, &events_);
+    if (cursor_.current != before && spec_->graph().node(cursor_.current).stage == config::DOWN) {
+      kick_touched_ = kick_rewarded_ = false;  // a new cycle
+    }
     result.outcome = CheckTermination(ball_ref);
   }
   result.reward = result.outcome == Outcome::kDiverged ? 0.0f : ComputeReward(ball_ref);
+  if (result.outcome == Outcome::kRunning) result.reward += KickReward();
   ++steps_;
   if (result.outcome == Outcome::kRunning && steps_ >= spec_->env().max_episode_steps()) {
     result.outcome = Outcome::kTimeLimit;

@@ -66,9 +66,13 @@ class JuggleEnv : public juggle::Env {
 
  private:
   void ApplyTorques(const double* feedforward);
-  Outcome CheckBallContacts(double substep_phase) const;
+  // Also notes an allowed touch of the ball in touched_this_step_.
+  Outcome CheckBallContacts(double substep_phase);
   Outcome CheckTermination(const BallReference& ball_ref) const;
   float ComputeReward(const BallReference& ball_ref) const;
+  // reward.w_kick's one-time reward when the ball has just left the foot going up (0 otherwise);
+  // tracks the kick of the current cycle.
+  float KickReward();
   bool Diverged() const;
   // Character at the reference pose of the cursor's node and phase (a random phase of a DOWN
   // node when start.random_phase_fraction draws it), ball on its reference path, both moved by
@@ -85,6 +89,10 @@ class JuggleEnv : public juggle::Env {
   CharacterPose reference_{};
   std::vector<EdgeEvent> events_;
   int steps_ = 0;
+  // The current cycle's kick: the ball touched an allowed body, and the kick was rewarded.
+  bool kick_touched_ = false;
+  bool kick_rewarded_ = false;
+  bool touched_this_step_ = false;
   int warning_count_ = 0;   // sum of the watched MuJoCo warning counters at the last check
 };
 

@@ -24,6 +24,7 @@ double RotationSin2(const double* a, const double* b) {
 JuggleEnv::JuggleEnv(std::shared_ptr<const JuggleSpec> spec, Rng rng)
     : spec_(std::move(spec)), model_(spec_->model()), data_(mj_makeData(model_)), rng_(rng) {
   events_.reserve(8);
+  if (spec_->env().reference_feedforward() != 0) id_data_.reset(mj_makeData(model_));
 }
 
 std::unique_ptr<Env> JuggleSpec::NewEnv(Rng rng) const {
@@ -120,6 +121,90 @@ void JuggleEnv::ApplyTorques(const double* feedforward) {
   xfrc[0] = force.x();
   xfrc[1] = force.y();
   xfrc[2] = force.z();
+}
+
+void JuggleEnv::AddReferenceFeedforward(double phase, double* feedforward) {
+  // Reference pose, velocity and acceleration by central differences over ± half a control
+  // step; the character is lifted out of contact and its root held still (qacc 0).
+  constexpr double kLift = 100;  // m
+  const int nq = model_->nq, nv = model_->nv;
+  const double dt = 0.5 * spec_->control_dt();
+  const double dphase = 0.5 * cursor_.phase_speed;
+  mjData* d = id_data_.get();
+  mjMARKSTACK;
+  mjtNum* q_minus = mj_stackAlloc(d, nq);
+  mjtNum* q_plus = mj_stackAlloc(d, nq);
+  mjtNum* v_minus = mj_stackAlloc(d, nv);
+  mjtNum* v_plus = mj_stackAlloc(d, nv);
+  CharacterPose pose;
+  auto load = [&](const CharacterPose& p, mjtNum* qpos) {
+    mju_copy(qpos, data_->qpos, nq);  // the ball stays where it is, far below the character
+    mju_copy(qpos, p.data(), kCharacterNq);
+    qpos[2] += kLift;
+  };
+  load(reference_, d->qpos);
+  ComputeReferencePose(*spec_, cursor_.current, phase - dphase, &pose);
+  load(pose, q_minus);
+  ComputeReferencePose(*spec_, cursor_.current, phase + dphase, &pose);
+  load(pose, q_plus);
+  mj_differentiatePos(model_, v_minus, dt, q_minus, d->qpos);
+  mj_differentiatePos(model_, v_plus, dt, d->qpos, q_plus);
+  for (int i = 0; i < nv; ++i) {
+    d->qvel[i] = 0.5 * (v_minus[i] + v_plus[i]);
+    d->qacc[i] = (v_plus[i] - v_minus[i]) / dt;
+  }
+  mju_zero(d->qvel, 6);
+  mju_zero(d->qacc, 6);
+  mju_zero(d->qvel + spec_->ball_dof(), 6);
+  mju_zero(d->qacc + spec_->ball_dof(), 6);
+  mj_inverse(model_, d);
+  const double gain = spec_->env().reference_feedforward();
+  const double h = model_->opt.timestep;
+  for (int j = 0; j < kNumJoints; ++j) {
+    const ActuatedJoint& joint = spec_->joint(j);
+    for (int k = joint.dof_adr; k < joint.dof_adr + joint.dofs; ++k) {
+      // qfrc_inverse includes the damping drag kd·q̇; kp·h·q̇ is the stable PD's own drag.
+      feedforward[k] += gain * (d->qfrc_inverse[k] + joint.kp * h * d->qvel[k]);
+    }
+  }
+  mjFREESTACK;
+}
+
+void JuggleEnv::AddStanceBalance(double* feedforward) {
+  const config::StanceBalance& b = spec_->env().stance_balance();
+  const config::ReferencePose& ref = spec_->graph().node(cursor_.current).spec.pose();
+  if (!ref.has_leg_swing()) return;
+  const bool kick_left = ref.leg_swing().side() == config::LEFT;
+  const ActuatedJoint& hip = spec_->joint(kick_left ? kRightHip : kLeftHip);
+  const ActuatedJoint& ankle = spec_->joint(kick_left ? kRightAnkle : kLeftAnkle);
+  const int foot = model_->dof_bodyid[ankle.dof_adr];
+  // Each term is clamped to the joint's feed-forward range, as a policy action would be.
+  auto add = [&](const ActuatedJoint& joint, const double tau[3]) {
+    const double limit = spec_->env().action_torque() * joint.torque_scale;
+    for (int i = 0; i < 3; ++i) {
+      feedforward[joint.dof_adr + i] += std::clamp(tau[i], -limit, limit);
+    }
+  };
+  double tau_ankle[3] = {0, 0, 0}, tau_hip[3] = {0, 0, 0};
+  if (b.com_kp() != 0 || b.com_kd() != 0) {
+    mj_subtreeVel(model_, data_.get());  // COM velocity of the character (the root's subtree)
+    const int root = spec_->root_body();
+    const double* com = data_->subtree_com + 3 * root;
+    const double* vel = data_->subtree_linvel + 3 * root;
+    const double* pos = data_->xpos + 3 * foot;
+    const double ex = com[0] - pos[0] - b.com_x(), ey = com[1] - pos[1] - b.com_y();
+    const double world[3] = {-(b.com_kp() * ey + b.com_kd() * vel[1]),
+                             b.com_kp() * ex + b.com_kd() * vel[0], 0};
+    mju_mulMatTVec(tau_ankle, data_->xmat + 9 * foot, world, 3, 3);  // into the foot frame
+  }
+  if (b.pelvis_kp() != 0 || b.pelvis_kd() != 0) {
+    double tilt[3];
+    mju_subQuat(tilt, data_->qpos + 3, kUprightQuat);
+    const double* w = data_->qvel + 3;
+    for (int i : {0, 2}) tau_hip[i] = b.pelvis_kp() * tilt[i] + b.pelvis_kd() * w[i];
+  }
+  add(ankle, tau_ankle);
+  add(hip, tau_hip);
 }
 
 bool JuggleEnv::Diverged() const {
@@ -269,6 +354,8 @@ StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
       feedforward[dof] = unit * joint.torque_scale * a;
     }
   }
+  if (id_data_ != nullptr) AddReferenceFeedforward(phase0, feedforward);
+  if (spec_->env().has_stance_balance()) AddStanceBalance(feedforward);
 
   StepResult result;
   const int substeps = spec_->env().substeps();

@@ -66,6 +66,10 @@ class JuggleEnv : public juggle::Env {
 
  private:
   void ApplyTorques(const double* feedforward);
+  // Adds env.reference_feedforward × the inverse dynamics of the reference at `phase`.
+  void AddReferenceFeedforward(double phase, double* feedforward);
+  // Adds env.stance_balance's torques on the stance leg of a leg-swing node.
+  void AddStanceBalance(double* feedforward);
   // Also notes an allowed touch of the ball in touched_this_step_.
   Outcome CheckBallContacts(double substep_phase);
   Outcome CheckTermination(const BallReference& ball_ref) const;
@@ -84,6 +88,7 @@ class JuggleEnv : public juggle::Env {
   std::shared_ptr<const JuggleSpec> spec_;
   const mjModel* model_;
   MjDataPtr data_;
+  MjDataPtr id_data_;  // scratch for AddReferenceFeedforward; null when it is off
   Rng rng_;
   CursorState cursor_;
   CharacterPose reference_{};

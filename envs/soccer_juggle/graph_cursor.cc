@@ -5,8 +5,9 @@
 
 namespace juggle::soccer_juggle {
 
-GraphCursor::GraphCursor(const ControlGraph* graph, double control_dt, double gravity)
-    : graph_(graph), control_dt_(control_dt), gravity_(gravity) {}
+GraphCursor::GraphCursor(const ControlGraph* graph, double control_dt, double gravity,
+                         bool carry_phase)
+    : graph_(graph), control_dt_(control_dt), gravity_(gravity), carry_phase_(carry_phase) {}
 
 double GraphCursor::SampleApex(int node, Rng* rng) const {
   const config::NodeSpec& n = graph_->node(node).spec;
@@ -59,10 +60,10 @@ bool GraphCursor::Advance(const AdaptiveWalk& walk, Rng* rng, CursorState* s,
     s->phase = 0.5;
   } else if (stage == config::DOWN && s->phase + half_step > 0.5) {
     transition = true;
-    s->phase = 0.5;
+    if (!carry_phase_) s->phase = 0.5;
   } else if (stage == config::UP && s->phase + half_step > 1.0) {
     transition = true;
-    s->phase = 0.0;
+    s->phase = carry_phase_ ? s->phase - 1.0 : 0.0;
   }
   if (!transition) return false;
 

@@ -6,8 +6,11 @@
 // lasts t = √(2(H − h)/g) for apex H and contact height h (or the node's half_cycle_s), so the
 // phase speed is control_dt / (2t) per control step. The apex of a cycle is chosen when an UP
 // node starts: H = max(apex(UP node), apex(next node)), each sampled if it has a range.
-// A DOWN node ends at the control step whose phase is nearest 0.5 (snapped to 0.5), an UP node
-// at the step nearest 1 (wrapped to 0).
+// A DOWN node ends at the control step whose phase is nearest 0.5, an UP node at the step
+// nearest 1 (wrapped to 0). The release snaps the phase to exactly 0.5 (and 0) there, which
+// drops up to half a step per node: a 1.4 m cycle of 42.8 steps runs in 42, so the clock gains
+// 17 ms per cycle on a ball that really flies to 1.4 m. With `carry_phase` the overshoot is
+// kept instead (φ continues from 0.5 + δ, 1 + δ → δ), and the clock keeps time with the ball.
 //
 // GraphCursor holds only immutable parameters; all mutable state is in CursorState.
 #ifndef JUGGLE_ENVS_SOCCER_JUGGLE_GRAPH_CURSOR_H_
@@ -45,7 +48,8 @@ struct BallReference {
 class GraphCursor {
  public:
   // REQUIRES: `graph` outlives this object; control_dt > 0, gravity > 0.
-  GraphCursor(const ControlGraph* graph, double control_dt, double gravity);
+  GraphCursor(const ControlGraph* graph, double control_dt, double gravity,
+              bool carry_phase = false);
 
   // Starts an episode at a uniformly drawn initial node with φ = 0 and samples the next two.
   void Reset(const AdaptiveWalk& walk, Rng* rng, CursorState* s) const;
@@ -81,6 +85,7 @@ class GraphCursor {
   const ControlGraph* graph_;
   double control_dt_;
   double gravity_;
+  bool carry_phase_;
 };
 
 }  // namespace juggle::soccer_juggle

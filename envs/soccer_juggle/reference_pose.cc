@@ -46,12 +46,24 @@ constexpr int kZ = 2;
 
 void LegSwingPose(const JuggleSpec& spec, const config::LegSwing& g, double phase,
                   CharacterPose* pose) {
-  const double s = g.hold_peak() ? 1.0 : std::sin(M_PI * phase);
+  double phi = phase;
+  if (g.phase_lead() != 0) {
+    phi += g.phase_lead();
+    phi -= std::floor(phi);  // the swing repeats every cycle
+  }
+  const double s = g.hold_peak() ? 1.0 : std::sin(M_PI * phi);
   const bool left = g.side() == config::LEFT;
   const JointId hip = left ? kLeftHip : kRightHip;
   const JointId knee = left ? kLeftKnee : kRightKnee;
   const JointId ankle = left ? kLeftAnkle : kRightAnkle;
-  SetBallJointAxisRotation(spec, hip, kZ, g.hip_amplitude() * s, pose);
+  if (g.hip_abduction() != 0) {
+    // Flexion about z and abduction about x (−x moves a right limb toward +z, outward).
+    const double rotvec[3] = {(left ? 1 : -1) * g.hip_abduction() * s, 0,
+                              g.hip_amplitude() * s};
+    SetBallJointRotation(spec, hip, rotvec, pose);
+  } else {
+    SetBallJointAxisRotation(spec, hip, kZ, g.hip_amplitude() * s, pose);
+  }
   SetHinge(spec, knee, -g.knee_amplitude() * s, pose);
   if (g.ankle_amplitude() != 0) {
     SetBallJointAxisRotation(spec, ankle, kZ, g.ankle_amplitude() * s, pose);

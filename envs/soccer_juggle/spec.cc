@@ -63,7 +63,8 @@ class JuggleSpecBuilder {
 JuggleSpec::JuggleSpec(LoadedConfig config, MjModelPtr model)
     : config_(std::move(config)),
       model_(std::move(model)),
-      cursor_(config_.graph.get(), env().sim_dt() * env().substeps(), env().gravity()) {}
+      cursor_(config_.graph.get(), env().sim_dt() * env().substeps(), env().gravity(),
+              env().carry_phase()) {}
 
 std::vector<std::string> JuggleSpec::outcome_names() const {
   std::vector<std::string> names = CommonOutcomeNames();

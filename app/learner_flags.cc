@@ -73,6 +73,9 @@ void AddLearnerFlags(CLI::App* cmd, LearnerFlags* f) {
   cmd->add_option("--minutes", f->minutes, "stop after this many minutes (0: no limit)")
       ->check(AtLeast(0))
       ->capture_default_str();
+  cmd->add_option("--seed", f->seed, "run seed (-1: the config's seed)")
+      ->check(AtLeast(-1))
+      ->capture_default_str();
   cmd->add_option("--metrics_port", f->metrics_port,
                   "HTTP port of /metrics and the dashboard (-1: the config's "
                   "service.metrics_port; 0: any free port)")
@@ -83,6 +86,7 @@ void AddLearnerFlags(CLI::App* cmd, LearnerFlags* f) {
 absl::StatusOr<LearnerOptions> MakeLearnerOptions(const LearnerFlags& flags) {
   absl::StatusOr<LoadedConfig> config = LoadRunConfig(flags.config);
   if (!config.ok()) return config.status();
+  if (flags.seed >= 0) config->run.set_seed(static_cast<uint64_t>(flags.seed));
   LearnerOptions o;
   o.run_dir = flags.run_dir.empty() ? DefaultRunDir(config->run) : flags.run_dir;
   o.config = std::move(*config);

@@ -20,6 +20,7 @@ struct LearnerFlags {
   int64_t iterations = 0;
   double minutes = 0;
   int metrics_port = -1;
+  int64_t seed = -1;      // -1: the config's seed
 };
 
 void AddLearnerFlags(CLI::App* cmd, LearnerFlags* flags);

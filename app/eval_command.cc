@@ -50,7 +50,7 @@ int Evaluate(const EvalFlags& f) {
   }
   absl::StatusOr<const EnvFamily*> family = FamilyOf(config.run);
   if (!family.ok()) return Fail(family.status());
-  if (f.max_seconds > 0) (*family)->SetMaxEpisodeSeconds(f.max_seconds, &config.run);
+  (*family)->ConfigureForEvaluation(f.max_seconds, &config.run);
   absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(config);
   if (!spec.ok()) return Fail(spec.status());
 

@@ -30,10 +30,11 @@ class EnvFamily {
   // REQUIRES: `config` went through Prepare.
   virtual absl::StatusOr<std::shared_ptr<const EnvSpec>> CreateSpec(
       const LoadedConfig& config, const std::string& model_mjb) const = 0;
-  // Sets the family's episode step limit in `run` so that episodes may last `seconds` of
-  // simulated time (evaluations with long episodes: `juggle eval --max_seconds`).
-  // REQUIRES: `run` selects this family and was prepared; seconds > 0.
-  virtual void SetMaxEpisodeSeconds(double seconds, config::RunConfig* run) const = 0;
+  // Makes `run` an evaluation config: episodes may last `max_seconds` of simulated time (0: the
+  // config's limit) and training-only start curricula (restarts from recorded states, random
+  // phases) are off, so every evaluation starts from the task's start distribution.
+  // REQUIRES: `run` selects this family and was prepared; max_seconds >= 0.
+  virtual void ConfigureForEvaluation(double max_seconds, config::RunConfig* run) const = 0;
 };
 
 }  // namespace juggle

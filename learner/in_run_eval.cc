@@ -41,7 +41,7 @@ absl::StatusOr<std::unique_ptr<InRunEvaluator>> InRunEvaluator::Create(const Loa
   if (!e->enabled()) return e;
   LoadedConfig config = base;
   ASSIGN_OR_RETURN(const EnvFamily* family, FamilyOf(config.run));
-  family->SetMaxEpisodeSeconds(e->config_.max_seconds(), &config.run);
+  family->ConfigureForEvaluation(e->config_.max_seconds(), &config.run);
   ASSIGN_OR_RETURN(e->spec_, CreateEnvSpec(config));
   return e;
 }

@@ -34,8 +34,56 @@ std::unique_ptr<Env> JuggleSpec::NewEnv(Rng rng) const {
 
 void JuggleEnv::Reset(const AdaptiveWalk& walk) {
   events_.clear();
+  const config::StartVariation& start = spec_->env().start();
+  if (start.recorded_start_fraction() > 0 && !recorded_starts_.empty() &&
+      rng_.Uniform() < start.recorded_start_fraction()) {
+    StartFrom(recorded_starts_[rng_.UniformInt(recorded_starts_.size())]);
+    return;
+  }
   spec_->cursor().Reset(walk, &rng_, &cursor_);
   PlaceAtReference();
+}
+
+JuggleEnv::Snapshot JuggleEnv::TakeSnapshot() const {
+  Snapshot s;
+  s.qpos.assign(data_->qpos, data_->qpos + model_->nq);
+  s.qvel.assign(data_->qvel, data_->qvel + model_->nv);
+  s.cursor = cursor_;
+  return s;
+}
+
+void JuggleEnv::StartFrom(const Snapshot& s) {
+  steps_ = 0;
+  kick_touched_ = kick_rewarded_ = false;
+  candidate_.reset();
+  mj_resetData(model_, data_.get());
+  mju_copy(data_->qpos, s.qpos.data(), model_->nq);
+  mju_copy(data_->qvel, s.qvel.data(), model_->nv);
+  cursor_ = s.cursor;
+  cursor_.entered_by = -1;  // the episode's first node
+  cursor_.completions = 0;
+  cursor_.juggles = 0;
+  ComputeReferencePose(*spec_, cursor_.current, cursor_.phase, &reference_);
+  PerturbStart(spec_->env().start());
+  mj_forward(model_, data_.get());
+}
+
+void JuggleEnv::RecordStartCandidates(bool entered_down, const StepResult& result) {
+  const config::StartVariation& start = spec_->env().start();
+  if (start.recorded_start_fraction() <= 0) return;
+  if (entered_down && result.outcome == Outcome::kRunning &&
+      cursor_.juggles >= start.recorded_start_min_juggles()) {
+    candidate_ = TakeSnapshot();
+  }
+  if (!result.terminated() || !candidate_) return;
+  const size_t capacity = static_cast<size_t>(std::max(1, start.recorded_start_capacity()));
+  if (recorded_starts_.size() < capacity) {
+    recorded_starts_.push_back(std::move(*candidate_));
+  } else {
+    recorded_starts_[next_recorded_] = std::move(*candidate_);
+    next_recorded_ = (next_recorded_ + 1) % capacity;
+  }
+  candidate_.reset();
 }
 
 bool JuggleEnv::ResetAt(int node, const AdaptiveWalk& walk) {
@@ -48,6 +96,7 @@ bool JuggleEnv::ResetAt(int node, const AdaptiveWalk& walk) {
 void JuggleEnv::PlaceAtReference() {
   steps_ = 0;
   kick_touched_ = kick_rewarded_ = false;
+  candidate_.reset();
   mj_resetData(model_, data_.get());
   const config::StartVariation& start = spec_->env().start();
   // A random phase of the initial DOWN node: the fall is already under way.
@@ -370,12 +419,13 @@ StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
     result.outcome = CheckBallContacts(phase0 + cursor_.phase_speed * (k + 1) / substeps);
   }
 
+  bool entered_down = false;
   if (result.outcome == Outcome::kRunning) {
     const int before = cursor_.current;
     spec_->cursor().Advance(walk, &rng_, &cursor_, &events_);
-    if (cursor_.current != before && spec_->graph().node(cursor_.current).stage == config::DOWN) {
-      kick_touched_ = kick_rewarded_ = false;  // a new cycle
-    }
+    entered_down = cursor_.current != before &&
+                   spec_->graph().node(cursor_.current).stage == config::DOWN;
+    if (entered_down) kick_touched_ = kick_rewarded_ = false;  // a new cycle
     result.outcome = CheckTermination(ball_ref);
   }
   result.reward = result.outcome == Outcome::kDiverged ? 0.0f : ComputeReward(ball_ref);
@@ -385,6 +435,7 @@ StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
     result.outcome = Outcome::kTimeLimit;
   }
   if (result.terminated()) spec_->cursor().Fail(cursor_, &events_);
+  RecordStartCandidates(entered_down, result);
   return result;
 }
 

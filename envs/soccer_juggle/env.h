@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <mujoco/mujoco.h>
@@ -84,6 +85,17 @@ class JuggleEnv : public juggle::Env {
   void PlaceAtReference();
   // Adds env().start()'s noise to the ball and the actuated joints.
   void PerturbStart(const config::StartVariation& start);
+  // Recorded starts (env().start().recorded_start_fraction): a state to start from.
+  struct Snapshot {
+    std::vector<double> qpos, qvel;
+    CursorState cursor;
+  };
+  Snapshot TakeSnapshot() const;
+  // Starts the episode from `s` (steps, juggles and the kick restart from zero).
+  void StartFrom(const Snapshot& s);
+  // Keeps a snapshot at the start of each DOWN node (after enough juggles); when the episode
+  // fails, its last one joins the recorded starts.
+  void RecordStartCandidates(bool entered_down, const StepResult& result);
 
   std::shared_ptr<const JuggleSpec> spec_;
   const mjModel* model_;
@@ -98,6 +110,10 @@ class JuggleEnv : public juggle::Env {
   bool kick_touched_ = false;
   bool kick_rewarded_ = false;
   bool touched_this_step_ = false;
+  // Recorded starts: the latest candidate of this episode and the ring of failed ones.
+  std::optional<Snapshot> candidate_;
+  std::vector<Snapshot> recorded_starts_;
+  size_t next_recorded_ = 0;
   int warning_count_ = 0;   // sum of the watched MuJoCo warning counters at the last check
 };
 

@@ -301,5 +301,43 @@ TEST_F(StartVariationTest, RandomPhaseStartsPlaceTheBallOnItsFallAtThatPhase) {
   }
 }
 
+// Restarts where the policy fails: after a failed episode that had a second DOWN node, the env
+// can start from the state at that node's start — mid-juggle, with fresh counters.
+TEST_F(StartVariationTest, FailedEpisodesBecomeRestartStatesBeforeTheFailingKick) {
+  absl::StatusOr<LoadedConfig> config = testing::LoadShippedConfig("right_foot_base");
+  ASSERT_TRUE(config.ok());
+  config::StartVariation* start =
+      config->run.mutable_soccer_juggle()->mutable_env()->mutable_start();
+  start->set_recorded_start_fraction(1.0);
+  start->set_recorded_start_min_juggles(1);
+  auto spec = JuggleSpec::Create(*config);
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  AdaptiveWalk walk(&(*spec)->graph());
+  const float zero[kNumActions] = {0};
+  // Zero action with the base controller: the first kick often lands, the second fails.
+  JuggleEnv env(*spec, Rng::ForStream(3, 0, 0));
+  int restarts = 0;
+  for (int episode = 0; episode < 40 && restarts == 0; ++episode) {
+    env.Reset(walk);
+    // A fresh start is at phase 0 exactly; a recorded one at its carried phase.
+    const bool restarted = env.cursor().phase != 0.0;
+    if (episode > 0 && restarted && env.steps() == 0) {
+      ++restarts;
+      // The start of a DOWN node after a kick: the ball near its apex, counters fresh.
+      EXPECT_EQ((*spec)->graph().node(env.cursor().current).stage, config::DOWN);
+      EXPECT_LT(env.cursor().phase, 0.05);
+      EXPECT_GT(env.data()->qpos[(*spec)->ball_qpos() + 2], 1.0);
+      EXPECT_EQ(env.juggles(), 0);
+      EXPECT_EQ(env.completions(), 0);
+      break;
+    }
+    StepResult r;
+    do {
+      r = env.Step(zero, walk);
+    } while (r.outcome == Outcome::kRunning);
+  }
+  EXPECT_EQ(restarts, 1) << "no failed episode reached its second DOWN node";
+}
+
 }  // namespace
 }  // namespace juggle::soccer_juggle

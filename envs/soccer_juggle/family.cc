@@ -68,10 +68,14 @@ class SoccerJuggleFamily final : public EnvFamily {
     if (!spec.ok()) return spec.status();
     return std::shared_ptr<const EnvSpec>(*std::move(spec));
   }
-  void SetMaxEpisodeSeconds(double seconds, config::RunConfig* run) const override {
+  void ConfigureForEvaluation(double max_seconds, config::RunConfig* run) const override {
     config::EnvConfig* env = run->mutable_soccer_juggle()->mutable_env();
     const double control_dt = env->sim_dt() * env->substeps();
-    env->set_max_episode_steps(static_cast<int>(std::ceil(seconds / control_dt - 1e-9)));
+    if (max_seconds > 0) {
+      env->set_max_episode_steps(static_cast<int>(std::ceil(max_seconds / control_dt - 1e-9)));
+    }
+    env->mutable_start()->set_random_phase_fraction(0);
+    env->mutable_start()->set_recorded_start_fraction(0);
   }
 };
 

@@ -149,9 +149,14 @@ class TossFamily final : public EnvFamily {
     if (!spec.ok()) return spec.status();
     return std::shared_ptr<const EnvSpec>(*std::move(spec));
   }
-  void SetMaxEpisodeSeconds(double seconds, config::RunConfig* run) const override {
-    // The toss model's timestep (10 ms) is its control step (TossSpec checks it).
-    run->mutable_toss()->set_max_episode_steps(static_cast<int>(std::ceil(seconds / 0.01 - 1e-9)));
+  void ConfigureForEvaluation(double max_seconds, config::RunConfig* run) const override {
+    // The toss model's timestep (10 ms) is its control step (TossSpec checks it). Recorded
+    // start states are part of the task's start distribution here (the runtime's states), so
+    // they stay.
+    if (max_seconds > 0) {
+      run->mutable_toss()->set_max_episode_steps(
+          static_cast<int>(std::ceil(max_seconds / 0.01 - 1e-9)));
+    }
   }
 };
 

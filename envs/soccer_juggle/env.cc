@@ -63,7 +63,8 @@ void JuggleEnv::StartFrom(const Snapshot& s) {
   cursor_.entered_by = -1;  // the episode's first node
   cursor_.completions = 0;
   cursor_.juggles = 0;
-  ComputeReferencePose(*spec_, cursor_.current, cursor_.phase, &reference_);
+  swing_adjust_ = {};
+  ComputeReferencePose(*spec_, cursor_.current, cursor_.phase, &reference_, swing_adjust_);
   target_ = reference_;
   PerturbStart(spec_->env().start());
   mj_forward(model_, data_.get());
@@ -108,7 +109,8 @@ void JuggleEnv::PlaceAtReference() {
     cursor_.phase = rng_.Uniform(0, start.max_phase());
     fall_s = cursor_.phase / cursor_.phase_speed * spec_->control_dt();
   }
-  ComputeReferencePose(*spec_, cursor_.current, cursor_.phase, &reference_);
+  swing_adjust_ = {};
+  ComputeReferencePose(*spec_, cursor_.current, cursor_.phase, &reference_, swing_adjust_);
   target_ = reference_;
   mju_copy(data_->qpos, reference_.data(), kCharacterNq);
   const BallReference ball = spec_->cursor().DesiredBall(cursor_, cursor_.phase);
@@ -211,9 +213,9 @@ void JuggleEnv::AddReferenceFeedforward(double phase, double* feedforward) {
     qpos[2] += kLift;
   };
   load(reference_, d->qpos);
-  ComputeReferencePose(*spec_, cursor_.current, phase - dphase, &pose);
+  ComputeReferencePose(*spec_, cursor_.current, phase - dphase, &pose, swing_adjust_);
   load(pose, q_minus);
-  ComputeReferencePose(*spec_, cursor_.current, phase + dphase, &pose);
+  ComputeReferencePose(*spec_, cursor_.current, phase + dphase, &pose, swing_adjust_);
   load(pose, q_plus);
   mj_differentiatePos(model_, v_minus, dt, q_minus, d->qpos);
   mj_differentiatePos(model_, v_plus, dt, d->qpos, q_plus);
@@ -376,6 +378,30 @@ float JuggleEnv::ComputeReward(const BallReference& ball_ref) const {
   return static_cast<float>(w.scale() * r);
 }
 
+void JuggleEnv::UpdateSwingAdjust() {
+  if (!spec_->env().has_kick_feedback()) return;
+  const GraphNode& node = spec_->graph().node(cursor_.current);
+  if (node.stage != config::DOWN || kick_touched_ || !node.spec.pose().has_leg_swing()) return;
+  const double* qpos = data_->qpos;
+  const double* ball = qpos + spec_->ball_qpos();
+  const double* ball_vel = data_->qvel + spec_->ball_dof();
+  const double g = spec_->env().gravity();
+  const double drop = ball[2] - node.spec.contact_height();
+  if (drop <= 0) return;  // at the contact height already: hold
+  const double vz = ball_vel[2];
+  const double t = (vz + std::sqrt(vz * vz + 2 * g * drop)) / g;  // free fall to the height
+  const double ex = ball[0] + ball_vel[0] * t - qpos[0] - node.spec.ball_target().x();
+  const double ey = ball[1] + ball_vel[1] * t - qpos[1] - node.spec.ball_target().y();
+  const double late = t + spec_->cursor().SecondsFromContact(cursor_, cursor_.phase);
+  const config::KickFeedback& f = spec_->env().kick_feedback();
+  const bool left = node.spec.pose().leg_swing().side() == config::LEFT;
+  swing_adjust_.hip = f.hip_per_m() * ex;
+  swing_adjust_.knee = f.knee_per_m() * ex;
+  swing_adjust_.abduction = f.abduction_per_m() * ey * (left ? 1 : -1);
+  const double cycle_s = spec_->control_dt() / cursor_.phase_speed;
+  swing_adjust_.phase = -f.timing() * late / cycle_s;
+}
+
 float JuggleEnv::KickReward() {
   if (touched_this_step_) {
     kick_touched_ = true;
@@ -409,7 +435,8 @@ StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
   events_.clear();
   touched_this_step_ = false;
   const double phase0 = cursor_.phase;
-  ComputeReferencePose(*spec_, cursor_.current, phase0, &reference_);
+  UpdateSwingAdjust();
+  ComputeReferencePose(*spec_, cursor_.current, phase0, &reference_, swing_adjust_);
   const BallReference ball_ref = spec_->cursor().DesiredBall(cursor_, phase0);
 
   double feedforward[kCharacterNv] = {0};

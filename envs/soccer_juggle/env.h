@@ -24,6 +24,7 @@
 #include "envs/env.h"
 #include "envs/mujoco_model.h"
 #include "envs/soccer_juggle/outcomes.h"
+#include "envs/soccer_juggle/reference_pose.h"
 #include "envs/soccer_juggle/spec.h"
 
 namespace juggle::soccer_juggle {
@@ -84,6 +85,9 @@ class JuggleEnv : public juggle::Env {
   // reward.w_kick's one-time reward when the ball has just left the foot going up (0 otherwise);
   // tracks the kick of the current cycle.
   float KickReward();
+  // env.kick_feedback: recomputes swing_adjust_ from the ball's free flight while the current
+  // leg-swing DOWN node has not touched the ball; holds it otherwise.
+  void UpdateSwingAdjust();
   bool Diverged() const;
   // Character at the reference pose of the cursor's node and phase (a random phase of a DOWN
   // node when start.random_phase_fraction draws it), ball on its reference path, both moved by
@@ -111,6 +115,7 @@ class JuggleEnv : public juggle::Env {
   CursorState cursor_;
   CharacterPose reference_{};
   CharacterPose target_{};  // the PD target: the reference, moved by PD_TARGET_OFFSET actions
+  SwingAdjust swing_adjust_;  // env.kick_feedback's change of the current leg swing
   std::vector<EdgeEvent> events_;
   int steps_ = 0;
   int64_t policy_version_ = 0;

@@ -313,6 +313,47 @@ TEST_F(JuggleEnvTest, BallErrorObservationIsTheBallMinusItsReferenceAfterTheOneH
   }
 }
 
+TEST_F(JuggleEnvTest, KickFeedbackMovesTheSwingByTheGainsTimesThePredictedBallOffset) {
+  LoadedConfig config = spec_->config();
+  config::KickFeedback* f = config.run.mutable_soccer_juggle()->mutable_env()->mutable_kick_feedback();
+  f->set_hip_per_m(3);
+  f->set_knee_per_m(-2);
+  f->set_abduction_per_m(1.5);
+  auto spec = JuggleSpec::Create(config);
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  JuggleEnv env(*spec, Rng(3));
+  env.ResetAt(down_, *walk_);
+  // A ball at rest 2 cm ahead of and 1 cm left of its apex falls straight down: the predicted
+  // offset at the contact height is (0.02, 0.01).
+  mjData* d = env.data();
+  d->qpos[(*spec)->ball_qpos() + 0] += 0.02;
+  d->qpos[(*spec)->ball_qpos() + 1] += 0.01;
+  mj_forward((*spec)->model(), d);
+  // Into the swing (at φ = 0 the swing is at rest and every amplitude change is 0).
+  for (int i = 0; i < 10; ++i) ASSERT_EQ(env.Step(kZeroAction, *walk_).outcome, Outcome::kRunning);
+  // The ball falls straight down, so the predicted offset is where it is now (relative to the
+  // root, which has swayed since the start).
+  const config::NodeSpec& node = (*spec)->graph().node(down_).spec;
+  const double* ball = d->qpos + (*spec)->ball_qpos();
+  const double ex = ball[0] - d->qpos[0] - node.ball_target().x();
+  const double ey = ball[1] - d->qpos[1] - node.ball_target().y();
+  const double phase0 = env.cursor().phase;
+  env.Step(kZeroAction, *walk_);
+  SwingAdjust expected;
+  expected.hip = 3 * ex;
+  expected.knee = -2 * ex;
+  expected.abduction = 1.5 * ey * -1;  // right leg: toward −y is outward
+  CharacterPose pose;
+  ComputeReferencePose(**spec, down_, phase0, &pose, expected);
+  for (int i = 0; i < kCharacterNq; ++i) EXPECT_NEAR(env.reference_pose()[i], pose[i], 1e-9) << i;
+  // The same swing without feedback differs (the adjustment is not zero).
+  CharacterPose plain;
+  ComputeReferencePose(**spec, down_, phase0, &plain);
+  double diff = 0;
+  for (int i = 0; i < kCharacterNq; ++i) diff += std::abs(plain[i] - pose[i]);
+  EXPECT_GT(diff, 1e-4);
+}
+
 // The start variation of the recipe's config: within its ranges, different per seed, the same
 // for the same seed.
 class StartVariationTest : public ::testing::Test {

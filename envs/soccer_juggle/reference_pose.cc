@@ -44,27 +44,28 @@ namespace {
 constexpr int kX = 0;
 constexpr int kZ = 2;
 
-void LegSwingPose(const JuggleSpec& spec, const config::LegSwing& g, double phase,
-                  CharacterPose* pose) {
+void LegSwingPose(const JuggleSpec& spec, const config::LegSwing& g, const SwingAdjust& adjust,
+                  double phase, CharacterPose* pose) {
   double phi = phase;
-  if (g.phase_lead() != 0) {
-    phi += g.phase_lead();
+  if (g.phase_lead() != 0 || adjust.phase != 0) {
+    phi += g.phase_lead() + adjust.phase;
     phi -= std::floor(phi);  // the swing repeats every cycle
   }
+  const double hip_amplitude = g.hip_amplitude() + adjust.hip;
+  const double abduction = g.hip_abduction() + adjust.abduction;
   const double s = g.hold_peak() ? 1.0 : std::sin(M_PI * phi);
   const bool left = g.side() == config::LEFT;
   const JointId hip = left ? kLeftHip : kRightHip;
   const JointId knee = left ? kLeftKnee : kRightKnee;
   const JointId ankle = left ? kLeftAnkle : kRightAnkle;
-  if (g.hip_abduction() != 0) {
+  if (abduction != 0) {
     // Flexion about z and abduction about x (−x moves a right limb toward +z, outward).
-    const double rotvec[3] = {(left ? 1 : -1) * g.hip_abduction() * s, 0,
-                              g.hip_amplitude() * s};
+    const double rotvec[3] = {(left ? 1 : -1) * abduction * s, 0, hip_amplitude * s};
     SetBallJointRotation(spec, hip, rotvec, pose);
   } else {
-    SetBallJointAxisRotation(spec, hip, kZ, g.hip_amplitude() * s, pose);
+    SetBallJointAxisRotation(spec, hip, kZ, hip_amplitude * s, pose);
   }
-  SetHinge(spec, knee, -g.knee_amplitude() * s, pose);
+  SetHinge(spec, knee, -(g.knee_amplitude() + adjust.knee) * s, pose);
   if (g.ankle_amplitude() != 0) {
     SetBallJointAxisRotation(spec, ankle, kZ, g.ankle_amplitude() * s, pose);
   }
@@ -154,7 +155,8 @@ void KeyframePose(const JuggleSpec& spec, const NodeRuntime& rt, double phase,
 
 }  // namespace
 
-void ComputeReferencePose(const JuggleSpec& spec, int node, double phase, CharacterPose* pose) {
+void ComputeReferencePose(const JuggleSpec& spec, int node, double phase, CharacterPose* pose,
+                          const SwingAdjust& adjust) {
   const config::ReferencePose& ref = spec.graph().node(node).spec.pose();
   if (ref.has_keyframes()) {
     KeyframePose(spec, spec.node_runtime(node), phase, pose);
@@ -163,7 +165,7 @@ void ComputeReferencePose(const JuggleSpec& spec, int node, double phase, Charac
   *pose = StandingPose(spec);
   switch (ref.generator_case()) {
     case config::ReferencePose::kLegSwing:
-      LegSwingPose(spec, ref.leg_swing(), phase, pose);
+      LegSwingPose(spec, ref.leg_swing(), adjust, phase, pose);
       break;
     case config::ReferencePose::kHeadDip:
       HeadDipPose(spec, ref.head_dip(), phase, pose);

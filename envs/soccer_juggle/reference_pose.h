@@ -20,9 +20,16 @@ void SetHinge(const JuggleSpec& spec, JointId j, double angle, CharacterPose* po
 // The standing pose: root at (0, 0, height), upright-forward, every joint at the rest pose.
 CharacterPose StandingPose(const JuggleSpec& spec);
 
+// Ball-dependent changes of a leg swing (env.kick_feedback): added to the swing's hip flexion,
+// knee and hip abduction amplitudes (rad) and to its phase. Zero: the configured swing.
+struct SwingAdjust {
+  double hip = 0, knee = 0, abduction = 0, phase = 0;
+};
+
 // Writes the reference pose of `node` at phase φ into `pose` (root x, y relative to the
-// episode's anchor). Deterministic and allocation-free.
-void ComputeReferencePose(const JuggleSpec& spec, int node, double phase, CharacterPose* pose);
+// episode's anchor). Deterministic and allocation-free. `adjust` changes leg swings only.
+void ComputeReferencePose(const JuggleSpec& spec, int node, double phase, CharacterPose* pose,
+                          const SwingAdjust& adjust = {});
 
 // The upright-forward root orientation (w, x, y, z) = (√½, √½, 0, 0).
 extern const double kUprightQuat[4];

@@ -99,6 +99,23 @@ TEST_F(TossCliTest, ZeroActionEvalEndsWithTheProtocolKeys) {
   EXPECT_LT(Value("throws_3"), 5) << "resting arms cannot juggle";
 }
 
+TEST_F(TossCliTest, EvalWritesTheProtocolAsJsonLines) {
+  const std::string json = dir_ + "/eval.jsonl";
+  ASSERT_EQ(Run({"toss", "--zero-action", "--eval", "--seeds=2", "--patterns=3,531",
+                 "--wind-max=0.02", "--json=" + json}, 120, "eval.log"), 0) << output_;
+  std::ifstream in(json);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 5u);  // 2 patterns, 2 wind steps, the summary
+  EXPECT_THAT(lines[0], HasSubstr("{\"table\":\"toss_pattern\",\"pattern\":\"3\",\"balls\":3,"));
+  EXPECT_THAT(lines[1], HasSubstr("\"pattern\":\"531\""));
+  EXPECT_THAT(lines[2], HasSubstr("{\"table\":\"toss_wind\",\"wind_n\":0,"));
+  EXPECT_THAT(lines[4], HasSubstr("{\"table\":\"toss_summary\",\"seeds\":2,\"max_throws\":200,"
+                                  "\"max_basic_pattern\":0,"));
+  EXPECT_EQ(Run({"toss", "--zero-action", "--json=" + json}, 30, "nojson.log"), 2);
+  EXPECT_THAT(output_, HasSubstr("--json needs --eval"));
+}
+
 // An arm holding its home pose releases at the home point with (almost) no speed: the position
 // error is ~0 and the velocity error is about the target speed (every throw value's Eq. 2–3
 // speed exceeds 2 m/s).

@@ -11,7 +11,8 @@ namespace juggle {
 namespace {
 
 constexpr double kDegrees = 180.0 / M_PI;
-const char* const kAxisChannel[3] = {"Xrotation", "Yrotation", "Zrotation"};
+// The rotation channel (in Zrotation Xrotation Yrotation order) of BVH axis X, Y, Z.
+constexpr int kAxisChannel[3] = {1, 2, 0};
 
 struct DataDeleter {
   void operator()(mjData* d) const { mj_deleteData(d); }
@@ -147,21 +148,20 @@ absl::StatusOr<BvhSkeleton> BuildBvhSkeleton(const mjModel* m) {
       Pivot(m, d.get(), s.joints[j.parent].body, parent_pivot);
       mju_sub3(delta, pivot, parent_pivot);
       ToBvh(delta, j.offset);
+      j.channels = {"Zrotation", "Xrotation", "Yrotation"};
       const int jnt = m->body_jntadr[b];
-      bool one_channel = false;
       if (m->body_jntnum[b] == 1 && m->jnt_type[jnt] == mjJNT_HINGE) {
         double axis[3];
         ToBvh(d->xaxis + 3 * jnt, axis);
-        for (int k = 0; k < 3 && !one_channel; ++k) {
+        for (int k = 0; k < 3; ++k) {
           if (std::abs(std::abs(axis[k]) - 1) < 1e-9) {
-            j.channels = {kAxisChannel[k]};
             j.hinge_qpos = m->jnt_qposadr[jnt];
+            j.hinge_channel = kAxisChannel[k];
             j.hinge_sign = axis[k] > 0 ? 1 : -1;
-            one_channel = true;
+            break;
           }
         }
       }
-      if (!one_channel) j.channels = {"Zrotation", "Xrotation", "Yrotation"};
     }
     if (leaf) {
       j.end_site = true;
@@ -239,7 +239,9 @@ absl::StatusOr<BvhExport> ExportBvh(const mjModel* m, const Trajectory& t, int e
       MulMatTransB(d->xmat + 9 * b, &rest[9 * b], w);
       if (joint.hinge_qpos >= 0) {
         const double angle = d->qpos[joint.hinge_qpos] - m->qpos0[joint.hinge_qpos];
-        absl::StrAppend(&line, j ? " " : "", Fmt(joint.hinge_sign * angle * kDegrees));
+        double zxy[3] = {0, 0, 0};
+        zxy[joint.hinge_channel] = joint.hinge_sign * angle * kDegrees;
+        absl::StrAppend(&line, " ", Fmt(zxy[0]), " ", Fmt(zxy[1]), " ", Fmt(zxy[2]));
         continue;
       }
       double local[9], local_bvh[9], zxy[3];

@@ -9,11 +9,13 @@
 //   joints get an End Site at their first geom's centre. A joint sits at its body's (first)
 //   joint anchor; OFFSETs are the rest pose's (the model's qpos0) anchor differences.
 // - Channels: the root has Xposition Yposition Zposition Zrotation Xrotation Yrotation
-//   (absolute world position of its anchor, OFFSET 0); a body with one hinge whose rest axis is
-//   a BVH axis gets one channel about that axis: ±(qpos − qpos0) in degrees, the sign making
-//   the channel a right-handed rotation about +X, +Y or +Z; any other body gets Zrotation
-//   Xrotation Yrotation, R = Rz·Rx·Ry of its rotation relative to its parent's, measured from
-//   the rest pose. Angles in degrees.
+//   (absolute world position of its anchor, OFFSET 0); every other joint has Zrotation
+//   Xrotation Yrotation (three rotation channels everywhere: Blender's importer, among others,
+//   needs them), R = Rz·Rx·Ry of its rotation relative to its parent's, measured from the rest
+//   pose. A body with one hinge whose rest axis is a BVH axis writes ±(qpos − qpos0) in that
+//   axis's channel and 0 in the other two, the sign making it a right-handed rotation about +X,
+//   +Y or +Z (exact for any angle, where an Euler decomposition would fold angles past 90°).
+//   Angles in degrees.
 // - Frames: the samples of one episode, Frame Time = the recording's control_dt.
 // - Balls (world bodies named ball*) are not in the BVH: their centres go to a CSV beside it,
 //   in the BVH's axes and units: frame,time,<ball>_x,<ball>_y,<ball>_z,...
@@ -37,7 +39,8 @@ struct BvhJoint {
   int parent = -1;             // index into BvhSkeleton::joints; -1 for the root
   double offset[3] = {0, 0, 0};  // BVH axes, m
   std::vector<std::string> channels;
-  int hinge_qpos = -1;         // one-channel hinge: its qpos address ...
+  int hinge_qpos = -1;         // a hinge about a BVH axis: its qpos address, ...
+  int hinge_channel = 0;       // ... the rotation channel (0 Z, 1 X, 2 Y) holding its angle ...
   double hinge_sign = 1;       // ... and the sign of the channel relative to the angle
   bool end_site = false;       // a leaf: End Site at end_offset
   double end_offset[3] = {0, 0, 0};

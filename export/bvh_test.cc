@@ -183,7 +183,9 @@ TEST(BvhTest, SoccerJointAnglesReadBackEqualTheRecording) {
   ASSERT_EQ(bvh.joints.size(), 13u);
   EXPECT_EQ(bvh.joints[0].name, "root");
   EXPECT_EQ(bvh.Find("right_wrist"), -1);
-  EXPECT_EQ(bvh.joints[bvh.Find("right_knee")].channels, (std::vector<std::string>{"Xrotation"}));
+  // Three rotation channels on every joint (Blender's importer needs them).
+  const std::vector<std::string> kZxy = {"Zrotation", "Xrotation", "Yrotation"};
+  EXPECT_EQ(bvh.joints[bvh.Find("right_knee")].channels, kZxy);
   EXPECT_NEAR(bvh.joints[bvh.Find("right_knee")].offset.norm(), 0.421546, 1e-6);
   EXPECT_EQ(bvh.joints[bvh.Find("right_knee")].parent, bvh.Find("right_hip"));
 
@@ -207,8 +209,11 @@ TEST(BvhTest, SoccerJointAnglesReadBackEqualTheRecording) {
       ASSERT_GE(joint, 0) << name;
       const double* jq = q + m->jnt_qposadr[jnt];
       if (m->jnt_type[jnt] == mjJNT_HINGE) {
-        const double angle = -bvh.Value(f, name, 0) * kRad;
+        // About BVH −X: the X channel holds −angle, Z and Y stay 0.
+        const double angle = -bvh.Value(f, name, 1) * kRad;
         worst = std::max(worst, std::abs(angle - jq[0]));
+        EXPECT_EQ(bvh.Value(f, name, 0), 0.0);
+        EXPECT_EQ(bvh.Value(f, name, 2), 0.0);
       } else {
         const Eigen::Matrix3d expected =
             P() * r0 * Quat(jq).toRotationMatrix() * r0.transpose() * P().transpose();
@@ -236,7 +241,7 @@ TEST(BvhTest, SoccerJointAnglesReadBackEqualTheRecording) {
   }
 }
 
-TEST(BvhTest, TossArmsExportAsHingeChainsWithOneChannelPerJoint) {
+TEST(BvhTest, TossArmsExportAsHingeChainsWithTheAngleInTheXChannel) {
   Recorded rec = RecordZeroAction("configs/toss_catch.textproto", 30);
   const mjModel* m = rec.spec->model();
   const Trajectory& t = rec.trajectory;
@@ -257,10 +262,14 @@ TEST(BvhTest, TossArmsExportAsHingeChainsWithOneChannelPerJoint) {
                             "left_shoulder", "left_elbow", "left_wrist"}) {
     const int jnt = mj_name2id(m, mjOBJ_JOINT, joint);
     const std::string body = mj_id2name(m, mjOBJ_BODY, m->jnt_bodyid[jnt]);
-    ASSERT_EQ(bvh.joints[bvh.Find(body)].channels, (std::vector<std::string>{"Xrotation"}));
+    ASSERT_EQ(bvh.joints[bvh.Find(body)].channels,
+              (std::vector<std::string>{"Zrotation", "Xrotation", "Yrotation"}));
     for (int f = 0; f < bvh.frames; ++f) {
-      worst = std::max(worst, std::abs(bvh.Value(f, body, 0) * kRad -
+      worst = std::max(worst, std::abs(bvh.Value(f, body, 1) * kRad -
                                        t.qpos_at(f)[m->jnt_qposadr[jnt]]));
+      // The local rotation the three channels compose is the hinge's, about +X.
+      worst = std::max(worst, AngleBetween(LocalRotation(bvh, f, bvh.Find(body)),
+                                           Rot("X", t.qpos_at(f)[m->jnt_qposadr[jnt]] / kRad)));
     }
   }
   EXPECT_LT(worst, 1e-4);

@@ -12,7 +12,7 @@ PACKAGES=(
   libtorch-dev libopenblas0-openmp
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
   ffmpeg libegl-dev libopengl-dev libegl1 libegl-mesa0 libgl1-mesa-dri libpng-dev
-  libjs-three chromium
+  libjs-three chromium blender
 )
 
 missing=()

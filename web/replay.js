@@ -183,13 +183,15 @@
     contactsByFrame.get(f).push(`${ball}-${other}`);
   }
 
-  // ---- Timeline: one row of contacts, one row per categorical channel (its label as colour),
-  // episode starts as black lines, the current time as a red line.
+  // ---- Timeline: a row of ball contacts, then one row per categorical channel (a colour per
+  // label, the label written where it fits), each row named on the left; episode starts as
+  // black lines, endings other than "running" as red ones, the current time as a red bar.
   const timeline = document.getElementById('timeline');
   const rows = data.channels.map((c, i) => i).filter((i) => data.channels[i].labels.length &&
                                                            data.channels[i].name !== 'outcome');
-  const rowHeight = 9;
-  timeline.style.height = `${rowHeight * (rows.length + 1) + 4}px`;
+  const rowHeight = 13;
+  const margin = 92;  // px for the row names
+  timeline.style.height = `${rowHeight * (rows.length + 1) + 2}px`;
   const palette = ['#4e79a7', '#f28e2b', '#59a14f', '#e15759', '#76b7b2', '#edc948', '#b07aa1',
                    '#ff9da7', '#9c755f', '#bab0ac'];
   function drawTimeline(t) {
@@ -200,19 +202,36 @@
     }
     const ctx = timeline.getContext('2d');
     ctx.clearRect(0, 0, w, h);
-    const x = (time) => (duration > 0 ? (time / duration) * (w - 1) : 0);
+    ctx.font = '10px monospace';
+    ctx.textBaseline = 'middle';
+    const x = (time) => margin + (duration > 0 ? (time / duration) * (w - margin - 1) : 0);
+    const name = (text, r) => {
+      ctx.fillStyle = '#333';
+      ctx.fillText(text.slice(0, 14), 2, (r + 0.5) * rowHeight);
+    };
+    name('contacts', 0);
     rows.forEach((c, r) => {
+      const row = r + 1;
+      name(data.channels[c].name, row);
       let start = 0;
       for (let f = 1; f <= nf; ++f) {
         if (f === nf || data.values[f * nc + c] !== data.values[start * nc + c]) {
-          ctx.fillStyle = palette[data.values[start * nc + c] % palette.length];
-          ctx.fillRect(x(times[start]), (r + 1) * rowHeight, Math.max(1, x(times[Math.min(f, nf - 1)]) - x(times[start])), rowHeight - 1);
+          const value = data.values[start * nc + c];
+          const x0 = x(times[start]);
+          const width = Math.max(1, x(times[Math.min(f, nf - 1)]) - x0);
+          ctx.fillStyle = palette[value % palette.length];
+          ctx.fillRect(x0, row * rowHeight, width, rowHeight - 1);
+          const label = data.channels[c].labels[value];
+          if (label !== undefined && ctx.measureText(label).width + 4 < width) {
+            ctx.fillStyle = '#fff';
+            ctx.fillText(label, x0 + 2, (row + 0.5) * rowHeight);
+          }
           start = f;
         }
       }
     });
     ctx.fillStyle = '#000';
-    for (const [f] of data.contacts) ctx.fillRect(x(times[f]), 1, 1, rowHeight - 2);
+    for (const [f] of data.contacts) ctx.fillRect(x(times[f]), 2, 1, rowHeight - 4);
     for (const [f, channel, label] of data.events) {
       if (channel === 'episode') ctx.fillRect(x(times[f]), 0, 1, h);
       if (channel === 'outcome' && label !== 'running') {
@@ -257,7 +276,8 @@
   speed.addEventListener('change', () => { state.speed = parseFloat(speed.value); });
   follow.addEventListener('change', () => { state.follow = follow.checked; });
   timeline.addEventListener('click', (e) => {
-    state.t = (e.offsetX / timeline.clientWidth) * duration;
+    const fraction = (e.offsetX - margin) / Math.max(1, timeline.clientWidth - margin - 1);
+    state.t = Math.min(1, Math.max(0, fraction)) * duration;
     setPlaying(false);
   });
 

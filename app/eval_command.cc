@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -142,8 +144,11 @@ int Evaluate(const EvalFlags& f) {
         });
     if (!swept.ok()) return Fail(swept.status());
     std::printf("%-9s %12s\n", "direction", "max_force_n");
-    for (const auto& [direction, force] : swept->max_force_n) {
-      std::printf("%-9s %12.3f\n", direction.c_str(), force);
+    for (const std::string& direction : swept->directions) {
+      // "none": even the smallest force fails.
+      const double force = swept->max_force_n.at(direction);
+      std::printf("%-9s %12s\n", direction.c_str(),
+                  force < 0 ? "none" : absl::StrFormat("%.3f", force).c_str());
       absl::StrAppend(&line, absl::StrFormat(" max_force_%s=%g", direction, force));
       json.push_back(absl::StrCat("{\"table\":\"force_limit\",\"direction\":",
                                   JsonQuote(direction), ",\"max_force_n\":", force,

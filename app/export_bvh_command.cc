@@ -65,7 +65,7 @@ int ExportBvhCommand(const ExportBvhFlags& f) {
 CommandBody AddExportBvhCommand(CLI::App* cmd) {
   auto f = std::make_shared<ExportBvhFlags>();
   cmd->add_option("--trajectory", f->trajectory,
-                  "recording to export (juggle render/eval/toss --record; docs/recording.md)")
+                  "recording to export (juggle render/eval/toss --record; docs/replay_and_export.md)")
       ->required();
   cmd->add_option("--out", f->out, "BVH file to write (Y up, metres, degrees)")
       ->capture_default_str();

@@ -89,7 +89,7 @@ int Replay(const ReplayFlags& f) {
 CommandBody AddReplayCommand(CLI::App* cmd) {
   auto f = std::make_shared<ReplayFlags>();
   cmd->add_option("--trajectory", f->trajectory,
-                  "recording to play (juggle render/eval/toss --record; docs/recording.md)")
+                  "recording to play (juggle render/eval/toss --record; docs/replay_and_export.md)")
       ->required();
   cmd->add_option("--out", f->out, "the self-contained HTML page to write")->capture_default_str();
   cmd->add_flag("--serve{8000}", f->serve_port,

@@ -157,6 +157,7 @@ absl::StatusOr<ForceSweepReport> RunForceSweep(
                             magnitude, summary.median_juggles, summary.mean_juggles));
       }
       report.max_force_n[direction] = max_force;
+      report.directions.push_back(direction);
     }
   }
   return report;

@@ -51,6 +51,7 @@ struct ForceSweepRow {
 
 struct ForceSweepReport {
   std::vector<ForceSweepRow> rows;          // supported directions × magnitudes
+  std::vector<std::string> directions;      // the supported ones, in sweep order (+x -x ... -z)
   // Per supported direction: the largest magnitude such that it and every smaller one keep
   // median juggles >= min_median_juggles; −1 when even the first magnitude does not.
   std::map<std::string, double> max_force_n;

@@ -110,6 +110,7 @@ TEST(TablesTest, TossSweepsHorizontalWindOnlyAndFindsTheLargestPassingForce) {
       RunForceSweep(config, &zero, o, [&](const std::string& l) { lines.push_back(l); });
   ASSERT_TRUE(r.ok()) << r.status();
   EXPECT_EQ(r->rows.size(), 4u);  // ±x × {0, 0.5}
+  EXPECT_EQ(r->directions, (std::vector<std::string>{"+x", "-x"}));
   EXPECT_EQ(r->max_force_n.at("+x"), 0.5);
   EXPECT_EQ(r->max_force_n.at("-x"), 0.5);
   ASSERT_EQ(r->unsupported.size(), 4u);

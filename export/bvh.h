@@ -1,7 +1,7 @@
 // BVH export of a recording (`juggle export-bvh`): the character's skeleton from the MJCF body
 // tree and its motion per control step, for animation tools (Blender, MotionBuilder, ...).
 //
-// Conventions (docs/recording.md, "BVH export"):
+// Conventions (docs/replay_and_export.md, "BVH export"):
 // - Axes: BVH Y up. MuJoCo's world (x, y, z) maps to BVH (X, Y, Z) = (y, z, x), a rotation,
 //   so handedness is kept: the soccer character, facing MuJoCo +x, faces BVH +Z. Metres.
 // - Joints: every body of the character (the subtree of the world's one child that is not a

@@ -2,8 +2,8 @@
 // that plays it in 3D with three.js — no physics in the page. Everything the page draws is
 // computed here: per-sample world transforms of the bodies (mj_forward of each sample's qpos),
 // the drawable geoms of the model, ball contacts per sample, and the changes of every
-// categorical channel (soccer: node; toss: hand and ball modes). docs/recording.md, "Browser
-// replay". Pure functions; thread-compatible.
+// categorical channel (soccer: node; toss: hand and ball modes). docs/replay_and_export.md.
+// Pure functions; thread-compatible.
 #ifndef JUGGLE_EXPORT_REPLAY_H_
 #define JUGGLE_EXPORT_REPLAY_H_
 

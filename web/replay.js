@@ -1,4 +1,4 @@
-// juggle's browser replay (docs/recording.md, "Browser replay"). Plays the recording embedded
+// juggle's browser replay (docs/replay_and_export.md). Plays the recording embedded
 // in the page's #replay-data JSON (export/replay.cc): per-frame world transforms of the bodies,
 // the geoms to draw on them, annotation channels, ball contacts and channel changes. No physics
 // here. URL fragment: #t=SECONDS (show that time, paused), &speed=X, &follow=0|1.

@@ -92,7 +92,7 @@ def main(argv):
             if series:
                 curves[(title, config)] = mean_curve(series)
     x_max = max((c[-1][0] for c in curves.values() if c), default=1)
-    for p, (title, _, _) in enumerate(panels):
+    for p, (title, _, window) in enumerate(panels):
         values = [v for (t, _), c in curves.items() if t == title for point in c for v in point[1:]]
         lo, hi = (min(values), max(values)) if values else (0, 1)
         top = 60 + p * 190
@@ -108,6 +108,9 @@ def main(argv):
             svg.append(f'<polygon points="{" ".join(band)}" fill="{colour}" fill-opacity="0.15"/>')
             line = " ".join(f"{px(x):.1f},{py(m):.1f}" for x, m, _, _ in c)
             svg.append(f'<polyline points="{line}" fill="none" stroke="{colour}" stroke-width="2"/>')
+            if window == 1:  # evaluations are sparse: mark each one
+                svg += [f'<circle cx="{px(x):.1f}" cy="{py(m):.1f}" r="3" fill="{colour}"/>'
+                        for x, m, _, _ in c]
             if p == 0:
                 svg.append(f'<text x="{width-160}" y="{top+16+16*k}" font-size="12" fill="{colour}" '
                            f'font-family="sans-serif">{config} ({len(runs[config])} seeds)</text>')

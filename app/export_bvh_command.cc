@@ -24,7 +24,8 @@ struct ExportBvhFlags {
 
 // motion.bvh -> motion.balls.csv
 std::string DefaultBallsPath(const std::string& out) {
-  const std::string stem = absl::EndsWithIgnoreCase(out, ".bvh") ? out.substr(0, out.size() - 4) : out;
+  const bool bvh = absl::EndsWithIgnoreCase(out, ".bvh");
+  const std::string stem = bvh ? out.substr(0, out.size() - 4) : out;
   return stem + ".balls.csv";
 }
 

@@ -82,7 +82,9 @@ std::string FormatNodeTable(const std::vector<NodeRow>& rows) {
   }
   std::string out = absl::StrFormat("%-*s %8s %11s %8s", static_cast<int>(width), "node", "visits",
                                     "completions", "success");
-  for (const std::string& o : outcomes) absl::StrAppend(&out, absl::StrFormat(" %*s", std::max<int>(8, o.size()), o));
+  for (const std::string& o : outcomes) {
+    absl::StrAppend(&out, absl::StrFormat(" %*s", std::max<int>(8, o.size()), o));
+  }
   out += "\n";
   for (const NodeRow& r : rows) {
     absl::StrAppend(&out, absl::StrFormat("%-*s %8d %11d %8.3f", static_cast<int>(width), r.node,

@@ -261,7 +261,8 @@ absl::StatusOr<BvhExport> ExportBvh(const mjModel* m, const Trajectory& t, int e
     }
     absl::StrAppend(&out.bvh, line, "\n");
     if (!balls.empty()) {
-      absl::StrAppend(&out.balls_csv, f, ",", absl::StrFormat("%.6f", t.time[s] - t.time[samples[0]]));
+      absl::StrAppend(&out.balls_csv, f, ",",
+                      absl::StrFormat("%.6f", t.time[s] - t.time[samples[0]]));
       for (int b : balls) {
         double p[3];
         ToBvh(d->xpos + 3 * b, p);

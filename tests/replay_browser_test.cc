@@ -67,7 +67,8 @@ int RunProgram(const std::vector<std::string>& argv, const std::string& log, dou
     ::execv(args[0], args.data());
     ::_exit(127);
   }
-  const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(int(seconds * 1000));
+  const auto until =
+      std::chrono::steady_clock::now() + std::chrono::milliseconds(int(seconds * 1000));
   int status = 0;
   while (std::chrono::steady_clock::now() < until) {
     if (::waitpid(pid, &status, WNOHANG) == pid) {
@@ -216,7 +217,8 @@ TEST_F(ReplayCliTest, ServeServesTheSamePageOnLoopback) {
   ChildProcess server({"replay", "--trajectory=" + trajectory, "--serve=0"}, log);
   std::smatch port;
   std::string text;
-  for (int i = 0; i < 600 && !std::regex_search(text, port, std::regex("url=http://127.0.0.1:(\\d+)/")); ++i) {
+  const std::regex url("url=http://127.0.0.1:(\\d+)/");
+  for (int i = 0; i < 600 && !std::regex_search(text, port, url); ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
     text = ReadText(log);
   }

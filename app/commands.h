@@ -16,6 +16,8 @@ CommandBody AddRenderCommand(CLI::App* cmd);
 CommandBody AddSiteswapCommand(CLI::App* cmd);
 CommandBody AddTossCommand(CLI::App* cmd);
 CommandBody AddExportPolicyCommand(CLI::App* cmd);
+CommandBody AddReplayCommand(CLI::App* cmd);
+CommandBody AddExportBvhCommand(CLI::App* cmd);
 CommandBody AddBenchCommand(CLI::App* cmd);
 
 }  // namespace juggle

@@ -1,8 +1,13 @@
 // `juggle eval`: runs a trained policy without exploration noise (the mean action), or the
 // zero-action baseline, for a set of seeded episodes side by side, and reports the juggles
-// distribution and how episodes ended. The last line is key=value pairs (eval/summary.h).
+// distribution and how episodes ended, the per-node table, optionally the force sweep
+// (eval/tables.h) and JSON lines. The last line is key=value pairs (eval/summary.h).
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -12,6 +17,7 @@
 #include "eval/controller.h"
 #include "eval/episode_runner.h"
 #include "eval/summary.h"
+#include "eval/tables.h"
 
 namespace juggle {
 namespace {
@@ -28,7 +34,25 @@ struct EvalFlags {
   int64_t seed = kHeldOutSeed;
   double max_seconds = 60;
   std::string record;
+  std::string json;
+  bool force_sweep = false;
+  double force_step = 1.0;
+  double force_max = 5.0;
+  double min_median_juggles = 10;
 };
+
+// Writes `lines` (JSON objects) to `path`, one per line.
+absl::Status WriteJsonLines(const std::string& path, const std::vector<std::string>& lines) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (f == nullptr) {
+    return absl::NotFoundError(absl::StrCat("cannot write ", path, ": ", std::strerror(errno)));
+  }
+  for (const std::string& line : lines) std::fprintf(f, "%s\n", line.c_str());
+  if (std::fclose(f) != 0) {
+    return absl::InternalError(absl::StrCat("cannot write ", path, ": ", std::strerror(errno)));
+  }
+  return absl::OkStatus();
+}
 
 int Evaluate(const EvalFlags& f) {
   if (f.policy.empty() == !f.zero_action) {
@@ -54,6 +78,10 @@ int Evaluate(const EvalFlags& f) {
   absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(config);
   if (!spec.ok()) return Fail(spec.status());
 
+  if (!f.json.empty()) {
+    // Fail before evaluating, not after.
+    if (absl::Status s = WriteJsonLines(f.json, {}); !s.ok()) return Fail(s);
+  }
   std::unique_ptr<Controller> controller;
   PolicyController* policy_controller = nullptr;
   if (source) {
@@ -84,6 +112,57 @@ int Evaluate(const EvalFlags& f) {
     absl::StrAppend(&line, absl::StrFormat(" gate_specialization=%.3f gate_utilization=%.3f",
                                            g.specialization, g.utilization));
   }
+  const std::vector<NodeRow> nodes =
+      NodeTable(report->episodes, (*spec)->graph(), (*spec)->outcome_names());
+  std::printf("%s", FormatNodeTable(nodes).c_str());
+  std::vector<std::string> json = {SummaryJson(summary)};
+  for (const NodeRow& row : nodes) json.push_back(NodeRowJson(row));
+
+  if (f.force_sweep) {
+    ForceSweepOptions sweep;
+    sweep.magnitudes.clear();
+    for (int k = 0; k * f.force_step <= f.force_max + 1e-9; ++k) {
+      sweep.magnitudes.push_back(k * f.force_step);
+    }
+    sweep.min_median_juggles = f.min_median_juggles;
+    sweep.episodes = options;
+    sweep.episodes.record = false;
+    // A controller of its own: the gate statistics above stay those of the plain evaluation.
+    std::unique_ptr<Controller> sweep_controller;
+    if (source) {
+      sweep_controller = std::make_unique<PolicyController>(source->policy);
+    } else {
+      sweep_controller = std::make_unique<ZeroController>((*spec)->act_dim());
+    }
+    std::printf("force sweep: constant force on the ball, %zu magnitudes per direction, "
+                "%d episodes each, pass: median juggles >= %g\n",
+                sweep.magnitudes.size(), f.episodes, f.min_median_juggles);
+    absl::StatusOr<ForceSweepReport> swept =
+        RunForceSweep(config, sweep_controller.get(), sweep, [](const std::string& l) {
+          std::printf("  %s\n", l.c_str());
+          std::fflush(stdout);
+        });
+    if (!swept.ok()) return Fail(swept.status());
+    std::printf("%-9s %12s\n", "direction", "max_force_n");
+    for (const std::string& direction : swept->directions) {
+      // "none": even the smallest force fails.
+      const double force = swept->max_force_n.at(direction);
+      std::printf("%-9s %12s\n", direction.c_str(),
+                  force < 0 ? "none" : absl::StrFormat("%.3f", force).c_str());
+      absl::StrAppend(&line, absl::StrFormat(" max_force_%s=%g", direction, force));
+      json.push_back(absl::StrCat("{\"table\":\"force_limit\",\"direction\":",
+                                  JsonQuote(direction), ",\"max_force_n\":", force,
+                                  ",\"min_median_juggles\":", f.min_median_juggles, "}"));
+    }
+    for (const auto& [direction, why] : swept->unsupported) {
+      std::printf("%-9s %12s  (%s)\n", direction.c_str(), "-", why.c_str());
+    }
+    for (const ForceSweepRow& row : swept->rows) json.push_back(ForceRowJson(row));
+  }
+  if (!f.json.empty()) {
+    if (absl::Status s = WriteJsonLines(f.json, json); !s.ok()) return Fail(s);
+    std::printf("wrote %zu JSON lines to %s\n", json.size(), f.json.c_str());
+  }
   std::printf("%s\n", line.c_str());
   return 0;
 }
@@ -113,6 +192,22 @@ CommandBody AddEvalCommand(CLI::App* cmd) {
       ->capture_default_str();
   cmd->add_option("--record", f->record,
                   "write every episode, one after another, as a trajectory (docs/recording.md)");
+  cmd->add_option("--json", f->json,
+                  "also write the tables as JSON lines: summary, one per node, and with "
+                  "--force-sweep one per direction and force (docs/results.md)");
+  cmd->add_flag("--force-sweep", f->force_sweep,
+                "robustness sweep (paper Table 1): a constant force on the ball along +-x, +-y, "
+                "+-z at 0, step, 2*step, ... up to --force-max, each with the same episodes");
+  cmd->add_option("--force-step", f->force_step, "force sweep step, N")
+      ->check(Between(1e-6, 1000))
+      ->capture_default_str();
+  cmd->add_option("--force-max", f->force_max, "largest force of the sweep, N")
+      ->check(Between(0, 1000))
+      ->capture_default_str();
+  cmd->add_option("--min-median-juggles", f->min_median_juggles,
+                  "a force passes when the median juggles stay at or above this")
+      ->check(AtLeast(0))
+      ->capture_default_str();
   return [f] { return Evaluate(*f); };
 }
 

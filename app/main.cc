@@ -28,6 +28,10 @@ const Command kCommands[] = {
      juggle::AddTossCommand},
     {"export-policy", "write a checkpoint's policy without its trainer (torch-free)",
      juggle::AddExportPolicyCommand},
+    {"replay", "write a recording as a self-contained 3D HTML page (or serve it)",
+     juggle::AddReplayCommand},
+    {"export-bvh", "write a recording's character motion as BVH (+ the balls as CSV)",
+     juggle::AddExportBvhCommand},
     {"bench", "benchmarks that print ratios measured in one run (docs/performance.md)",
      juggle::AddBenchCommand},
 };

@@ -13,6 +13,7 @@
 #include "app/policy_source.h"
 #include "envs/registry.h"
 #include "envs/toss/eval.h"
+#include "render/image.h"
 
 namespace juggle {
 namespace {
@@ -33,6 +34,7 @@ struct TossFlags {
   std::string patterns = "3,4,5,53,441,531,6,7";
   int seeds = 10;
   double wind_step = 0.02, wind_max = 1.0;
+  std::string json;
 };
 
 // A policy trained on the toss task `task`.
@@ -70,6 +72,9 @@ absl::Status CheckSameWorld(const LoadedConfig& catcher, const LoadedConfig& thr
 }
 
 int Evaluate(const LoadedConfig& base, TossPolicies policies, const TossFlags& f) {
+  if (!f.json.empty()) {
+    if (absl::Status s = CheckWritable(f.json); !s.ok()) return Fail(s);
+  }
   toss::TossEvalOptions o;
   o.patterns = absl::StrSplit(f.patterns, ',', absl::SkipEmpty());
   o.first_seed = static_cast<int>(f.seed);
@@ -95,6 +100,12 @@ int Evaluate(const LoadedConfig& base, TossPolicies policies, const TossFlags& f
                 report->start_states.catch_starts.size(), report->start_states.throw_starts.size(),
                 f.record_states.c_str(), f.record_states.c_str());
   }
+  if (!f.json.empty()) {
+    std::string text;
+    for (const std::string& line : toss::TossEvalJsonLines(*report, o)) text += line + "\n";
+    if (absl::Status s = WriteFileBytes(f.json, text); !s.ok()) return Fail(s);
+    std::printf("wrote the evaluation as JSON lines to %s\n", f.json.c_str());
+  }
   std::string summary;
   for (const toss::PatternResult& p : report->patterns) {
     absl::StrAppend(&summary, " throws_", p.pattern, "=", p.median_throws);
@@ -105,6 +116,7 @@ int Evaluate(const LoadedConfig& base, TossPolicies policies, const TossFlags& f
 }
 
 int Toss(const TossFlags& f) {
+  if (!f.json.empty() && !f.eval) return UsageError("--json needs --eval");
   std::optional<PolicySource> catcher, thrower;
   LoadedConfig base;
   if (f.zero_action) {
@@ -202,6 +214,8 @@ CommandBody AddTossCommand(CLI::App* cmd) {
                   "PREFIX_throw.textproto (TossConfig.start_states_file)");
   cmd->add_flag("--eval", f->eval, "evaluation protocol: patterns x seeds and a wind sweep");
   cmd->add_option("--patterns", f->patterns, "patterns of --eval")->capture_default_str();
+  cmd->add_option("--json", f->json,
+                  "with --eval: also write the tables as JSON lines (patterns, wind, summary)");
   cmd->add_option("--seeds", f->seeds, "seeds per pattern of --eval (seed..seed+seeds-1)")
       ->check(Between(1, 100000))
       ->capture_default_str();

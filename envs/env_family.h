@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "absl/status/statusor.h"
+#include "absl/strings/str_cat.h"
 #include "common/config_loader.h"
 #include "envs/env.h"
 #include "proto/run_config.pb.h"
@@ -35,6 +36,14 @@ class EnvFamily {
   // phases) are off, so every evaluation starts from the task's start distribution.
   // REQUIRES: `run` selects this family and was prepared; max_seconds >= 0.
   virtual void ConfigureForEvaluation(double max_seconds, config::RunConfig* run) const = 0;
+  // Sets a constant world-frame force `force` (N, x y z) on the family's balls, for robustness
+  // sweeps (paper Table 1; `juggle eval --force-sweep`). UNIMPLEMENTED, with the reason, for a
+  // force with components the family cannot apply (the default: any force).
+  // REQUIRES: `run` selects this family.
+  virtual absl::Status SetConstantBallForce(const double force[3], config::RunConfig* run) const {
+    return absl::UnimplementedError(
+        absl::StrCat("the ", std::string(name()), " family has no constant force on its balls"));
+  }
 };
 
 }  // namespace juggle

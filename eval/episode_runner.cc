@@ -1,5 +1,6 @@
 #include "eval/episode_runner.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
@@ -17,6 +18,9 @@ absl::Status StartEpisode(int start_node, const AdaptiveWalk& walk, Env* env) {
   }
   return absl::OkStatus();
 }
+
+// `node` clamped into [0, num_nodes) (families without a graph report node 0).
+int NodeIndex(int node, int num_nodes) { return std::clamp(node, 0, num_nodes - 1); }
 
 }  // namespace
 
@@ -55,6 +59,13 @@ absl::StatusOr<EpisodeReport> RunEpisodes(std::shared_ptr<const EnvSpec> spec,
   }
   EpisodeReport report;
   report.episodes.resize(n);
+  const int num_nodes = std::max(1, spec->graph().num_nodes());
+  for (int i = 0; i < n; ++i) {
+    EpisodeResult& e = report.episodes[i];
+    e.node_visits.assign(num_nodes, 0);
+    e.node_completions.assign(num_nodes, 0);
+    ++e.node_visits[NodeIndex(envs[i]->node(), num_nodes)];
+  }
   // Running envs are compacted into the front of these batches every step.
   std::vector<int> running(n);
   for (int i = 0; i < n; ++i) running[i] = i;
@@ -71,9 +82,15 @@ absl::StatusOr<EpisodeReport> RunEpisodes(std::shared_ptr<const EnvSpec> spec,
     for (int k = 0; k < m; ++k) {
       const int i = running[k];
       Env& env = *envs[i];
+      const int node_before = NodeIndex(env.node(), num_nodes);
+      const int completions_before = env.completions();
       const StepResult r = env.Step(&actions[size_t(k) * act_dim], walk);
       EpisodeResult& e = report.episodes[i];
       e.return_sum += r.reward;
+      const int completed = env.completions() - completions_before;
+      e.node_completions[node_before] += std::max(0, completed);
+      const int node_after = NodeIndex(env.node(), num_nodes);
+      if (node_after != node_before || completed > 0) ++e.node_visits[node_after];
       if (o.record) CaptureEnv(env, env.steps() * spec->control_dt(), i, r.outcome, &*recorders[i]);
       if (r.outcome == Outcome::kRunning) {
         still.push_back(i);

@@ -70,7 +70,9 @@ absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
 
     // Update. The events were validated against the graph by DecodeChunk.
     const auto t_update = Clock::now();
-    for (const EdgeEvent& e : batch->events) d_.walk->Apply(e).IgnoreError();
+    if (svc.adaptive_walk()) {
+      for (const EdgeEvent& e : batch->events) d_.walk->Apply(e).IgnoreError();
+    }
     double lag_sum = 0;
     for (int64_t v : batch->batch.policy_version) {
       d_.metrics->Observe("juggle_policy_lag", static_cast<double>(version - v));

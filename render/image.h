@@ -1,4 +1,4 @@
-// RGB images and the small amount of image work the renderer needs: PNG encoding (zlib),
+// RGB images and the small amount of image work the renderer needs: PNG encoding (libpng),
 // box downscaling and contact sheets.
 #ifndef JUGGLE_RENDER_IMAGE_H_
 #define JUGGLE_RENDER_IMAGE_H_

@@ -11,7 +11,8 @@ PACKAGES=(
   libgrpc++-dev protobuf-compiler-grpc
   libtorch-dev libopenblas0-openmp
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
-  ffmpeg libegl-dev libopengl-dev libegl1 libegl-mesa0 libgl1-mesa-dri zlib1g-dev
+  ffmpeg libegl-dev libopengl-dev libegl1 libegl-mesa0 libgl1-mesa-dri libpng-dev
+  libjs-three chromium blender
 )
 
 missing=()

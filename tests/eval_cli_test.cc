@@ -5,6 +5,7 @@
 #include <sstream>
 #include <string>
 
+#include "absl/strings/str_cat.h"
 #include "gmock/gmock.h"
 #include "common/testing/temp_dir.h"
 #include "gtest/gtest.h"
@@ -36,6 +37,60 @@ TEST(EvalCliTest, ZeroActionBaselineRecordsEachEpisodeInTurn) {
   EXPECT_EQ(t->episode(t->num_samples() - 1), 2);
   EXPECT_NEAR(t->duration(), 3 * 0.5, 1e-9);  // three 0.5 s episodes back to back
   for (int i = 1; i < t->num_samples(); ++i) EXPECT_GE(t->time[i], t->time[i - 1]);
+  std::system(("rm -rf " + dir).c_str());
+}
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+TEST(EvalCliTest, PrintsTheNodeTableAndWritesItAsJsonLines) {
+  const std::string dir = MakeTempDir("juggle_eval_");
+  testing::ChildProcess eval({"eval", "--zero-action", "--config=configs/right_foot.textproto",
+                              "--episodes=3", "--json=" + dir + "/eval.jsonl"},
+                             dir + "/eval.log");
+  ASSERT_EQ(eval.Wait(60), 0) << ReadAll(dir + "/eval.log");
+  const std::string log = ReadAll(dir + "/eval.log");
+  // Zero action completes the DOWN node every time and fails in the UP node.
+  EXPECT_THAT(log, ::testing::ContainsRegex("right_foot_down +3 +3 +1.000"));
+  EXPECT_THAT(log, ::testing::ContainsRegex("right_foot_up +3 +0 +0.000"));
+  const std::string json = ReadAll(dir + "/eval.jsonl");
+  EXPECT_THAT(json, ::testing::StartsWith("{\"table\":\"summary\",\"episodes\":3,"));
+  EXPECT_THAT(json, ::testing::HasSubstr(
+                        "{\"table\":\"node\",\"node\":\"right_foot_down\",\"visits\":3,"
+                        "\"completions\":3,\"success_rate\":1,\"endings\":{}}\n"));
+  EXPECT_THAT(json, ::testing::HasSubstr("{\"table\":\"node\",\"node\":\"right_foot_up\","
+                                         "\"visits\":3,\"completions\":0,"));
+  std::system(("rm -rf " + dir).c_str());
+}
+
+TEST(EvalCliTest, ForceSweepReportsTheLargestPassingForcePerDirection) {
+  const std::string dir = MakeTempDir("juggle_eval_");
+  testing::ChildProcess eval({"eval", "--zero-action", "--config=configs/right_foot.textproto",
+                              "--episodes=2", "--max_seconds=2", "--force-sweep",
+                              "--force-step=2", "--force-max=2", "--min-median-juggles=0",
+                              "--json=" + dir + "/sweep.jsonl"},
+                             dir + "/sweep.log");
+  ASSERT_EQ(eval.Wait(120), 0) << ReadAll(dir + "/sweep.log");
+  std::ifstream log(dir + "/sweep.log");
+  std::string line, last;
+  while (std::getline(log, line)) last = line;
+  // Every force passes a threshold of 0 juggles.
+  for (const char* d : {"+x", "-x", "+y", "-y", "+z", "-z"}) {
+    EXPECT_THAT(last, ::testing::HasSubstr(absl::StrCat(" max_force_", d, "=2")));
+  }
+  const std::string json = ReadAll(dir + "/sweep.jsonl");
+  int rows = 0;
+  for (size_t at = json.find("\"table\":\"force_sweep\""); at != std::string::npos;
+       at = json.find("\"table\":\"force_sweep\"", at + 1)) {
+    ++rows;
+  }
+  EXPECT_EQ(rows, 12);  // 6 directions × {0, 2} N
+  EXPECT_THAT(json, ::testing::HasSubstr(
+                        "{\"table\":\"force_limit\",\"direction\":\"-z\",\"max_force_n\":2,"));
   std::system(("rm -rf " + dir).c_str());
 }
 

@@ -2,12 +2,13 @@
 // raises the catch rate above the untrained policy's; a learner and a worker process train the
 // throw task from the learner's config alone; a fresh run refuses a run directory that holds
 // checkpoints; `juggle toss` prints the evaluation keys and
-// rejects patterns it cannot juggle with a clear error.
+// writes its evaluation as JSON lines; and rejects patterns it cannot juggle with a clear error.
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "absl/strings/str_cat.h"
 #include "common/testing/temp_dir.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
@@ -97,6 +98,28 @@ TEST_F(TossCliTest, ZeroActionEvalEndsWithTheProtocolKeys) {
   EXPECT_THAT(last_line_, HasSubstr("throws_531="));
   EXPECT_THAT(last_line_, HasSubstr("max_basic_pattern=0"));
   EXPECT_LT(Value("throws_3"), 5) << "resting arms cannot juggle";
+}
+
+TEST_F(TossCliTest, EvalWritesTheProtocolAsJsonLines) {
+  const std::string json = dir_ + "/eval.jsonl";
+  ASSERT_EQ(Run({"toss", "--zero-action", "--eval", "--seeds=2", "--patterns=3,531",
+                 "--wind-max=0.02", "--json=" + json}, 120, "eval.log"), 0) << output_;
+  std::ifstream in(json);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  // 2 patterns, 1 wind step (the sweep stops at the first force that fails: resting arms fail
+  // at 0 N), the summary.
+  ASSERT_EQ(lines.size(), 4u);
+  // The same numbers as the printed protocol.
+  const std::string three = absl::StrCat("\"median_throws\":", Value("throws_3"), ",");
+  EXPECT_THAT(lines[0], HasSubstr("{\"table\":\"toss_pattern\",\"pattern\":\"3\",\"balls\":3,"));
+  EXPECT_THAT(lines[0], HasSubstr(three));
+  EXPECT_THAT(lines[1], HasSubstr("\"pattern\":\"531\""));
+  EXPECT_THAT(lines[2], HasSubstr("{\"table\":\"toss_wind\",\"wind_n\":0,"));
+  EXPECT_THAT(lines[3], HasSubstr("{\"table\":\"toss_summary\",\"seeds\":2,\"max_throws\":200,"
+                                  "\"max_basic_pattern\":0,"));
+  EXPECT_EQ(Run({"toss", "--zero-action", "--json=" + json}, 30, "nojson.log"), 2);
+  EXPECT_THAT(output_, HasSubstr("--json needs --eval"));
 }
 
 // An arm holding its home pose releases at the home point with (almost) no speed: the position

@@ -78,6 +78,13 @@ class SoccerJuggleFamily final : public EnvFamily {
     env->mutable_start()->set_recorded_start_fraction(0);
     env->clear_ball_assist();
   }
+  absl::Status SetConstantBallForce(const double force[3], config::RunConfig* run) const override {
+    config::Vec3* f = run->mutable_soccer_juggle()->mutable_env()->mutable_ball_force();
+    f->set_x(force[0]);
+    f->set_y(force[1]);
+    f->set_z(force[2]);
+    return absl::OkStatus();
+  }
 };
 
 }  // namespace

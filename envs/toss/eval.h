@@ -66,6 +66,14 @@ absl::StatusOr<TossEvalReport> EvaluateToss(const LoadedConfig& base, TossPolici
                                             const TossEvalOptions& options,
                                             const std::function<void(const std::string&)>& progress);
 
+// The report as JSON lines (`juggle toss --eval --json=FILE`): one object per pattern
+// {"table":"toss_pattern","pattern":"531","balls":3,"median_throws":..,"throws":[per seed]},
+// one per wind step {"table":"toss_wind","wind_n":..,"pattern":"3","median_throws":..}, and a
+// summary {"table":"toss_summary","seeds":..,"max_throws":..,"max_basic_pattern":..,
+// "max_wind_n":..}.
+std::vector<std::string> TossEvalJsonLines(const TossEvalReport& report,
+                                           const TossEvalOptions& options);
+
 // Writes PREFIX_catch.textproto (states at releases: where the catch policy starts) and
 // PREFIX_throw.textproto (states at catches: where the throw policy starts) as text-format
 // TossArmStates (TossConfig.start_states_file).

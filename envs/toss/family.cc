@@ -158,6 +158,16 @@ class TossFamily final : public EnvFamily {
           static_cast<int>(std::ceil(max_seconds / 0.01 - 1e-9)));
     }
   }
+  absl::Status SetConstantBallForce(const double force[3], config::RunConfig* run) const override {
+    // Wind (TossConfig.wind_force): horizontal in the arms' plane, + towards the juggler's left
+    // (world +x), on balls in flight.
+    if (force[1] != 0 || force[2] != 0) {
+      return absl::UnimplementedError(
+          "the toss family applies only horizontal wind in the arms' plane (x: wind_force)");
+    }
+    run->mutable_toss()->set_wind_force(force[0]);
+    return absl::OkStatus();
+  }
 };
 
 }  // namespace

@@ -1,0 +1,189 @@
+#include "eval/tables.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <set>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "envs/registry.h"
+
+namespace juggle {
+namespace {
+
+std::string Num(double v) { return std::isfinite(v) ? absl::StrFormat("%.6g", v) : "null"; }
+
+// The fields of `s` as JSON members (no braces).
+std::string SummaryMembers(const EvalSummary& s) {
+  std::string out = absl::StrCat(
+      "\"episodes\":", s.episodes, ",\"median_juggles\":", Num(s.median_juggles),
+      ",\"p10_juggles\":", Num(s.p10_juggles), ",\"p90_juggles\":", Num(s.p90_juggles),
+      ",\"mean_juggles\":", Num(s.mean_juggles), ",\"frac_juggles_ge_10\":",
+      Num(s.frac_juggles_ge_10), ",\"frac_juggles_ge_20\":", Num(s.frac_juggles_ge_20),
+      ",\"mean_return\":", Num(s.mean_return), ",\"mean_completions\":", Num(s.mean_completions),
+      ",\"mean_episode_s\":", Num(s.mean_episode_s), ",\"outcomes\":{");
+  bool first = true;
+  for (const auto& [name, count] : s.outcomes) {
+    absl::StrAppend(&out, first ? "" : ",", JsonQuote(name), ":", count);
+    first = false;
+  }
+  out += "}";
+  for (const auto& [name, mean] : s.mean_metrics) {
+    absl::StrAppend(&out, ",", JsonQuote("mean_" + name), ":", Num(mean));
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string JsonQuote(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      out += absl::StrFormat("\\u%04x", c);
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+std::vector<NodeRow> NodeTable(const std::vector<EpisodeResult>& episodes,
+                               const ControlGraph& graph,
+                               const std::vector<std::string>& outcome_names) {
+  const int n = std::max(1, graph.num_nodes());
+  std::vector<NodeRow> rows(n);
+  for (int i = 0; i < n; ++i) rows[i].node = graph.num_nodes() > 0 ? graph.node(i).name : "episode";
+  for (const EpisodeResult& e : episodes) {
+    for (int i = 0; i < n && i < static_cast<int>(e.node_visits.size()); ++i) {
+      rows[i].visits += e.node_visits[i];
+      rows[i].completions += e.node_completions[i];
+    }
+    if (e.outcome != Outcome::kRunning) {
+      ++rows[std::clamp(e.end_node, 0, n - 1)].endings[OutcomeName(outcome_names, e.outcome)];
+    }
+  }
+  for (NodeRow& r : rows) {
+    r.success_rate = r.visits > 0 ? static_cast<double>(r.completions) / r.visits : 0;
+  }
+  return rows;
+}
+
+std::string FormatNodeTable(const std::vector<NodeRow>& rows) {
+  std::set<std::string> outcomes;
+  size_t width = 4;
+  for (const NodeRow& r : rows) {
+    width = std::max(width, r.node.size());
+    for (const auto& [name, count] : r.endings) outcomes.insert(name);
+  }
+  std::string out = absl::StrFormat("%-*s %8s %11s %8s", static_cast<int>(width), "node", "visits",
+                                    "completions", "success");
+  for (const std::string& o : outcomes) {
+    absl::StrAppend(&out, absl::StrFormat(" %*s", std::max<int>(8, o.size()), o));
+  }
+  out += "\n";
+  for (const NodeRow& r : rows) {
+    absl::StrAppend(&out, absl::StrFormat("%-*s %8d %11d %8.3f", static_cast<int>(width), r.node,
+                                          r.visits, r.completions, r.success_rate));
+    for (const std::string& o : outcomes) {
+      const auto it = r.endings.find(o);
+      absl::StrAppend(&out, absl::StrFormat(" %*d", std::max<int>(8, o.size()),
+                                            it == r.endings.end() ? 0 : it->second));
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+absl::StatusOr<ForceSweepReport> RunForceSweep(
+    const LoadedConfig& config, Controller* controller, const ForceSweepOptions& o,
+    const std::function<void(const std::string&)>& progress) {
+  if (o.magnitudes.empty()) return absl::InvalidArgumentError("the force sweep needs magnitudes");
+  for (size_t i = 1; i < o.magnitudes.size(); ++i) {
+    if (!(o.magnitudes[i] > o.magnitudes[i - 1])) {
+      return absl::InvalidArgumentError("force sweep magnitudes must be ascending");
+    }
+  }
+  absl::StatusOr<const EnvFamily*> family = FamilyOf(config.run);
+  if (!family.ok()) return family.status();
+  auto say = [&](const std::string& line) {
+    if (progress) progress(line);
+  };
+  // Evaluates `config` with `force` on the ball.
+  auto evaluate = [&](const double force[3]) -> absl::StatusOr<EvalSummary> {
+    LoadedConfig c = config;
+    if (absl::Status s = (*family)->SetConstantBallForce(force, &c.run); !s.ok()) return s;
+    absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(c);
+    if (!spec.ok()) return spec.status();
+    absl::StatusOr<EpisodeReport> report = RunEpisodes(*spec, controller, o.episodes);
+    if (!report.ok()) return report.status();
+    return Summarize(report->episodes, (*spec)->control_dt(), (*spec)->outcome_names());
+  };
+  ForceSweepReport report;
+  std::optional<EvalSummary> baseline;
+  const char axes[3] = {'x', 'y', 'z'};
+  for (int axis = 0; axis < 3; ++axis) {
+    for (const double sign : {1.0, -1.0}) {
+      const std::string direction = absl::StrCat(sign > 0 ? "+" : "-", std::string(1, axes[axis]));
+      double unit[3] = {0, 0, 0};
+      unit[axis] = sign;
+      LoadedConfig probe = config;
+      if (absl::Status s = (*family)->SetConstantBallForce(unit, &probe.run); !s.ok()) {
+        if (s.code() != absl::StatusCode::kUnimplemented) return s;
+        report.unsupported[direction] = std::string(s.message());
+        say(absl::StrCat(direction, ": not supported (", s.message(), ")"));
+        continue;
+      }
+      double max_force = -1;
+      bool passing = true;
+      for (const double magnitude : o.magnitudes) {
+        double force[3] = {0, 0, 0};
+        force[axis] = sign * magnitude;
+        EvalSummary summary;
+        if (magnitude == 0 && baseline) {
+          summary = *baseline;
+        } else {
+          absl::StatusOr<EvalSummary> s = evaluate(force);
+          if (!s.ok()) return s.status();
+          summary = *s;
+          if (magnitude == 0) baseline = summary;
+        }
+        report.rows.push_back({direction, magnitude, summary});
+        passing = passing && summary.median_juggles >= o.min_median_juggles;
+        if (passing) max_force = magnitude;
+        say(absl::StrFormat("%s %6.2f N: median_juggles=%g mean_juggles=%.2f", direction,
+                            magnitude, summary.median_juggles, summary.mean_juggles));
+      }
+      report.max_force_n[direction] = max_force;
+      report.directions.push_back(direction);
+    }
+  }
+  return report;
+}
+
+std::string SummaryJson(const EvalSummary& s) {
+  return absl::StrCat("{\"table\":\"summary\",", SummaryMembers(s), "}");
+}
+
+std::string NodeRowJson(const NodeRow& r) {
+  std::string out = absl::StrCat("{\"table\":\"node\",\"node\":", JsonQuote(r.node),
+                                 ",\"visits\":", r.visits, ",\"completions\":", r.completions,
+                                 ",\"success_rate\":", Num(r.success_rate), ",\"endings\":{");
+  bool first = true;
+  for (const auto& [name, count] : r.endings) {
+    absl::StrAppend(&out, first ? "" : ",", JsonQuote(name), ":", count);
+    first = false;
+  }
+  return out + "}}";
+}
+
+std::string ForceRowJson(const ForceSweepRow& r) {
+  return absl::StrCat("{\"table\":\"force_sweep\",\"direction\":", JsonQuote(r.direction),
+                      ",\"force_n\":", Num(r.force_n), ",", SummaryMembers(r.summary), "}");
+}
+
+}  // namespace juggle

@@ -1,0 +1,149 @@
+// The evaluation tables: per-node counts from real soccer episodes (zero action: every episode
+// completes its first DOWN node, then fails in the UP node), the node table's arithmetic and
+// text, the force sweep through the family hook (toss: wind along x only; soccer: the ball
+// force), and the JSON lines.
+#include "eval/tables.h"
+
+#include <numeric>
+
+#include "envs/registry.h"
+#include "envs/testing/test_configs.h"
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+
+namespace juggle {
+namespace {
+
+using ::testing::HasSubstr;
+
+int ActDim(const LoadedConfig& config) {
+  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(config);
+  EXPECT_TRUE(spec.ok()) << spec.status();
+  return spec.ok() ? (*spec)->act_dim() : 0;
+}
+
+LoadedConfig EvalConfig(const std::string& name, double max_seconds) {
+  absl::StatusOr<LoadedConfig> c = testing::LoadShippedConfig(name);
+  EXPECT_TRUE(c.ok());
+  (*FamilyOf(c->run))->ConfigureForEvaluation(max_seconds, &c->run);
+  return *c;
+}
+
+TEST(TablesTest, ZeroActionEpisodesCompleteTheDownNodeAndFailInTheUpNode) {
+  const LoadedConfig config = EvalConfig("right_foot", 10);
+  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(config);
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  ZeroController zero((*spec)->act_dim());
+  EpisodeOptions o;
+  o.episodes = 3;
+  absl::StatusOr<EpisodeReport> report = RunEpisodes(*spec, &zero, o);
+  ASSERT_TRUE(report.ok()) << report.status();
+  for (const EpisodeResult& e : report->episodes) {
+    ASSERT_EQ(e.node_visits.size(), 2u);
+    EXPECT_EQ(std::accumulate(e.node_completions.begin(), e.node_completions.end(), 0),
+              e.completions);
+  }
+  const std::vector<NodeRow> rows =
+      NodeTable(report->episodes, (*spec)->graph(), (*spec)->outcome_names());
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].node, "right_foot_down");
+  EXPECT_EQ(rows[0].visits, 3);
+  EXPECT_EQ(rows[0].completions, 3);
+  EXPECT_DOUBLE_EQ(rows[0].success_rate, 1.0);
+  EXPECT_TRUE(rows[0].endings.empty());
+  EXPECT_EQ(rows[1].node, "right_foot_up");
+  EXPECT_EQ(rows[1].visits, 3);
+  EXPECT_EQ(rows[1].completions, 0);
+  int ended = 0;
+  for (const auto& [name, count] : rows[1].endings) ended += count;
+  EXPECT_EQ(ended, 3);
+}
+
+TEST(TablesTest, NodeTableCountsVisitsCompletionsAndEndingsPerNode) {
+  const LoadedConfig config = EvalConfig("foot_and_head", 10);
+  const std::vector<std::string> outcomes = {"running", "time_limit", "diverged", "fell"};
+  EpisodeResult a, b;
+  a.node_visits = {2, 1, 0, 0};
+  a.node_completions = {2, 0, 0, 0};
+  a.outcome = FamilyOutcome(0);  // fell
+  a.end_node = 1;
+  b.node_visits = {1, 0, 1, 0};
+  b.node_completions = {1, 0, 0, 0};
+  b.outcome = Outcome::kTimeLimit;
+  b.end_node = 2;
+  const std::vector<NodeRow> rows = NodeTable({a, b}, *config.graph, outcomes);
+  ASSERT_EQ(rows.size(), static_cast<size_t>(config.graph->num_nodes()));
+  EXPECT_EQ(rows[0].visits, 3);
+  EXPECT_EQ(rows[0].completions, 3);
+  EXPECT_EQ(rows[1].success_rate, 0.0);
+  EXPECT_EQ(rows[1].endings.at("fell"), 1);
+  EXPECT_EQ(rows[2].endings.at("time_limit"), 1);
+  const std::string text = FormatNodeTable(rows);
+  EXPECT_THAT(text, HasSubstr("completions  success     fell time_limit"));
+  EXPECT_THAT(text, HasSubstr(absl::StrCat(rows[0].node)));
+  EXPECT_EQ(NodeRowJson(rows[1]),
+            absl::StrCat("{\"table\":\"node\",\"node\":\"", rows[1].node,
+                         "\",\"visits\":1,\"completions\":0,\"success_rate\":0,"
+                         "\"endings\":{\"fell\":1}}"));
+}
+
+TEST(TablesTest, FamiliesWithoutAGraphGetOneEpisodeRow) {
+  EpisodeResult e;
+  e.node_visits = {1};
+  e.node_completions = {1};
+  e.outcome = Outcome::kTimeLimit;
+  const std::vector<NodeRow> rows = NodeTable({e}, ControlGraph(), {"running", "time_limit"});
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].node, "episode");
+  EXPECT_DOUBLE_EQ(rows[0].success_rate, 1.0);
+}
+
+TEST(TablesTest, TossSweepsHorizontalWindOnlyAndFindsTheLargestPassingForce) {
+  const LoadedConfig config = EvalConfig("toss_catch", 1);
+  ZeroController zero(ActDim(config));
+  ForceSweepOptions o;
+  o.magnitudes = {0, 0.5};
+  o.min_median_juggles = 0;  // every force passes
+  o.episodes.episodes = 2;
+  std::vector<std::string> lines;
+  absl::StatusOr<ForceSweepReport> r =
+      RunForceSweep(config, &zero, o, [&](const std::string& l) { lines.push_back(l); });
+  ASSERT_TRUE(r.ok()) << r.status();
+  EXPECT_EQ(r->rows.size(), 4u);  // ±x × {0, 0.5}
+  EXPECT_EQ(r->directions, (std::vector<std::string>{"+x", "-x"}));
+  EXPECT_EQ(r->max_force_n.at("+x"), 0.5);
+  EXPECT_EQ(r->max_force_n.at("-x"), 0.5);
+  ASSERT_EQ(r->unsupported.size(), 4u);
+  EXPECT_THAT(r->unsupported.at("+z"), HasSubstr("only horizontal wind"));
+  EXPECT_EQ(lines.size(), 8u);
+
+  o.min_median_juggles = 2;  // a catch episode has at most 1 juggle: nothing passes
+  r = RunForceSweep(config, &zero, o, nullptr);
+  ASSERT_TRUE(r.ok()) << r.status();
+  EXPECT_EQ(r->max_force_n.at("+x"), -1);
+  EXPECT_THAT(ForceRowJson(r->rows[1]),
+              HasSubstr("{\"table\":\"force_sweep\",\"direction\":\"+x\",\"force_n\":0.5,"
+                        "\"episodes\":2,\"median_juggles\":"));
+}
+
+TEST(TablesTest, SoccerForceHookSetsTheBallForce) {
+  LoadedConfig config = EvalConfig("right_foot", 1);
+  const double force[3] = {0, -1.5, 2};
+  ASSERT_TRUE((*FamilyOf(config.run))->SetConstantBallForce(force, &config.run).ok());
+  const config::Vec3& f = config.run.soccer_juggle().env().ball_force();
+  EXPECT_EQ(f.x(), 0);
+  EXPECT_EQ(f.y(), -1.5);
+  EXPECT_EQ(f.z(), 2);
+}
+
+TEST(TablesTest, SweepRefusesDescendingMagnitudes) {
+  const LoadedConfig config = EvalConfig("toss_catch", 1);
+  ZeroController zero(ActDim(config));
+  ForceSweepOptions o;
+  o.magnitudes = {1, 0.5};
+  EXPECT_THAT(RunForceSweep(config, &zero, o, nullptr).status().message(),
+              HasSubstr("ascending"));
+}
+
+}  // namespace
+}  // namespace juggle

@@ -1,0 +1,259 @@
+#include "export/replay.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <tuple>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_replace.h"
+#include "export/trajectory_model.h"
+#include "export/web_assets.h"
+
+namespace juggle {
+namespace {
+
+constexpr double kScale = 10000;
+
+struct DataDeleter {
+  void operator()(mjData* d) const { mj_deleteData(d); }
+};
+
+const char* GeomTypeName(int type) {
+  switch (type) {
+    case mjGEOM_PLANE: return "plane";
+    case mjGEOM_SPHERE: return "sphere";
+    case mjGEOM_CAPSULE: return "capsule";
+    case mjGEOM_ELLIPSOID: return "ellipsoid";
+    case mjGEOM_CYLINDER: return "cylinder";
+    case mjGEOM_BOX: return "box";
+    default: return nullptr;  // meshes, height fields: not drawn
+  }
+}
+
+std::string Name(const mjModel* m, mjtObj type, int id) {
+  const char* name = mj_id2name(m, type, id);
+  return name != nullptr ? name : "";
+}
+
+// A JSON string literal; '<' is escaped so no "</script" can appear in the page.
+std::string Quote(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '<': out += "\\u003c"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          out += absl::StrFormat("\\u%04x", c);
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+// Fixed-point integer of v (in units of 1/kScale).
+int64_t Fixed(double v) { return static_cast<int64_t>(std::llround(v * kScale)); }
+
+// A plain number for JSON (finite; NaN/inf become 0).
+std::string Number(double v) {
+  if (!std::isfinite(v)) return "0";
+  return absl::StrFormat("%.6g", v);
+}
+
+template <typename T, typename F>
+std::string Array(const std::vector<T>& items, F format) {
+  std::string out = "[";
+  for (size_t i = 0; i < items.size(); ++i) {
+    if (i) out += ",";
+    out += format(items[i]);
+  }
+  return out + "]";
+}
+
+absl::StatusOr<std::string> ReadWhole(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    return absl::NotFoundError(absl::StrCat(
+        "cannot read ", path, " (the replay page embeds three.js: apt-get install libjs-three)"));
+  }
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+absl::StatusOr<ReplayData> BuildReplayData(const mjModel* m, const Trajectory& t, int episode) {
+  if (t.num_samples() == 0) return absl::InvalidArgumentError("the recording has no samples");
+  if (t.nq != m->nq) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("the recording has nq ", t.nq, " but the model ", m->nq));
+  }
+  ReplayData r;
+  r.family = t.family;
+  r.config_path = t.config_path;
+  r.control_dt = t.control_dt;
+  r.channels = t.channels;
+  for (int i = 0; i < t.num_samples(); ++i) {
+    if (episode < 0 || t.episode(i) == episode) r.samples.push_back(i);
+  }
+  if (r.samples.empty()) {
+    return absl::InvalidArgumentError(absl::StrCat("the recording has no episode ", episode,
+                                                   " (episodes 0..", t.episode(t.num_samples() - 1),
+                                                   ")"));
+  }
+
+  // Bodies with drawable geoms get transforms; world geoms are static.
+  std::vector<int> body_index(m->nbody, -1);
+  for (int g = 0; g < m->ngeom; ++g) {
+    const char* type = GeomTypeName(m->geom_type[g]);
+    const int mat = m->geom_matid[g];
+    const float* rgba = mat >= 0 ? m->mat_rgba + 4 * mat : m->geom_rgba + 4 * g;
+    if (type == nullptr || m->geom_rgba[4 * g + 3] == 0 || rgba[3] == 0) {
+      ++r.skipped_geoms;
+      continue;
+    }
+    const int b = m->geom_bodyid[g];
+    if (b > 0 && body_index[b] < 0) {
+      body_index[b] = static_cast<int>(r.body_ids.size());
+      r.body_ids.push_back(b);
+      r.body_names.push_back(Name(m, mjOBJ_BODY, b));
+    }
+    ReplayGeom geom;
+    geom.name = Name(m, mjOBJ_GEOM, g);
+    geom.body = b > 0 ? body_index[b] : -1;
+    geom.type = type;
+    for (int k = 0; k < 3; ++k) geom.size[k] = m->geom_size[3 * g + k];
+    for (int k = 0; k < 3; ++k) geom.pos[k] = m->geom_pos[3 * g + k];
+    for (int k = 0; k < 4; ++k) geom.quat[k] = m->geom_quat[4 * g + k];
+    for (int k = 0; k < 4; ++k) geom.rgba[k] = rgba[k];
+    r.geoms.push_back(geom);
+  }
+  // The follow camera tracks the character's root: the first drawn body outside the balls.
+  for (size_t i = 0; i < r.body_ids.size(); ++i) {
+    if (!InBallSubtree(m, r.body_ids[i])) {
+      const int root = m->body_rootid[r.body_ids[i]];
+      r.follow = body_index[root] >= 0 ? body_index[root] : static_cast<int>(i);
+      break;
+    }
+  }
+
+  std::unique_ptr<mjData, DataDeleter> d(mj_makeData(m));
+  const int nb = static_cast<int>(r.body_ids.size());
+  const int nc = t.num_channels();
+  const double t0 = t.time[r.samples.front()];
+  r.xpos.reserve(r.samples.size() * nb * 3);
+  r.xquat.reserve(r.samples.size() * nb * 4);
+  for (size_t f = 0; f < r.samples.size(); ++f) {
+    const int s = r.samples[f];
+    r.time.push_back(t.time[s] - t0);
+    for (int c = 0; c < nc; ++c) r.values.push_back(t.value(s, c));
+    mju_copy(d->qpos, t.qpos_at(s), m->nq);
+    mju_zero(d->qvel, m->nv);
+    mj_forward(m, d.get());
+    for (int b : r.body_ids) {
+      r.xpos.insert(r.xpos.end(), d->xpos + 3 * b, d->xpos + 3 * b + 3);
+      r.xquat.insert(r.xquat.end(), d->xquat + 4 * b, d->xquat + 4 * b + 4);
+    }
+    // Ball contacts, one per (ball, other) pair.
+    std::set<std::pair<std::string, std::string>> seen;
+    for (int c = 0; c < d->ncon; ++c) {
+      const mjContact& con = d->contact[c];
+      int g1 = con.geom1, g2 = con.geom2;
+      if (!InBallSubtree(m, m->geom_bodyid[g1])) std::swap(g1, g2);
+      const int ball = m->geom_bodyid[g1], other = m->geom_bodyid[g2];
+      if (!InBallSubtree(m, ball) || InBallSubtree(m, other)) continue;
+      std::pair<std::string, std::string> key(
+          Name(m, mjOBJ_BODY, m->body_rootid[ball]),
+          other == 0 ? Name(m, mjOBJ_GEOM, g2) : Name(m, mjOBJ_BODY, other));
+      if (key.second.empty()) key.second = other == 0 ? "world" : absl::StrCat("body", other);
+      if (seen.insert(key).second) {
+        r.contacts.push_back({static_cast<int>(f), key.first, key.second});
+      }
+    }
+    // Episode starts and categorical channel changes.
+    const bool new_episode = f == 0 || t.episode(s) != t.episode(r.samples[f - 1]);
+    if (new_episode) {
+      r.events.push_back({static_cast<int>(f), "episode", absl::StrCat(t.episode(s))});
+    }
+    for (int c = 0; c < nc; ++c) {
+      if (t.channels[c].labels.empty()) continue;
+      if (new_episode ? c != kOutcomeChannel
+                      : t.value(s, c) != t.value(r.samples[f - 1], c)) {
+        r.events.push_back({static_cast<int>(f), t.channels[c].name, t.Label(s, c)});
+      }
+    }
+  }
+  return r;
+}
+
+std::string ReplayJson(const ReplayData& r) {
+  std::string j = "{";
+  absl::StrAppend(&j, "\"version\":1,\"scale\":", static_cast<int>(kScale),
+                  ",\"family\":", Quote(r.family), ",\"config\":", Quote(r.config_path),
+                  ",\"control_dt\":", Number(r.control_dt), ",\"follow\":", r.follow);
+  absl::StrAppend(&j, ",\"bodies\":", Array(r.body_names, Quote));
+  absl::StrAppend(&j, ",\"geoms\":", Array(r.geoms, [](const ReplayGeom& g) {
+    return absl::StrCat(
+        "{\"name\":", Quote(g.name), ",\"body\":", g.body, ",\"type\":", Quote(g.type),
+        ",\"size\":[", Number(g.size[0]), ",", Number(g.size[1]), ",", Number(g.size[2]),
+        "],\"pos\":[", Number(g.pos[0]), ",", Number(g.pos[1]), ",", Number(g.pos[2]),
+        "],\"quat\":[", Number(g.quat[0]), ",", Number(g.quat[1]), ",", Number(g.quat[2]), ",",
+        Number(g.quat[3]), "],\"rgba\":[", Number(g.rgba[0]), ",", Number(g.rgba[1]), ",",
+        Number(g.rgba[2]), ",", Number(g.rgba[3]), "]}");
+  }));
+  absl::StrAppend(&j, ",\"channels\":", Array(r.channels, [](const AnnotationChannel& c) {
+    return absl::StrCat("{\"name\":", Quote(c.name), ",\"labels\":", Array(c.labels, Quote), "}");
+  }));
+  auto fixed = [](double v) { return absl::StrCat(Fixed(v)); };
+  absl::StrAppend(&j, ",\"time\":", Array(r.time, fixed));
+  absl::StrAppend(&j, ",\"values\":", Array(r.values, Number));
+  absl::StrAppend(&j, ",\"xpos\":", Array(r.xpos, fixed));
+  absl::StrAppend(&j, ",\"xquat\":", Array(r.xquat, fixed));
+  absl::StrAppend(&j, ",\"contacts\":", Array(r.contacts, [](const ReplayContact& c) {
+    return absl::StrCat("[", c.frame, ",", Quote(c.ball), ",", Quote(c.other), "]");
+  }));
+  absl::StrAppend(&j, ",\"events\":", Array(r.events, [](const ReplayEvent& e) {
+    return absl::StrCat("[", e.frame, ",", Quote(e.channel), ",", Quote(e.label), "]");
+  }));
+  return j + "}";
+}
+
+absl::StatusOr<ReplayLibraries> LoadReplayLibraries(const std::string& dir) {
+  ReplayLibraries libs;
+  absl::StatusOr<std::string> three = ReadWhole(dir + "/three.min.js");
+  if (!three.ok()) return three.status();
+  absl::StatusOr<std::string> orbit = ReadWhole(dir + "/examples/js/controls/OrbitControls.js");
+  if (!orbit.ok()) return orbit.status();
+  libs.three_js = *std::move(three);
+  libs.orbit_controls_js = *std::move(orbit);
+  return libs;
+}
+
+std::string ReplayHtml(const ReplayData& data, const ReplayLibraries& libraries,
+                       const std::string& title) {
+  // A script's text must not close its element early.
+  auto script = [](const std::string& attributes, const std::string& text) {
+    return absl::StrCat("<script", attributes, ">\n",
+                        absl::StrReplaceAll(text, {{"</script", "<\\/script"}}), "\n</script>\n");
+  };
+  const std::string scripts =
+      absl::StrCat(script("", libraries.three_js), script("", libraries.orbit_controls_js),
+                   script(" id=\"replay-data\" type=\"application/json\"", ReplayJson(data)),
+                   script("", kReplayJs));
+  std::string escaped_title = absl::StrReplaceAll(title, {{"&", "&amp;"}, {"<", "&lt;"}});
+  return absl::StrReplaceAll(kReplayHtml, {{"<!-- juggle:title -->", escaped_title},
+                                           {"<!-- juggle:scripts -->", scripts}});
+}
+
+}  // namespace juggle

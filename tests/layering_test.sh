@@ -36,8 +36,10 @@ declare -A PROJECT=(
   [app]="worker learner render eval bench envs record common proto"
   [tests]="worker learner render eval envs record common proto"
 )
+# httplib: cpp-httplib, only common/http_server.cc (the one HTTP implementation; the learner and
+# tests reach HTTP through common/http_server.h, and juggle-worker never links it).
 declare -A LIBS=(
-  [common]=""
+  [common]="httplib"
   [record]="mujoco"
   [envs]="mujoco"
   [worker]="mujoco grpc"
@@ -57,6 +59,7 @@ library_of() {
     grpc/*|grpcpp/*|proto/rollout.grpc.pb.h) echo grpc ;;
     torch/*|ATen/*|c10/*) echo torch ;;
     EGL/*|GL/*|GLES*/*) echo gl ;;
+    httplib.h) echo httplib ;;
     *) echo "" ;;
   esac
 }

@@ -64,6 +64,7 @@ void JuggleEnv::StartFrom(const Snapshot& s) {
   cursor_.completions = 0;
   cursor_.juggles = 0;
   ComputeReferencePose(*spec_, cursor_.current, cursor_.phase, &reference_);
+  target_ = reference_;
   PerturbStart(spec_->env().start());
   mj_forward(model_, data_.get());
 }
@@ -108,6 +109,7 @@ void JuggleEnv::PlaceAtReference() {
     fall_s = cursor_.phase / cursor_.phase_speed * spec_->control_dt();
   }
   ComputeReferencePose(*spec_, cursor_.current, cursor_.phase, &reference_);
+  target_ = reference_;
   mju_copy(data_->qpos, reference_.data(), kCharacterNq);
   const BallReference ball = spec_->cursor().DesiredBall(cursor_, cursor_.phase);
   double* ball_qpos = data_->qpos + spec_->ball_qpos();
@@ -145,7 +147,14 @@ void JuggleEnv::PerturbStart(const config::StartVariation& start) {
   }
 }
 
-void JuggleEnv::ApplyTorques(const double* feedforward) {
+double JuggleEnv::assist_strength() const {
+  if (!spec_->env().has_ball_assist()) return 0;
+  const config::BallAssist& a = spec_->env().ball_assist();
+  if (a.anneal_iterations() <= 0) return 0;
+  return std::clamp(1.0 - static_cast<double>(policy_version_) / a.anneal_iterations(), 0.0, 1.0);
+}
+
+void JuggleEnv::ApplyTorques(const double* feedforward, const BallReference& ball_ref) {
   const double h = model_->opt.timestep;
   const double* qpos = data_->qpos;
   const double* qvel = data_->qvel;
@@ -156,12 +165,12 @@ void JuggleEnv::ApplyTorques(const double* feedforward) {
     if (joint.dofs == 3) {
       // Stable PD: kp·(err − h·q̇); the damping kd·q̇ is the joint's implicit damping.
       double err[3];
-      mju_subQuat(err, reference_.data() + joint.qpos_adr, qpos + joint.qpos_adr);
+      mju_subQuat(err, target_.data() + joint.qpos_adr, qpos + joint.qpos_adr);
       for (int d = 0; d < 3; ++d) {
         tau[dof + d] = joint.kp * (err[d] - h * qvel[dof + d]) + feedforward[dof + d];
       }
     } else {
-      const double err = reference_[joint.qpos_adr] - qpos[joint.qpos_adr];
+      const double err = target_[joint.qpos_adr] - qpos[joint.qpos_adr];
       tau[dof] = joint.kp * (err - h * qvel[dof]) + feedforward[dof];
     }
   }
@@ -170,6 +179,16 @@ void JuggleEnv::ApplyTorques(const double* feedforward) {
   xfrc[0] = force.x();
   xfrc[1] = force.y();
   xfrc[2] = force.z();
+  if (const double strength = assist_strength(); strength > 0) {
+    const config::BallAssist& a = spec_->env().ball_assist();
+    const double* ball = data_->qpos + spec_->ball_qpos();
+    const double* v = data_->qvel + spec_->ball_dof();
+    const double target[3] = {qpos[0] + ball_ref.x, qpos[1] + ball_ref.y, ball_ref.z};
+    // Horizontal: spring and damper (the reference's horizontal velocity is the root's, ~0).
+    // Vertical: spring only (damping would slow the fall itself).
+    for (int c = 0; c < 2; ++c) xfrc[c] += strength * (-a.kp() * (ball[c] - target[c]) - a.kd() * v[c]);
+    if (a.vertical()) xfrc[2] += strength * -a.kp() * (ball[2] - target[2]);
+  }
 }
 
 void JuggleEnv::AddReferenceFeedforward(double phase, double* feedforward) {
@@ -395,12 +414,23 @@ StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
 
   double feedforward[kCharacterNv] = {0};
   const double unit = spec_->env().action_torque();
+  const bool target_offsets = spec_->env().action_mode() == config::PD_TARGET_OFFSET;
+  target_ = reference_;
   for (int j = 0; j < kNumJoints; ++j) {
     const ActuatedJoint& joint = spec_->joint(j);
+    double a[3];
     for (int d = 0; d < joint.dofs; ++d) {
-      const int dof = joint.dof_adr + d;
-      const double a = std::clamp(static_cast<double>(action[dof - 6]), -1.0, 1.0);
-      feedforward[dof] = unit * joint.torque_scale * a;
+      a[d] = unit * joint.torque_scale *
+             std::clamp(static_cast<double>(action[joint.dof_adr + d - 6]), -1.0, 1.0);
+      if (!target_offsets) feedforward[joint.dof_adr + d] = a[d];
+    }
+    if (!target_offsets) continue;
+    // The same torque authority through the PD: offset = τ / kp.
+    for (int d = 0; d < joint.dofs; ++d) a[d] /= joint.kp;
+    if (joint.dofs == 3) {
+      mju_quatIntegrate(target_.data() + joint.qpos_adr, a, 1.0);
+    } else {
+      target_[joint.qpos_adr] += a[0];
     }
   }
   if (id_data_ != nullptr) AddReferenceFeedforward(phase0, feedforward);
@@ -409,7 +439,7 @@ StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
   StepResult result;
   const int substeps = spec_->env().substeps();
   for (int k = 0; k < substeps && result.outcome == Outcome::kRunning; ++k) {
-    ApplyTorques(feedforward);
+    ApplyTorques(feedforward, ball_ref);
     for (int w : kWatchedWarnings) data_->warning[w].number = 0;
     mj_step(model_, data_.get());
     if (Diverged()) {

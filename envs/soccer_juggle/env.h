@@ -60,13 +60,19 @@ class JuggleEnv : public juggle::Env {
   // Simulator state, for tests and tools (render, record). Mutating it is the caller's risk.
   mjData* data() override { return data_.get(); }
   const mjData* data() const override { return data_.get(); }
+  // Anneals env().ball_assist().
+  void SetPolicyVersion(int64_t version) override { policy_version_ = version; }
+  // The ball assist's strength now, in [0, 1] (0 without an assist).
+  double assist_strength() const;
   // node, phase (JuggleSpec::annotation_channels).
   void AppendAnnotations(std::vector<double>* out) const override;
   // Reference pose the PD tracked during the last step (or set at reset).
   const CharacterPose& reference_pose() const { return reference_; }
 
  private:
-  void ApplyTorques(const double* feedforward);
+  // PD + feed-forward torques and the external forces on the ball (ball_force, the assist
+  // toward `ball_ref`).
+  void ApplyTorques(const double* feedforward, const BallReference& ball_ref);
   // Adds env.reference_feedforward × the inverse dynamics of the reference at `phase`.
   void AddReferenceFeedforward(double phase, double* feedforward);
   // Adds env.stance_balance's torques on the stance leg of a leg-swing node.
@@ -104,8 +110,10 @@ class JuggleEnv : public juggle::Env {
   Rng rng_;
   CursorState cursor_;
   CharacterPose reference_{};
+  CharacterPose target_{};  // the PD target: the reference, moved by PD_TARGET_OFFSET actions
   std::vector<EdgeEvent> events_;
   int steps_ = 0;
+  int64_t policy_version_ = 0;
   // The current cycle's kick: the ball touched an allowed body, and the kick was rewarded.
   bool kick_touched_ = false;
   bool kick_rewarded_ = false;

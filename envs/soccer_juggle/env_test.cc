@@ -6,6 +6,7 @@
 #include <limits>
 #include <vector>
 
+#include "envs/registry.h"
 #include "gtest/gtest.h"
 #include "envs/soccer_juggle/reference_pose.h"
 #include "envs/testing/test_configs.h"
@@ -205,6 +206,72 @@ TEST_F(JuggleEnvTest, RewardIsAtMostPointOneAndNearItOnTheReference) {
   const StepResult r = env_->Step(kZeroAction, *walk_);
   EXPECT_LE(r.reward, 0.1f + 1e-6f);
   EXPECT_GT(r.reward, 0.08f);
+}
+
+// PD_TARGET_OFFSET: the action moves the PD target with the same torque authority as a
+// feed-forward torque — one step of either moves the knee the same way by a similar amount.
+TEST_F(JuggleEnvTest, TargetOffsetActionsMoveTheJointLikeTheSameFeedforwardTorque) {
+  auto knee_change = [&](config::ActionMode mode, float value) {
+    LoadedConfig config = spec_->config();
+    config.run.mutable_soccer_juggle()->mutable_env()->set_action_mode(mode);
+    auto spec = JuggleSpec::Create(config);
+    EXPECT_TRUE(spec.ok()) << spec.status();
+    JuggleEnv env(*spec, Rng(3));
+    env.ResetAt(down_, *walk_);
+    const int knee = (*spec)->joint(kRightKnee).qpos_adr;
+    const double before = env.data()->qpos[knee];
+    float action[kNumActions] = {0};
+    action[(*spec)->joint(kRightKnee).dof_adr - 6] = value;
+    env.Step(action, *walk_);
+    return env.data()->qpos[knee] - before;
+  };
+  const double zero = knee_change(config::FEEDFORWARD_TORQUE, 0);
+  const double torque = knee_change(config::FEEDFORWARD_TORQUE, 0.5) - zero;
+  const double target = knee_change(config::PD_TARGET_OFFSET, 0.5) - zero;
+  EXPECT_EQ(knee_change(config::PD_TARGET_OFFSET, 0) - zero, 0.0) << "no action: the release";
+  EXPECT_GT(torque, 0.005);
+  EXPECT_GT(target, 0.005);
+  EXPECT_NEAR(target / torque, 1.0, 0.35);
+}
+
+// The ball assist (a curriculum): full strength at version 0, half way through the anneal at
+// half strength, off after it and in evaluation configs; it pulls a displaced ball toward its
+// reference.
+TEST_F(JuggleEnvTest, BallAssistAnnealsWithThePolicyVersionAndPullsTheBallToItsReference) {
+  LoadedConfig config = spec_->config();
+  config::BallAssist* assist =
+      config.run.mutable_soccer_juggle()->mutable_env()->mutable_ball_assist();
+  assist->set_kp(40);
+  assist->set_kd(4);
+  assist->set_anneal_iterations(100);
+  auto spec = JuggleSpec::Create(config);
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  JuggleEnv env(*spec, Rng(3));
+  EXPECT_EQ(env.assist_strength(), 1.0);
+  env.SetPolicyVersion(50);
+  EXPECT_EQ(env.assist_strength(), 0.5);
+  env.SetPolicyVersion(100);
+  EXPECT_EQ(env.assist_strength(), 0.0);
+  env.SetPolicyVersion(250);
+  EXPECT_EQ(env.assist_strength(), 0.0);
+
+  // A ball 10 cm to the side of its reference drifts back toward it with the assist only.
+  auto lateral_speed = [&](int64_t version) {
+    JuggleEnv e(*spec, Rng(3));
+    e.SetPolicyVersion(version);
+    e.ResetAt(down_, *walk_);
+    e.data()->qpos[(*spec)->ball_qpos() + 1] += 0.10;
+    mj_forward((*spec)->model(), e.data());
+    e.Step(kZeroAction, *walk_);
+    return e.data()->qvel[(*spec)->ball_dof() + 1];
+  };
+  EXPECT_LT(lateral_speed(0), -0.05);          // pulled back (−y) at full strength
+  EXPECT_NEAR(lateral_speed(100), 0.0, 1e-9);  // annealed away: free flight
+
+  absl::StatusOr<const EnvFamily*> family = FamilyOf(config.run);
+  ASSERT_TRUE(family.ok());
+  (*family)->ConfigureForEvaluation(0, &config.run);
+  EXPECT_FALSE(config.run.soccer_juggle().env().has_ball_assist());
 }
 
 // The start variation of the recipe's config: within its ranges, different per seed, the same

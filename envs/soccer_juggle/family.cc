@@ -76,6 +76,7 @@ class SoccerJuggleFamily final : public EnvFamily {
     }
     env->mutable_start()->set_random_phase_fraction(0);
     env->mutable_start()->set_recorded_start_fraction(0);
+    env->clear_ball_assist();
   }
 };
 

@@ -78,7 +78,8 @@ void AddLearnerFlags(CLI::App* cmd, LearnerFlags* f) {
       ->capture_default_str();
   cmd->add_option("--metrics_port", f->metrics_port,
                   "HTTP port of /metrics and the dashboard (-1: the config's "
-                  "service.metrics_port; 0: off, as in the config)")
+                  "service.metrics_port; 0: off, as in the config; unset in both: off, "
+                  "except `train`, which picks a free port)")
       ->check(Between(-1, 65535))
       ->capture_default_str();
 }

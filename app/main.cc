@@ -28,6 +28,8 @@ const Command kCommands[] = {
      juggle::AddTossCommand},
     {"export-policy", "write a checkpoint's policy without its trainer (torch-free)",
      juggle::AddExportPolicyCommand},
+    {"dashboard", "render a run's dashboard (metrics.jsonl) as one self-contained HTML file",
+     juggle::AddDashboardCommand},
     {"bench", "benchmarks that print ratios measured in one run (docs/performance.md)",
      juggle::AddBenchCommand},
 };

@@ -1,5 +1,7 @@
 #include "common/http_server.h"
 
+#include <sys/socket.h>
+
 #include <chrono>
 #include <thread>
 
@@ -39,6 +41,12 @@ absl::StatusOr<std::unique_ptr<HttpServer>> HttpServer::Start(int port, bool all
   server.set_read_timeout(5);
   server.set_write_timeout(5);
   server.set_payload_max_length(1 << 20);
+  // httplib's default also sets SO_REUSEPORT, which lets a second server bind a port in use
+  // (and steal half its connections): keep only SO_REUSEADDR (rebinding after a restart).
+  server.set_socket_options([](socket_t sock) {
+    const int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
+  });
   server.Get(".*", [handler](const httplib::Request& req, httplib::Response& res) {
     HttpRequest request;
     request.path = req.path;

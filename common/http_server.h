@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "absl/status/statusor.h"
 
@@ -25,6 +26,13 @@ struct HttpRequest {
 };
 
 struct HttpResponse {
+  HttpResponse() = default;
+  HttpResponse(int status, std::string content_type, std::string body,
+               std::string cache_control = "")
+      : status(status),
+        content_type(std::move(content_type)),
+        body(std::move(body)),
+        cache_control(std::move(cache_control)) {}
   int status = 200;
   std::string content_type = "text/plain; version=0.0.4";
   std::string body;

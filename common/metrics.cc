@@ -1,9 +1,21 @@
 #include "common/metrics.h"
 
+#include <cmath>
+
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 
 namespace juggle {
+namespace {
+
+// A sample value as the exposition format spells it: NaN, +Inf, -Inf, else 17 digits.
+std::string FormatValue(double v) {
+  if (std::isnan(v)) return "NaN";
+  if (std::isinf(v)) return v > 0 ? "+Inf" : "-Inf";
+  return absl::StrFormat("%.17g", v);
+}
+
+}  // namespace
 
 std::string Metrics::LabelKey(const std::map<std::string, std::string>& labels) {
   if (labels.empty()) return "";
@@ -121,15 +133,15 @@ std::string Metrics::RenderPrometheus() const {
     if (f.type == "histogram") {
       for (size_t i = 0; i < f.buckets.size(); ++i) {
         absl::StrAppend(&out, name, "_bucket{le=\"", absl::StrFormat("%g", f.buckets[i]), "\"} ",
-                        absl::StrFormat("%.17g", f.bucket_counts[i]), "\n");
+                        FormatValue(f.bucket_counts[i]), "\n");
       }
-      absl::StrAppend(&out, name, "_bucket{le=\"+Inf\"} ", absl::StrFormat("%.17g", f.count), "\n",
-                      name, "_sum ", absl::StrFormat("%.17g", f.sum), "\n", name, "_count ",
-                      absl::StrFormat("%.17g", f.count), "\n");
+      absl::StrAppend(&out, name, "_bucket{le=\"+Inf\"} ", FormatValue(f.count), "\n",
+                      name, "_sum ", FormatValue(f.sum), "\n", name, "_count ",
+                      FormatValue(f.count), "\n");
       continue;
     }
     for (const auto& [labels, value] : f.series) {
-      absl::StrAppend(&out, name, labels, " ", absl::StrFormat("%.17g", value), "\n");
+      absl::StrAppend(&out, name, labels, " ", FormatValue(value), "\n");
     }
   }
   return out;

@@ -1,6 +1,7 @@
 // Metrics: Prometheus text rendering.
 #include "common/metrics.h"
 
+#include <cmath>
 #include <string>
 
 #include "gmock/gmock.h"
@@ -99,7 +100,38 @@ TEST(MetricsTest, GetReturnsSeriesValuesHistogramCountAndZeroForUnknown) {
   EXPECT_EQ(m.Get("never_declared"), 0);
 }
 
-// GET `path` over a raw socket; returns the whole response (status line, headers, body).
+TEST(MetricsTest, RendersNonFiniteValuesAsTheExpositionFormatSpellsThem) {
+  Metrics m;
+  m.Declare("loss", "gauge", "loss");
+  m.Set("loss", std::nan(""), {{"k", "nan"}});
+  m.Set("loss", HUGE_VAL, {{"k", "pos"}});
+  m.Set("loss", -HUGE_VAL, {{"k", "neg"}});
+  const std::string text = m.RenderPrometheus();
+  EXPECT_THAT(text, HasSubstr("loss{k=\"nan\"} NaN\n"));
+  EXPECT_THAT(text, HasSubstr("loss{k=\"pos\"} +Inf\n"));
+  EXPECT_THAT(text, HasSubstr("loss{k=\"neg\"} -Inf\n"));
+}
+
+TEST(MetricsTest, EscapesBackslashQuoteAndNewlineInLabelValues) {
+  Metrics m;
+  m.Declare("info", "gauge", "info");
+  m.Set("info", 1, {{"config", "a\"b\\c\nd"}});
+  EXPECT_THAT(m.RenderPrometheus(), HasSubstr("info{config=\"a\\\"b\\\\c\\nd\"} 1\n"));
+}
+
+TEST(MetricsTest, SeriesReturnsEachSeriesWithItsLabels) {
+  Metrics m;
+  m.Declare("rejected", "counter", "r");
+  m.Add("rejected", 2, {{"reason", "invalid"}});
+  m.Add("rejected", 3, {{"reason", "stale_version"}});
+  const auto series = m.Series("rejected");
+  ASSERT_EQ(series.size(), 2u);
+  EXPECT_EQ(series[0].first.at("reason"), "invalid");
+  EXPECT_EQ(series[0].second, 2);
+  EXPECT_EQ(series[1].first.at("reason"), "stale_version");
+  EXPECT_EQ(series[1].second, 3);
+  EXPECT_TRUE(m.Series("never_declared").empty());
+}
 
 }  // namespace
 }  // namespace juggle

@@ -385,7 +385,8 @@ std::string EvaluationsJson(const std::vector<InRunEvaluation>& evaluations) {
 
 std::string RunRecordJson(const DashboardRunInfo& info) {
   Json j = {{"event", "run"}};
-  for (auto& [key, value] : RunJson(info).items()) j[key] = value;
+  const Json run = RunJson(info);  // named: items() refers into it
+  for (const auto& [key, value] : run.items()) j[key] = value;
   Json nodes = Json::array(), edges = Json::array();
   for (const DashboardRunInfo::Node& n : info.nodes) {
     nodes.push_back({{"name", n.name}, {"stage", n.stage}, {"initial", n.initial}});

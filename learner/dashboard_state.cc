@@ -4,6 +4,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "envs/registry.h"
 #include "proto/control_graph.pb.h"
 
 namespace juggle {
@@ -40,6 +41,26 @@ void DescribeGraph(const ControlGraph& graph, DashboardRunInfo* info) {
     const GraphEdge& edge = graph.edge(e);
     info->edges.push_back({edge.from, edge.to, edge.base_weight});
   }
+}
+
+DashboardRunInfo DescribeRun(const LoadedConfig& config, const EnvSpec& spec) {
+  const config::RunConfig& run = config.run;
+  DashboardRunInfo info;
+  info.config_name = run.name();
+  info.config_path = config.config_path;
+  absl::StatusOr<const EnvFamily*> family = FamilyOf(run);
+  if (family.ok()) info.family = std::string((*family)->name());
+  info.seed = run.seed();
+  info.synchronous = run.service().synchronous();
+  info.min_workers = run.service().min_workers();
+  info.max_policy_lag = info.synchronous ? 0 : run.service().max_policy_lag();
+  info.queue_capacity = std::max(1, run.service().queue_capacity());
+  info.checkpoint_every = run.service().checkpoint_every();
+  info.worker_timeout_s = run.service().worker_timeout_s();
+  info.control_dt = spec.control_dt();
+  info.outcome_names = spec.outcome_names();
+  DescribeGraph(spec.graph(), &info);
+  return info;
 }
 
 void WalkEventTotals::Resize(int num_edges) {

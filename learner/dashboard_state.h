@@ -19,7 +19,9 @@
 #include <vector>
 
 #include "common/adaptive_walk.h"
+#include "common/config_loader.h"
 #include "common/control_graph.h"
+#include "envs/env.h"
 #include "learner/in_run_eval.h"
 #include "learner/learner_metrics.h"
 
@@ -54,6 +56,8 @@ struct DashboardRunInfo {
 
 // The graph part of a DashboardRunInfo from a control graph (empty graph: no nodes).
 void DescribeGraph(const ControlGraph& graph, DashboardRunInfo* info);
+// The whole DashboardRunInfo of a loaded config and its env spec.
+DashboardRunInfo DescribeRun(const LoadedConfig& config, const EnvSpec& spec);
 
 // Workers' edge events per edge (paper §5.2: chosen = the walk entered the edge's target,
 // completed = the target node was completed, failed = the episode ended in it).

@@ -2,8 +2,12 @@
 // history requests, per-edge and per-node walk statistics, the run-state decision, worker
 // rows, metrics.jsonl records read back, and the routes serving page, files and API.
 #include <cmath>
+#include <cstring>
 #include <fstream>
+#include <regex>
+#include <sstream>
 
+#include "absl/strings/match.h"
 #include "common/testing/temp_dir.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
@@ -284,6 +288,52 @@ TEST(DashboardAssetsTest, TheInlinedPageHasNoExternalReferences) {
   EXPECT_THAT(page, HasSubstr("Chart.js v3"));
   EXPECT_THAT(page, HasSubstr("<\\/script>\"};"));  // the data cannot close its script early
   EXPECT_GT(page.size(), 400000u);
+}
+
+// Every metric the deployed queries name (Grafana panels, alerting and recording rules) is one
+// the learner declares, and every recording rule they use is defined: a renamed metric cannot
+// silently empty a panel or disable an alert.
+TEST(DeployedQueriesTest, GrafanaAndRulesNameOnlyDeclaredMetricsAndDefinedRules) {
+  const char* root = std::getenv("JUGGLE_SOURCE_DIR");
+  const std::string dir = std::string(root ? root : ".") + "/deploy/";
+  Metrics metrics;
+  DeclareLearnerMetrics(&metrics);
+  const std::string declared = metrics.RenderPrometheus();
+  auto read = [](const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  const std::string recording = read(dir + "prometheus/recording_rules.yml");
+  ASSERT_FALSE(recording.empty());
+  int names = 0, rules = 0;
+  for (const std::string file : {"grafana/juggle.json", "prometheus/recording_rules.yml",
+                                 "prometheus/alerting_rules.yml"}) {
+    const std::string text = read(dir + file);
+    ASSERT_FALSE(text.empty()) << file;
+    const std::regex metric(R"((^|[^:a-z_])(juggle_[a-z0-9_]+))");
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), metric);
+         it != std::sregex_iterator(); ++it) {
+      std::string name = (*it)[2].str();
+      for (const char* suffix : {"_bucket", "_sum", "_count"}) {
+        const std::string base = name.substr(0, name.size() - std::strlen(suffix));
+        if (absl::EndsWith(name, suffix) && absl::StrContains(declared, "# TYPE " + base + " histogram")) {
+          name = base;
+        }
+      }
+      EXPECT_THAT(declared, HasSubstr("# TYPE " + name + " ")) << file << " names " << name;
+      ++names;
+    }
+    const std::regex rule(R"((instance|job):juggle_[a-z0-9_]+:[a-z0-9_]+)");
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), rule);
+         it != std::sregex_iterator(); ++it) {
+      EXPECT_THAT(recording, HasSubstr("record: " + it->str() + "\n")) << file << " uses " << it->str();
+      ++rules;
+    }
+  }
+  EXPECT_GT(names, 40);
+  EXPECT_GT(rules, 10);
 }
 
 }  // namespace

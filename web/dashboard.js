@@ -75,7 +75,7 @@
   lineChart('chart-juggles', [{ label: 'juggles / episode' }, { label: 'completions / episode' }]);
   lineChart('chart-length', [{ label: 'episode length' }]);
   lineChart('chart-outcomes', [], { stacked: true, minY: 0, maxY: 1 });
-  lineChart('chart-eval', [{ label: 'p90', color: '#90caf9', fillTo: '+1' }, { label: 'median', color: '#1565c0' },
+  lineChart('chart-eval', [{ label: 'p90', color: '#90caf9', fillTo: '+2' }, { label: 'median', color: '#1565c0' },
                            { label: 'p10', color: '#90caf9' }], { xLabel: 'iteration' });
   barChart('chart-eval-hist', 'episodes', '#1565c0');
   lineChart('chart-ppo', [{ label: 'value loss' }, { label: 'approx KL', axis: 'y2' }, { label: 'learning rate', axis: 'y2' }],
@@ -148,7 +148,10 @@
     } else {
       h.data.labels = [];
       h.data.datasets[0].data = [];
-      text('eval-hist-caption', e.length ? 'Latest evaluation: juggles distribution' : 'No in-run evaluation yet (evaluation.every_minutes)');
+      text('eval-hist-caption', latest
+        ? 'Latest evaluation (iteration ' + latest.iteration + '): median ' + num(latest.median_juggles, 1) +
+          ' juggles, ≥10: ' + pct(latest.frac_juggles_ge_10) + ' (per-episode counts not recorded)'
+        : 'No in-run evaluation yet (evaluation.every_minutes)');
     }
     h.update('none');
   }
@@ -247,8 +250,10 @@
       force.stop();
       const svg = container.append('svg').attr('width', width).attr('height', height)
         .attr('viewBox', '0 0 ' + width + ' ' + height);
+      // Arrowheads in pixels, not scaled by the edge's width.
       svg.append('defs').append('marker').attr('id', 'arrow').attr('viewBox', '0 -5 10 10')
-        .attr('refX', 9).attr('refY', 0).attr('markerWidth', 5).attr('markerHeight', 5)
+        .attr('refX', 9).attr('refY', 0).attr('markerUnits', 'userSpaceOnUse')
+        .attr('markerWidth', 12).attr('markerHeight', 12)
         .attr('orient', 'auto').append('path').attr('d', 'M0,-5L10,0L0,5').attr('fill', '#555');
       const R = 22;
       svg.append('g').attr('class', 'edges').selectAll('path').data(g.edges).enter().append('path')
@@ -258,7 +263,7 @@
           const dx = b.x - a.x, dy = b.y - a.y, d = Math.sqrt(dx * dx + dy * dy) || 1;
           // Curved, so that a->b and b->a are both visible; trimmed to the circles.
           const sx = a.x + dx * R / d, sy = a.y + dy * R / d, tx = b.x - dx * (R + 4) / d, ty = b.y - dy * (R + 4) / d;
-          return 'M' + sx + ',' + sy + 'A' + (d * 1.3) + ',' + (d * 1.3) + ' 0 0,1 ' + tx + ',' + ty;
+          return 'M' + sx + ',' + sy + 'A' + (d * 0.8) + ',' + (d * 0.8) + ' 0 0,1 ' + tx + ',' + ty;
         })
         .append('title');
       const node = svg.append('g').attr('class', 'nodes').selectAll('g').data(g.nodes).enter().append('g')

@@ -2,6 +2,7 @@
 
 #include <sys/socket.h>
 
+#include <atomic>
 #include <chrono>
 #include <thread>
 
@@ -26,6 +27,7 @@ std::string HttpRequest::Param(const std::string& key, const std::string& fallba
 struct HttpServer::Impl {
   httplib::Server server;
   std::thread thread;
+  std::atomic<bool> exited{false};  // the server thread returned from its accept loop
 };
 
 HttpServer::HttpServer() : impl_(std::make_unique<Impl>()) {}
@@ -81,9 +83,20 @@ absl::StatusOr<std::unique_ptr<HttpServer>> HttpServer::Start(int port, bool all
     }
     s->port_ = port;
   }
-  s->impl_->thread = std::thread([&server] { server.listen_after_bind(); });
+  Impl* impl = s->impl_.get();
+  impl->thread = std::thread([impl] {
+    impl->server.listen_after_bind();
+    impl->exited = true;
+  });
   // Stop() only stops a running server: wait until the thread is in its accept loop.
-  while (!server.is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  while (!server.is_running() && !impl->exited) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  if (impl->exited) {
+    impl->thread.join();
+    return absl::UnavailableError(absl::StrCat("http: the server on port ", s->port_,
+                                               " stopped as it started"));
+  }
   return s;
 }
 

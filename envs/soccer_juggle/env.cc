@@ -503,6 +503,20 @@ void JuggleEnv::WriteObservation(float* obs) const {
   obs[i + cursor_.current] = 1;
   obs[i + n + cursor_.next] = 1;
   obs[i + 2 * n + cursor_.next_next] = 1;
+  if (spec_->env().ball_error_observation()) {
+    i += 3 * n;
+    const BallReference ref = spec_->cursor().DesiredBall(cursor_, cursor_.phase);
+    const BallReference ref_vel = spec_->cursor().DesiredBallVelocity(cursor_, cursor_.phase);
+    obs[i++] = ball[0] - qpos[0] - ref.x;
+    obs[i++] = ball[1] - qpos[1] - ref.y;
+    obs[i++] = ball[2] - ref.z;
+    obs[i++] = (ball_vel[0] - ref_vel.x) / 10;
+    obs[i++] = (ball_vel[1] - ref_vel.y) / 10;
+    obs[i++] = (ball_vel[2] - ref_vel.z) / 10;
+    for (int k = i - kBallErrorObs; k < i; ++k) {
+      if (!std::isfinite(obs[k])) obs[k] = 0;
+    }
+  }
   // Never hand a non-finite number to a policy.
   for (int k = 0; k < kObsBase; ++k) {
     if (!std::isfinite(obs[k])) obs[k] = 0;

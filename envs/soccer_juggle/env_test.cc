@@ -274,6 +274,45 @@ TEST_F(JuggleEnvTest, BallAssistAnnealsWithThePolicyVersionAndPullsTheBallToItsR
   EXPECT_FALSE(config.run.soccer_juggle().env().has_ball_assist());
 }
 
+TEST_F(JuggleEnvTest, BallErrorObservationIsTheBallMinusItsReferenceAfterTheOneHots) {
+  LoadedConfig config = spec_->config();
+  config.run.mutable_soccer_juggle()->mutable_env()->set_ball_error_observation(true);
+  auto spec = JuggleSpec::Create(config);
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  const int n = (*spec)->graph().num_nodes();
+  ASSERT_EQ((*spec)->obs_dim(), spec_->obs_dim() + 6);
+  JuggleEnv env(*spec, Rng(3));
+  env.ResetAt(down_, *walk_);
+  // Ball moved off its apex reference by a known offset and velocity.
+  mjData* d = env.data();
+  const int b = (*spec)->ball_qpos(), v = (*spec)->ball_dof();
+  d->qpos[b + 0] += 0.04;
+  d->qpos[b + 1] -= 0.02;
+  d->qpos[b + 2] += 0.01;
+  d->qvel[v + 0] = 0.5;
+  d->qvel[v + 2] = -1.0;
+  mj_forward((*spec)->model(), d);
+  std::vector<float> obs((*spec)->obs_dim());
+  env.WriteObservation(obs.data());
+  const float* err = obs.data() + kObsBase + 3 * n;
+  EXPECT_NEAR(err[0], 0.04, 1e-6);
+  EXPECT_NEAR(err[1], -0.02, 1e-6);
+  EXPECT_NEAR(err[2], 0.01, 1e-6);
+  // At the apex (φ = 0) the reference is at rest.
+  EXPECT_NEAR(err[3], 0.05, 1e-6);
+  EXPECT_NEAR(err[4], 0.0, 1e-6);
+  EXPECT_NEAR(err[5], -0.1, 1e-6);
+  // The first 88 + one-hot floats are the release's observation, unchanged.
+  std::vector<float> plain(spec_->obs_dim());
+  JuggleEnv same(spec_, Rng(3));
+  same.ResetAt(down_, *walk_);
+  same.WriteObservation(plain.data());
+  for (int i = 0; i < spec_->obs_dim(); ++i) {
+    if (i >= kObsBase - 12 && i < kObsBase - 3) continue;  // ball position, velocity, spin
+    EXPECT_EQ(obs[i], plain[i]) << i;
+  }
+}
+
 // The start variation of the recipe's config: within its ranges, different per seed, the same
 // for the same seed.
 class StartVariationTest : public ::testing::Test {

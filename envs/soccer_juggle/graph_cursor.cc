@@ -120,4 +120,17 @@ BallReference GraphCursor::DesiredBall(const CursorState& s, double phase) const
   return ref;
 }
 
+BallReference GraphCursor::DesiredBallVelocity(const CursorState& s, double phase) const {
+  const GraphNode& node = graph_->node(s.current);
+  BallReference vel;
+  if (node.stage == config::STALL) return vel;
+  const double half_t = 0.5 / s.phase_speed * control_dt_;
+  if (node.stage == config::DOWN) {
+    vel.z = -gravity_ * std::clamp(phase, 0.0, 0.5) / s.phase_speed * control_dt_;
+  } else {
+    vel.z = gravity_ * (half_t - std::clamp(phase - 0.5, 0.0, 0.5) / s.phase_speed * control_dt_);
+  }
+  return vel;
+}
+
 }  // namespace juggle::soccer_juggle

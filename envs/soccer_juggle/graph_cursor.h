@@ -73,6 +73,8 @@ class GraphCursor {
 
   // Desired ball position at phase `phase` of the current node.
   BallReference DesiredBall(const CursorState& s, double phase) const;
+  // Its velocity (m/s): vertical only, the derivative of DesiredBall over time.
+  BallReference DesiredBallVelocity(const CursorState& s, double phase) const;
 
   // Half-cycle duration (s) of `node` under apex height `apex`.
   double HalfCycleSeconds(int node, double apex) const;

@@ -202,6 +202,25 @@ TEST(GraphCursorTest, PhaseGrowsByThePhaseSpeedEveryStepBetweenTransitions) {
   EXPECT_TRUE(events.empty());
 }
 
+TEST(GraphCursorTest, DesiredBallVelocityIsTheTimeDerivativeOfTheDesiredBall) {
+  Harness t(kFoot);
+  for (const char* node : {"foot_down", "foot_up"}) {
+    t.ResetAt(node);
+    const double dphi = 1e-6;
+    const double dt = dphi / t.s.phase_speed * kDt;  // seconds per dphi
+    for (double phase : {0.05, 0.2, 0.45, 0.55, 0.8, 0.95}) {
+      const double z0 = t.cursor->DesiredBall(t.s, phase - dphi).z;
+      const double z1 = t.cursor->DesiredBall(t.s, phase + dphi).z;
+      const BallReference v = t.cursor->DesiredBallVelocity(t.s, phase);
+      if ((std::string(node) == "foot_down") == (phase < 0.5)) {
+        EXPECT_NEAR(v.z, (z1 - z0) / (2 * dt), 1e-5) << node << " " << phase;
+      }
+      EXPECT_EQ(v.x, 0.0);
+      EXPECT_EQ(v.y, 0.0);
+    }
+  }
+}
+
 TEST(GraphCursorTest, FootToFootCycleTakesTwiceTheRoundedHalfCycle) {
   Harness t(kFoot);
   t.ResetAt("foot_down");

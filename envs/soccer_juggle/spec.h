@@ -26,6 +26,7 @@ constexpr int kObsBase = 88;       // observation floats before the three node o
 
 // Observation size for a control graph with `num_nodes` nodes.
 constexpr int ObservationSize(int num_nodes) { return kObsBase + 3 * num_nodes; }
+constexpr int kBallErrorObs = 6;  // appended by env.ball_error_observation
 
 // The 12 actuated joints, in qpos order (reference generalized-coordinate order).
 enum JointId {
@@ -87,7 +88,9 @@ class JuggleSpec : public EnvSpec {
   const NodeRuntime& node_runtime(int n) const { return nodes_[n]; }
   const CharacterPose& rest_pose() const { return rest_pose_; }
 
-  int obs_dim() const override { return ObservationSize(graph().num_nodes()); }
+  int obs_dim() const override {
+    return ObservationSize(graph().num_nodes()) + (env().ball_error_observation() ? kBallErrorObs : 0);
+  }
   int act_dim() const override { return kNumActions; }
   std::unique_ptr<Env> NewEnv(Rng rng) const override;
   double control_dt() const override { return env().sim_dt() * env().substeps(); }

@@ -1,4 +1,4 @@
-// `juggle bench sim|moe|ingest|broadcast|local`: the benchmarks of bench/ (docs/performance.md).
+// `juggle bench sim|moe|ingest|broadcast|local|dashboard`: the benchmarks of bench/ (docs/performance.md).
 #include "app/commands.h"
 #include "bench/benchmarks.h"
 
@@ -11,6 +11,7 @@ CommandBody AddBenchCommand(CLI::App* cmd) {
   auto ingest = std::make_shared<IngestBenchOptions>();
   auto broadcast = std::make_shared<BroadcastBenchOptions>();
   auto local = std::make_shared<LocalBenchOptions>();
+  auto dashboard = std::make_shared<DashboardBenchOptions>();
 
   CLI::App* s = cmd->add_subcommand("sim", "env steps/s on 1 and 2 threads vs bare mj_step");
   s->add_option("--config", sim->config, "run config")->capture_default_str();
@@ -50,6 +51,16 @@ CommandBody AddBenchCommand(CLI::App* cmd) {
   l->add_option("--iterations", local->iterations, "iterations of each measurement")
       ->check(Between(1, 100000))->capture_default_str();
 
+  CLI::App* d = cmd->add_subcommand("dashboard", "local training's samples/s with and without "
+                                                 "a client polling the dashboard");
+  d->add_option("--config", dashboard->config, "run config")->capture_default_str();
+  d->add_option("--phase_seconds", dashboard->phase_seconds, "length of each phase")
+      ->check(Between(1, 3600))->capture_default_str();
+  d->add_option("--repeats", dashboard->repeats, "quiet/polled phase pairs")
+      ->check(Between(1, 100))->capture_default_str();
+  d->add_option("--poll_hz", dashboard->poll_hz, "page refreshes per second while polled")
+      ->check(Between(0.01, 100))->capture_default_str();
+
   return [=] {
     absl::Status status;
     if (s->parsed()) status = RunSimBench(*sim);
@@ -57,6 +68,7 @@ CommandBody AddBenchCommand(CLI::App* cmd) {
     if (i->parsed()) status = RunIngestBench(*ingest);
     if (b->parsed()) status = RunBroadcastBench(*broadcast);
     if (l->parsed()) status = RunLocalBench(*local);
+    if (d->parsed()) status = RunDashboardBench(*dashboard);
     return status.ok() ? 0 : Fail(status);
   };
 }

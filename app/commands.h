@@ -19,6 +19,7 @@ CommandBody AddExportPolicyCommand(CLI::App* cmd);
 CommandBody AddReplayCommand(CLI::App* cmd);
 CommandBody AddExportBvhCommand(CLI::App* cmd);
 CommandBody AddBenchCommand(CLI::App* cmd);
+CommandBody AddDashboardCommand(CLI::App* cmd);
 
 }  // namespace juggle
 

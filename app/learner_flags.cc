@@ -78,7 +78,8 @@ void AddLearnerFlags(CLI::App* cmd, LearnerFlags* f) {
       ->capture_default_str();
   cmd->add_option("--metrics_port", f->metrics_port,
                   "HTTP port of /metrics and the dashboard (-1: the config's "
-                  "service.metrics_port; 0: any free port)")
+                  "service.metrics_port; 0: off, as in the config; unset in both: off, "
+                  "except `train`, which picks a free port)")
       ->check(Between(-1, 65535))
       ->capture_default_str();
 }
@@ -109,6 +110,10 @@ absl::StatusOr<LearnerOptions> MakeLearnerOptions(const LearnerFlags& flags) {
     o.resume = true;  // from the copied checkpoint
   }
   auto metrics = std::make_shared<std::ofstream>(o.run_dir + "/metrics.jsonl", std::ios::app);
+  o.on_record = [metrics](const std::string& record) {
+    *metrics << record << "\n";
+    metrics->flush();
+  };
   o.on_iteration = ProgressReporter(metrics);
   o.on_eval = [metrics](const InRunEvaluation& e) {
     *metrics << e.ToJson() << "\n";

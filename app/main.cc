@@ -32,6 +32,8 @@ const Command kCommands[] = {
      juggle::AddReplayCommand},
     {"export-bvh", "write a recording's character motion as BVH (+ the balls as CSV)",
      juggle::AddExportBvhCommand},
+    {"dashboard", "render a run's dashboard (metrics.jsonl) as one self-contained HTML file",
+     juggle::AddDashboardCommand},
     {"bench", "benchmarks that print ratios measured in one run (docs/performance.md)",
      juggle::AddBenchCommand},
 };

@@ -35,6 +35,10 @@ CommandBody AddTrainCommand(CLI::App* cmd) {
     const config::RunConfig run = options->config.run;
     options->port = 0;  // any free loopback port
     options->listen_all_interfaces = false;
+    // The dashboard on a free loopback port unless a port (or 0: off) is given.
+    if (f->learner.metrics_port == -1 && !run.service().has_metrics_port()) {
+      options->metrics_port = LearnerOptions::kAnyFreePort;
+    }
     const int workers = f->workers > 0 ? f->workers : run.service().local_workers();
     const int envs = f->envs > 0 ? f->envs : run.sampling().num_envs();
     const int threads = f->threads > 0 ? f->threads : run.sampling().num_threads();

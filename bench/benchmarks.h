@@ -52,6 +52,15 @@ struct LocalBenchOptions {
 // Local-mode iteration time vs sampling alone + update alone.
 absl::Status RunLocalBench(const LocalBenchOptions& options);
 
+struct DashboardBenchOptions {
+  std::string config = "configs/right_foot.textproto";
+  double phase_seconds = 30;  // length of each quiet and each polled phase
+  int repeats = 2;            // quiet/polled pairs
+  double poll_hz = 1;         // page refreshes per second while polled (the page: 1/3)
+};
+
+absl::Status RunDashboardBench(const DashboardBenchOptions& options);
+
 }  // namespace juggle
 
 #endif  // JUGGLE_BENCH_BENCHMARKS_H_

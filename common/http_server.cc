@@ -1,115 +1,131 @@
 #include "common/http_server.h"
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <poll.h>
 #include <sys/socket.h>
-#include <unistd.h>
 
-#include <cerrno>
-#include <cstring>
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+#include <httplib.h>
 
 #include "absl/strings/str_cat.h"
 
 namespace juggle {
+namespace {
 
+// Request threads: a browser keeps up to 6 keep-alive connections and each holds a thread
+// while open, so a few more than one page needs; idle threads cost nothing.
+constexpr int kRequestThreads = 8;
+
+}  // namespace
+
+std::string HttpRequest::Param(const std::string& key, const std::string& fallback) const {
+  auto it = params.find(key);
+  return it == params.end() ? fallback : it->second;
+}
+
+struct HttpServer::Impl {
+  httplib::Server server;
+  std::thread thread;
+  std::atomic<bool> exited{false};  // the server thread returned from its accept loop
+};
+
+HttpServer::HttpServer() : impl_(std::make_unique<Impl>()) {}
 HttpServer::~HttpServer() { Stop(); }
 
 absl::StatusOr<std::unique_ptr<HttpServer>> HttpServer::Start(int port, bool all_interfaces,
                                                               Handler handler) {
-  std::unique_ptr<HttpServer> server(new HttpServer());
-  server->handler_ = std::move(handler);
-  server->fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
-  if (server->fd_ < 0) return absl::InternalError("http: socket() failed");
-  const int one = 1;
-  ::setsockopt(server->fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof(one));
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_addr.s_addr = htonl(all_interfaces ? INADDR_ANY : INADDR_LOOPBACK);
-  addr.sin_port = htons(port);
-  if (::bind(server->fd_, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) != 0 ||
-      ::listen(server->fd_, 16) != 0) {
-    const std::string err = std::strerror(errno);
-    ::close(server->fd_);
-    server->fd_ = -1;
-    return absl::UnavailableError(absl::StrCat("http: cannot listen on port ", port, ": ", err));
+  std::unique_ptr<HttpServer> s(new HttpServer());
+  httplib::Server& server = s->impl_->server;
+  server.new_task_queue = [] { return new httplib::ThreadPool(kRequestThreads); };
+  server.set_keep_alive_max_count(1000);
+  server.set_keep_alive_timeout(10);
+  server.set_read_timeout(5);
+  server.set_write_timeout(5);
+  server.set_payload_max_length(1 << 20);
+  // httplib's default also sets SO_REUSEPORT, which lets a second server bind a port in use
+  // (and steal half its connections): keep only SO_REUSEADDR (rebinding after a restart).
+  server.set_socket_options([](socket_t sock) {
+    const int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
+  });
+  server.Get(".*", [handler](const httplib::Request& req, httplib::Response& res) {
+    HttpRequest request;
+    request.path = req.path;
+    for (const auto& [key, value] : req.params) request.params[key] = value;
+    HttpResponse response = handler(request);
+    res.status = response.status;
+    res.set_header("Cache-Control",
+                   response.cache_control.empty() ? "no-store" : response.cache_control);
+    res.set_content(std::move(response.body), response.content_type.c_str());
+  });
+  const auto refuse = [](const httplib::Request&, httplib::Response& res) {
+    res.status = 405;
+    res.set_header("Allow", "GET, HEAD");
+    res.set_content("only GET and HEAD\n", "text/plain");
+  };
+  server.Post(".*", refuse);
+  server.Put(".*", refuse);
+  server.Patch(".*", refuse);
+  server.Delete(".*", refuse);
+  server.set_exception_handler(
+      [](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
+        res.status = 500;
+        res.set_content("internal error\n", "text/plain");
+      });
+  const std::string host = all_interfaces ? "0.0.0.0" : "127.0.0.1";
+  if (port == 0) {
+    s->port_ = server.bind_to_any_port(host);
+    if (s->port_ <= 0) return absl::UnavailableError("http: cannot listen on any port");
+  } else {
+    if (!server.bind_to_port(host, port)) {
+      return absl::UnavailableError(absl::StrCat("http: cannot listen on port ", port));
+    }
+    s->port_ = port;
   }
-  socklen_t len = sizeof(addr);
-  ::getsockname(server->fd_, reinterpret_cast<sockaddr*>(&addr), &len);
-  server->port_ = ntohs(addr.sin_port);
-  server->thread_ = std::thread(&HttpServer::Serve, server.get());
-  return server;
+  Impl* impl = s->impl_.get();
+  impl->thread = std::thread([impl] {
+    impl->server.listen_after_bind();
+    impl->exited = true;
+  });
+  // Stop() only stops a running server: wait until the thread is in its accept loop.
+  while (!server.is_running() && !impl->exited) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  if (impl->exited) {
+    impl->thread.join();
+    return absl::UnavailableError(absl::StrCat("http: the server on port ", s->port_,
+                                               " stopped as it started"));
+  }
+  return s;
 }
 
 void HttpServer::Stop() {
-  if (stop_.exchange(true)) return;
-  if (thread_.joinable()) thread_.join();
-  if (fd_ >= 0) ::close(fd_);
-  fd_ = -1;
+  if (!impl_ || !impl_->thread.joinable()) return;
+  impl_->server.stop();
+  impl_->thread.join();
 }
 
-void HttpServer::Serve() {
-  while (!stop_) {
-    pollfd p{fd_, POLLIN, 0};
-    if (::poll(&p, 1, 200) <= 0) continue;
-    const int client = ::accept(fd_, nullptr, nullptr);
-    if (client < 0) continue;
-    timeval tv{2, 0};
-    ::setsockopt(client, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof(tv));
-    char buf[2048];
-    const ssize_t n = ::recv(client, buf, sizeof(buf) - 1, 0);
-    HttpResponse response;
-    if (n <= 0) {
-      ::close(client);
-      continue;
-    }
-    buf[n] = '\0';
-    const std::string request(buf);
-    if (request.rfind("GET ", 0) != 0) {
-      response = {405, "text/plain", "only GET\n"};
-    } else {
-      const size_t end = request.find(' ', 4);
-      response = handler_(request.substr(4, end == std::string::npos ? std::string::npos : end - 4));
-    }
-    const std::string head = absl::StrCat("HTTP/1.0 ", response.status,
-                                          response.status == 200 ? " OK" : " Error",
-                                          "\r\nContent-Type: ", response.content_type,
-                                          "\r\nContent-Length: ", response.body.size(),
-                                          "\r\nConnection: close\r\n\r\n");
-    const std::string all = head + response.body;
-    size_t sent = 0;
-    while (sent < all.size()) {
-      const ssize_t k = ::send(client, all.data() + sent, all.size() - sent, MSG_NOSIGNAL);
-      if (k <= 0) break;
-      sent += k;
-    }
-    ::close(client);
+absl::StatusOr<HttpResult> HttpFetch(int port, const std::string& path) {
+  httplib::Client client("127.0.0.1", port);
+  client.set_connection_timeout(5);
+  client.set_read_timeout(5);
+  httplib::Result result = client.Get(path);
+  if (!result) {
+    return absl::UnavailableError(absl::StrCat("cannot connect to 127.0.0.1:", port, ": ",
+                                               httplib::to_string(result.error())));
   }
+  HttpResult out;
+  out.status = result->status;
+  out.content_type = result->get_header_value("Content-Type");
+  out.body = std::move(result->body);
+  return out;
 }
 
 absl::StatusOr<std::string> HttpGet(int port, const std::string& path) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  if (fd < 0) return absl::InternalError("http: socket() failed");
-  timeval tv{5, 0};  // never hang on a server that accepts but does not answer
-  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof(tv));
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  addr.sin_port = htons(port);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) != 0) {
-    ::close(fd);
-    return absl::UnavailableError(absl::StrCat("cannot connect to 127.0.0.1:", port));
-  }
-  const std::string req = absl::StrCat("GET ", path, " HTTP/1.0\r\n\r\n");
-  ::send(fd, req.data(), req.size(), MSG_NOSIGNAL);
-  std::string response;
-  char buf[4096];
-  ssize_t n;
-  while ((n = ::recv(fd, buf, sizeof(buf), 0)) > 0) response.append(buf, n);
-  ::close(fd);
-  const size_t body = response.find("\r\n\r\n");
-  if (body == std::string::npos) return absl::DataLossError("malformed HTTP response");
-  return response.substr(body + 4);
+  absl::StatusOr<HttpResult> result = HttpFetch(port, path);
+  if (!result.ok()) return result.status();
+  return std::move(result->body);
 }
 
 }  // namespace juggle

@@ -1,45 +1,75 @@
-// A minimal HTTP/1.0 server for GET requests (/metrics for Prometheus, / for a status page):
-// one accept thread, one request per connection. Not for untrusted networks' load; it serves
-// dashboards. Thread-safe: the handler is called from the server's thread.
+// The project's HTTP server and client, over cpp-httplib (Debian libcpp-httplib-dev 0.11.4):
+// HTTP/1.1 with keep-alive, a pool of request threads (concurrent requests), gzip when the
+// client accepts it, Content-Length and Cache-Control on every answer. GET (and HEAD) go to
+// one handler; other methods are refused with 405. The learner serves /metrics, /healthz and
+// the dashboard with it (learner/http_routes.h).
+// Thread-safety: the handler is called concurrently from the pool's threads; Start/Stop from
+// one owner thread. The client functions are thread-safe.
 #ifndef JUGGLE_COMMON_HTTP_SERVER_H_
 #define JUGGLE_COMMON_HTTP_SERVER_H_
 
-#include <atomic>
 #include <functional>
+#include <map>
+#include <memory>
 #include <string>
-#include <thread>
+#include <utility>
 
 #include "absl/status/statusor.h"
 
 namespace juggle {
 
+struct HttpRequest {
+  std::string path;                           // without the query string
+  std::map<std::string, std::string> params;  // query parameters, decoded
+  // The parameter `key`, or `fallback` when absent.
+  std::string Param(const std::string& key, const std::string& fallback = "") const;
+};
+
 struct HttpResponse {
+  HttpResponse() = default;
+  HttpResponse(int status, std::string content_type, std::string body,
+               std::string cache_control = "")
+      : status(status),
+        content_type(std::move(content_type)),
+        body(std::move(body)),
+        cache_control(std::move(cache_control)) {}
   int status = 200;
   std::string content_type = "text/plain; version=0.0.4";
   std::string body;
+  // Empty: "no-store" (live data); e.g. "public, max-age=86400" for static files.
+  std::string cache_control;
 };
 
 class HttpServer {
  public:
-  using Handler = std::function<HttpResponse(const std::string& path)>;
+  using Handler = std::function<HttpResponse(const HttpRequest& request)>;
   ~HttpServer();
   // Listens on 127.0.0.1:port (0.0.0.0 if `all_interfaces`); port 0 picks a free port.
+  // UNAVAILABLE when the port cannot be bound.
   static absl::StatusOr<std::unique_ptr<HttpServer>> Start(int port, bool all_interfaces,
                                                            Handler handler);
   int port() const { return port_; }
+  // Stops listening and waits for the server thread. Idempotent.
   void Stop();
 
  private:
-  HttpServer() = default;
-  void Serve();
-  int fd_ = -1;
+  struct Impl;
+  HttpServer();
+  std::unique_ptr<Impl> impl_;
   int port_ = 0;
-  Handler handler_;
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
 };
 
-// GET http://127.0.0.1:port/path; returns the body (tests and tools).
+// What a GET returned.
+struct HttpResult {
+  int status = 0;
+  std::string content_type;
+  std::string body;
+};
+
+// GET http://127.0.0.1:port/path (path may carry a query string, already URL-encoded).
+// UNAVAILABLE when nothing answers within 5 s. Any HTTP status is a result.
+absl::StatusOr<HttpResult> HttpFetch(int port, const std::string& path);
+// The body of GET http://127.0.0.1:port/path whatever its status (tests and tools).
 absl::StatusOr<std::string> HttpGet(int port, const std::string& path);
 
 }  // namespace juggle

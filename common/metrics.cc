@@ -1,16 +1,35 @@
 #include "common/metrics.h"
 
+#include <cmath>
+
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 
 namespace juggle {
+namespace {
+
+// A sample value as the exposition format spells it: NaN, +Inf, -Inf, else 17 digits.
+std::string FormatValue(double v) {
+  if (std::isnan(v)) return "NaN";
+  if (std::isinf(v)) return v > 0 ? "+Inf" : "-Inf";
+  return absl::StrFormat("%.17g", v);
+}
+
+}  // namespace
 
 std::string Metrics::LabelKey(const std::map<std::string, std::string>& labels) {
   if (labels.empty()) return "";
   std::string key = "{";
   bool first = true;
   for (const auto& [k, v] : labels) {
-    absl::StrAppend(&key, first ? "" : ",", k, "=\"", v, "\"");
+    std::string escaped;
+    for (char c : v) {
+      if (c == '\\') escaped += "\\\\";
+      else if (c == '"') escaped += "\\\"";
+      else if (c == '\n') escaped += "\\n";
+      else escaped += c;
+    }
+    absl::StrAppend(&key, first ? "" : ",", k, "=\"", escaped, "\"");
     first = false;
   }
   return key + "}";
@@ -28,14 +47,20 @@ void Metrics::Declare(const std::string& name, const std::string& type, const st
 
 void Metrics::Add(const std::string& name, double delta,
                   const std::map<std::string, std::string>& labels) {
+  const std::string key = LabelKey(labels);
   std::lock_guard<std::mutex> lock(mu_);
-  families_[name].series[LabelKey(labels)] += delta;
+  Family& f = families_[name];
+  f.series[key] += delta;
+  if (!labels.empty()) f.labels.emplace(key, labels);
 }
 
 void Metrics::Set(const std::string& name, double value,
                   const std::map<std::string, std::string>& labels) {
+  const std::string key = LabelKey(labels);
   std::lock_guard<std::mutex> lock(mu_);
-  families_[name].series[LabelKey(labels)] = value;
+  Family& f = families_[name];
+  f.series[key] = value;
+  if (!labels.empty()) f.labels.emplace(key, labels);
 }
 
 void Metrics::Observe(const std::string& name, double value) {
@@ -64,8 +89,40 @@ void Metrics::Erase(const std::string& name, const std::string& label, const std
   if (f == families_.end()) return;
   const std::string needle = absl::StrCat(label, "=\"", value, "\"");
   for (auto it = f->second.series.begin(); it != f->second.series.end();) {
-    it = it->first.find(needle) != std::string::npos ? f->second.series.erase(it) : std::next(it);
+    if (it->first.find(needle) != std::string::npos) {
+      f->second.labels.erase(it->first);
+      it = f->second.series.erase(it);
+    } else {
+      ++it;
+    }
   }
+}
+
+std::vector<std::pair<std::map<std::string, std::string>, double>> Metrics::Series(
+    const std::string& name) const {
+  std::lock_guard<std::mutex> lock(mu_);
+  std::vector<std::pair<std::map<std::string, std::string>, double>> out;
+  auto f = families_.find(name);
+  if (f == families_.end()) return out;
+  for (const auto& [key, value] : f->second.series) {
+    auto l = f->second.labels.find(key);
+    out.emplace_back(l == f->second.labels.end() ? std::map<std::string, std::string>{}
+                                                 : l->second,
+                     value);
+  }
+  return out;
+}
+
+Metrics::HistogramValues Metrics::Histogram(const std::string& name) const {
+  std::lock_guard<std::mutex> lock(mu_);
+  HistogramValues h;
+  auto f = families_.find(name);
+  if (f == families_.end()) return h;
+  h.upper_bounds = f->second.buckets;
+  h.cumulative_counts = f->second.bucket_counts;
+  h.sum = f->second.sum;
+  h.count = f->second.count;
+  return h;
 }
 
 std::string Metrics::RenderPrometheus() const {
@@ -76,15 +133,15 @@ std::string Metrics::RenderPrometheus() const {
     if (f.type == "histogram") {
       for (size_t i = 0; i < f.buckets.size(); ++i) {
         absl::StrAppend(&out, name, "_bucket{le=\"", absl::StrFormat("%g", f.buckets[i]), "\"} ",
-                        absl::StrFormat("%.17g", f.bucket_counts[i]), "\n");
+                        FormatValue(f.bucket_counts[i]), "\n");
       }
-      absl::StrAppend(&out, name, "_bucket{le=\"+Inf\"} ", absl::StrFormat("%.17g", f.count), "\n",
-                      name, "_sum ", absl::StrFormat("%.17g", f.sum), "\n", name, "_count ",
-                      absl::StrFormat("%.17g", f.count), "\n");
+      absl::StrAppend(&out, name, "_bucket{le=\"+Inf\"} ", FormatValue(f.count), "\n",
+                      name, "_sum ", FormatValue(f.sum), "\n", name, "_count ",
+                      FormatValue(f.count), "\n");
       continue;
     }
     for (const auto& [labels, value] : f.series) {
-      absl::StrAppend(&out, name, labels, " ", absl::StrFormat("%.17g", value), "\n");
+      absl::StrAppend(&out, name, labels, " ", FormatValue(value), "\n");
     }
   }
   return out;

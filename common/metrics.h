@@ -23,6 +23,16 @@ class Metrics {
   double Get(const std::string& name, const std::map<std::string, std::string>& labels = {}) const;
   // Removes every series of `name` whose labels include `label`=`value`.
   void Erase(const std::string& name, const std::string& label, const std::string& value);
+  // Every series of `name` (counter or gauge) with its labels; empty if none.
+  std::vector<std::pair<std::map<std::string, std::string>, double>> Series(
+      const std::string& name) const;
+  struct HistogramValues {
+    std::vector<double> upper_bounds;       // the declared buckets (+Inf implied)
+    std::vector<double> cumulative_counts;  // observations <= each bound
+    double sum = 0, count = 0;
+  };
+  HistogramValues Histogram(const std::string& name) const;
+  // Prometheus text format 0.0.4; label values escaped (backslash, quote, newline).
   std::string RenderPrometheus() const;
 
  private:
@@ -30,6 +40,7 @@ class Metrics {
     std::string type, help;
     std::vector<double> buckets;
     std::map<std::string, double> series;  // rendered label set -> value
+    std::map<std::string, std::map<std::string, std::string>> labels;  // rendered -> labels
     std::vector<double> bucket_counts;
     double sum = 0;
     double count = 0;

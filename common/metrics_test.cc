@@ -1,14 +1,9 @@
-// Metrics (Prometheus text rendering) and the small HTTP server that serves it.
+// Metrics: Prometheus text rendering.
 #include "common/metrics.h"
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
+#include <cmath>
 #include <string>
 
-#include "common/http_server.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 
@@ -17,7 +12,6 @@ namespace {
 
 using ::testing::HasSubstr;
 using ::testing::Not;
-using ::testing::StartsWith;
 
 TEST(MetricsTest, RendersLabelledCounterWithHelpAndType) {
   Metrics m;
@@ -106,109 +100,37 @@ TEST(MetricsTest, GetReturnsSeriesValuesHistogramCountAndZeroForUnknown) {
   EXPECT_EQ(m.Get("never_declared"), 0);
 }
 
-// GET `path` over a raw socket; returns the whole response (status line, headers, body).
-std::string RawGet(int port, const std::string& path) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  addr.sin_port = htons(port);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) != 0) {
-    ::close(fd);
-    return "";
-  }
-  timeval tv{5, 0};
-  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof(tv));
-  const std::string req = "GET " + path + " HTTP/1.0\r\n\r\n";
-  ::send(fd, req.data(), req.size(), MSG_NOSIGNAL);
-  std::string response;
-  char buf[4096];
-  ssize_t n;
-  while ((n = ::recv(fd, buf, sizeof(buf), 0)) > 0) response.append(buf, n);
-  ::close(fd);
-  return response;
-}
-
-HttpResponse TestHandler(const std::string& path) {
-  if (path == "/x") return HttpResponse{200, "text/plain", "body of x\n"};
-  return HttpResponse{404, "text/plain", "no such page: " + path + "\n"};
-}
-
-TEST(HttpServerTest, StartsOnAFreePortAndServesTheHandlersBody) {
-  absl::StatusOr<std::unique_ptr<HttpServer>> server = HttpServer::Start(0, false, TestHandler);
-  ASSERT_TRUE(server.ok()) << server.status();
-  ASSERT_GT((*server)->port(), 0);
-  absl::StatusOr<std::string> body = HttpGet((*server)->port(), "/x");
-  ASSERT_TRUE(body.ok()) << body.status();
-  EXPECT_EQ(*body, "body of x\n");
-  const std::string raw = RawGet((*server)->port(), "/x");
-  EXPECT_THAT(raw, StartsWith("HTTP/1.0 200 OK\r\n"));
-  EXPECT_THAT(raw, HasSubstr("Content-Length: 10\r\n"));
-}
-
-TEST(HttpServerTest, AnswersAnUnknownPathWith404AndTheHandlersBody) {
-  absl::StatusOr<std::unique_ptr<HttpServer>> server = HttpServer::Start(0, false, TestHandler);
-  ASSERT_TRUE(server.ok()) << server.status();
-  const std::string raw = RawGet((*server)->port(), "/missing");
-  EXPECT_THAT(raw, StartsWith("HTTP/1.0 404 "));
-  EXPECT_THAT(raw, HasSubstr("\r\n\r\nno such page: /missing\n"));
-  absl::StatusOr<std::string> body = HttpGet((*server)->port(), "/missing");
-  ASSERT_TRUE(body.ok()) << body.status();
-  EXPECT_EQ(*body, "no such page: /missing\n");
-}
-
-TEST(HttpServerTest, RefusesNonGetRequestsWith405) {
-  absl::StatusOr<std::unique_ptr<HttpServer>> server = HttpServer::Start(0, false, TestHandler);
-  ASSERT_TRUE(server.ok()) << server.status();
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  addr.sin_port = htons((*server)->port());
-  ASSERT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)), 0);
-  const std::string req = "POST /x HTTP/1.0\r\n\r\n";
-  ::send(fd, req.data(), req.size(), MSG_NOSIGNAL);
-  std::string response;
-  char buf[1024];
-  ssize_t n;
-  while ((n = ::recv(fd, buf, sizeof(buf), 0)) > 0) response.append(buf, n);
-  ::close(fd);
-  EXPECT_THAT(response, StartsWith("HTTP/1.0 405 "));
-}
-
-TEST(HttpServerTest, ServesMetricsRenderedAtRequestTime) {
+TEST(MetricsTest, RendersNonFiniteValuesAsTheExpositionFormatSpellsThem) {
   Metrics m;
-  m.Declare("juggle_policy_version", "gauge", "Current policy version.");
-  absl::StatusOr<std::unique_ptr<HttpServer>> server =
-      HttpServer::Start(0, false, [&m](const std::string&) {
-        return HttpResponse{200, "text/plain; version=0.0.4", m.RenderPrometheus()};
-      });
-  ASSERT_TRUE(server.ok()) << server.status();
-  m.Set("juggle_policy_version", 3);
-  absl::StatusOr<std::string> body = HttpGet((*server)->port(), "/metrics");
-  ASSERT_TRUE(body.ok()) << body.status();
-  EXPECT_THAT(*body, HasSubstr("\njuggle_policy_version 3\n"));
+  m.Declare("loss", "gauge", "loss");
+  m.Set("loss", std::nan(""), {{"k", "nan"}});
+  m.Set("loss", HUGE_VAL, {{"k", "pos"}});
+  m.Set("loss", -HUGE_VAL, {{"k", "neg"}});
+  const std::string text = m.RenderPrometheus();
+  EXPECT_THAT(text, HasSubstr("loss{k=\"nan\"} NaN\n"));
+  EXPECT_THAT(text, HasSubstr("loss{k=\"pos\"} +Inf\n"));
+  EXPECT_THAT(text, HasSubstr("loss{k=\"neg\"} -Inf\n"));
 }
 
-TEST(HttpServerTest, HttpGetFailsWithUnavailableAfterTheServerStops) {
-  absl::StatusOr<std::unique_ptr<HttpServer>> server = HttpServer::Start(0, false, TestHandler);
-  ASSERT_TRUE(server.ok()) << server.status();
-  const int port = (*server)->port();
-  (*server)->Stop();
-  absl::StatusOr<std::string> body = HttpGet(port, "/x");
-  EXPECT_EQ(body.status().code(), absl::StatusCode::kUnavailable);
-  EXPECT_THAT(std::string(body.status().message()),
-              HasSubstr("cannot connect to 127.0.0.1:" + std::to_string(port)));
+TEST(MetricsTest, EscapesBackslashQuoteAndNewlineInLabelValues) {
+  Metrics m;
+  m.Declare("info", "gauge", "info");
+  m.Set("info", 1, {{"config", "a\"b\\c\nd"}});
+  EXPECT_THAT(m.RenderPrometheus(), HasSubstr("info{config=\"a\\\"b\\\\c\\nd\"} 1\n"));
 }
 
-TEST(HttpServerTest, StartFailsWithUnavailableWhenThePortIsTaken) {
-  absl::StatusOr<std::unique_ptr<HttpServer>> first = HttpServer::Start(0, false, TestHandler);
-  ASSERT_TRUE(first.ok()) << first.status();
-  absl::StatusOr<std::unique_ptr<HttpServer>> second =
-      HttpServer::Start((*first)->port(), false, TestHandler);
-  EXPECT_EQ(second.status().code(), absl::StatusCode::kUnavailable);
-  EXPECT_THAT(std::string(second.status().message()),
-              HasSubstr("cannot listen on port " + std::to_string((*first)->port())));
+TEST(MetricsTest, SeriesReturnsEachSeriesWithItsLabels) {
+  Metrics m;
+  m.Declare("rejected", "counter", "r");
+  m.Add("rejected", 2, {{"reason", "invalid"}});
+  m.Add("rejected", 3, {{"reason", "stale_version"}});
+  const auto series = m.Series("rejected");
+  ASSERT_EQ(series.size(), 2u);
+  EXPECT_EQ(series[0].first.at("reason"), "invalid");
+  EXPECT_EQ(series[0].second, 2);
+  EXPECT_EQ(series[1].first.at("reason"), "stale_version");
+  EXPECT_EQ(series[1].second, 3);
+  EXPECT_TRUE(m.Series("never_declared").empty());
 }
 
 }  // namespace

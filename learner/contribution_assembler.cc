@@ -63,6 +63,19 @@ int ContributionAssembler::DropAllBut(const std::vector<uint64_t>& live) {
   return dropped;
 }
 
+std::vector<int> ContributionAssembler::MissingSlots(int64_t version,
+                                                     const std::vector<int>& slots) const {
+  std::set<int> have;
+  for (const Complete& c : complete_) {
+    if (c.version == version) have.insert(c.slot);
+  }
+  std::vector<int> missing;
+  for (int slot : slots) {
+    if (!have.count(slot)) missing.push_back(slot);
+  }
+  return missing;
+}
+
 std::optional<Contribution> ContributionAssembler::TakeSync(int64_t version,
                                                             const std::vector<int>& live_slots,
                                                             int64_t* dropped_unrolls) {

@@ -53,6 +53,9 @@ class ContributionAssembler {
                                         int64_t* dropped_unrolls);
 
   int pending_parts() const;
+  // The slots of `slots` without a complete contribution of `version` (what a synchronous
+  // iteration still waits for).
+  std::vector<int> MissingSlots(int64_t version, const std::vector<int>& slots) const;
 
  private:
   struct Complete {

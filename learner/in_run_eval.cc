@@ -4,6 +4,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "nlohmann/json.hpp"
 #include "common/status_macros.h"
 #include "envs/registry.h"
 #include "eval/controller.h"
@@ -12,19 +13,27 @@
 namespace juggle {
 
 std::string InRunEvaluation::ToJson() const {
-  std::string outcomes;
-  for (const auto& [name, count] : summary.outcomes) {
-    absl::StrAppend(&outcomes, outcomes.empty() ? "" : ", ", "\"", name, "\": ", count);
-  }
-  return absl::StrFormat(
-      "{\"event\": \"eval\", \"iteration\": %d, \"samples\": %d, \"train_s\": %.1f, "
-      "\"eval_s\": %.2f, \"episodes\": %d, \"median_juggles\": %g, \"p10_juggles\": %g, "
-      "\"p90_juggles\": %g, \"mean_juggles\": %.3f, \"frac_juggles_ge_10\": %.3f, "
-      "\"frac_juggles_ge_20\": %.3f, \"mean_return\": %.4f, \"mean_episode_s\": %.3f, "
-      "\"outcomes\": {%s}}",
-      iteration, samples, train_seconds, eval_seconds, summary.episodes, summary.median_juggles,
-      summary.p10_juggles, summary.p90_juggles, summary.mean_juggles, summary.frac_juggles_ge_10,
-      summary.frac_juggles_ge_20, summary.mean_return, summary.mean_episode_s, outcomes);
+  nlohmann::ordered_json j = {
+      {"event", "eval"},
+      {"iteration", iteration},
+      {"samples", samples},
+      {"train_s", train_seconds},
+      {"eval_s", eval_seconds},
+      {"episodes", summary.episodes},
+      {"median_juggles", summary.median_juggles},
+      {"p10_juggles", summary.p10_juggles},
+      {"p90_juggles", summary.p90_juggles},
+      {"mean_juggles", summary.mean_juggles},
+      {"frac_juggles_ge_10", summary.frac_juggles_ge_10},
+      {"frac_juggles_ge_20", summary.frac_juggles_ge_20},
+      {"mean_return", summary.mean_return},
+      {"mean_episode_s", summary.mean_episode_s},
+  };
+  nlohmann::ordered_json outcomes = nlohmann::ordered_json::object();
+  for (const auto& [name, count] : summary.outcomes) outcomes[name] = count;
+  j["outcomes"] = std::move(outcomes);
+  j["juggles"] = juggles;
+  return j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
 }
 
 std::string InRunEvaluation::ToShort() const {
@@ -65,6 +74,7 @@ InRunEvaluation InRunEvaluator::Run(const EigenPolicy& policy, int64_t iteration
   absl::StatusOr<EpisodeReport> report = RunEpisodes(spec_, &controller, options);
   if (report.ok()) {
     result.summary = Summarize(report->episodes, spec_->control_dt(), spec_->outcome_names());
+    for (const EpisodeResult& episode : report->episodes) result.juggles.push_back(episode.juggles);
   }
   result.eval_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -7,6 +7,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "absl/status/statusor.h"
 #include "common/config_loader.h"
@@ -23,6 +24,7 @@ struct InRunEvaluation {
   double train_seconds = 0;   // wall time of training so far (evaluations included)
   double eval_seconds = 0;    // wall time this evaluation took
   EvalSummary summary;
+  std::vector<int> juggles;   // per episode, in seed order (the distribution's raw values)
   std::string ToJson() const;    // one metrics.jsonl line, "event": "eval"
   std::string ToShort() const;   // "12.3 min: median 4 juggles (p90 9)"
 };

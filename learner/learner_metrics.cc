@@ -5,19 +5,43 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "nlohmann/json.hpp"
 
 namespace juggle {
 
 std::string IterationReport::ToJson() const {
-  return absl::StrFormat(
-      "{\"iteration\": %d, \"samples\": %d, \"train_s\": %.1f, \"samples_per_s\": %.1f, "
-      "\"sim_s_per_s\": %.2f, \"mean_return\": %.4f, \"mean_episode_len\": %.2f, "
-      "\"completions_per_episode\": %.3f, \"juggles_per_episode\": %.3f, \"episodes\": %d, "
-      "\"policy_lag\": %.3f, \"iteration_s\": %.3f, \"wait_s\": %.3f, \"update_s\": %.3f, "
-      "\"workers\": %d, \"value_loss\": %.5f, \"approx_kl\": %.5f, \"actor_lr\": %.6f}",
-      iteration, total_samples, train_seconds, samples_per_s, sim_s_per_s, mean_return,
-      mean_episode_len, completions_per_episode, juggles_per_episode, episodes, mean_policy_lag,
-      iteration_s, wait_s, update_s, workers, value_loss, approx_kl, actor_lr);
+  // ordered_json keeps the keys in this order in the file.
+  nlohmann::ordered_json j = {
+      {"iteration", iteration},
+      {"samples", total_samples},
+      {"train_s", train_seconds},
+      {"samples_per_s", samples_per_s},
+      {"sim_s_per_s", sim_s_per_s},
+      {"mean_return", mean_return},
+      {"mean_episode_len", mean_episode_len},
+      {"completions_per_episode", completions_per_episode},
+      {"juggles_per_episode", juggles_per_episode},
+      {"episodes", episodes},
+      {"policy_lag", mean_policy_lag},
+      {"iteration_s", iteration_s},
+      {"wait_s", wait_s},
+      {"update_s", update_s},
+      {"workers", workers},
+      {"value_loss", value_loss},
+      {"approx_kl", approx_kl},
+      {"actor_lr", actor_lr},
+      {"policy_version", policy_version},
+      {"queue_depth", queue_depth},
+  };
+  nlohmann::ordered_json by_outcome = nlohmann::ordered_json::object();
+  for (const auto& [name, count] : outcomes) by_outcome[name] = count;
+  j["outcomes"] = std::move(by_outcome);
+  if (gate_specialization >= 0) {
+    j["gate_specialization"] = gate_specialization;
+    j["gate_utilization"] = gate_utilization;
+  }
+  // Non-finite numbers (a diverged loss) are written as null: the line stays valid JSON.
+  return j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
 }
 
 std::string IterationReport::ToLine() const {
@@ -31,57 +55,151 @@ std::string IterationReport::ToLine() const {
 }
 
 void DeclareLearnerMetrics(Metrics* m) {
+  // Throughput.
   m->Declare("juggle_samples_total", "counter", "Environment steps trained on.");
+  m->Declare("juggle_simulated_seconds_total", "counter",
+             "Simulated seconds trained on (samples times the control step).");
   m->Declare("juggle_samples_per_second", "gauge", "Samples per second over the last iteration.");
-  m->Declare("juggle_sim_seconds_per_second", "gauge", "Simulated seconds per wall second.");
-  m->Declare("juggle_queue_depth", "gauge", "Chunks waiting in the ingestion queue.");
-  m->Declare("juggle_policy_lag", "histogram",
+  m->Declare("juggle_sim_seconds_per_second", "gauge",
+             "Simulated seconds per wall second over the last iteration.");
+  m->Declare("juggle_iteration_wait_seconds_total", "counter",
+             "Wall time the training loop spent waiting for data.");
+  m->Declare("juggle_iteration_update_seconds_total", "counter",
+             "Wall time the training loop spent in PPO updates.");
+  m->Declare("juggle_ingest_queue_chunks", "gauge", "Chunks waiting in the ingestion queue.");
+  m->Declare("juggle_ingest_queue_capacity_chunks", "gauge",
+             "Capacity of the ingestion queue (service.queue_capacity).");
+  m->Declare("juggle_policy_lag_versions", "histogram",
              "Versions between an unroll's policy and the trained one.", {0, 1, 2, 3, 5, 10});
   m->Declare("juggle_chunks_rejected_total", "counter", "Chunks rejected, by reason.");
   m->Declare("juggle_unrolls_dropped_total", "counter",
              "Accepted unrolls never trained on, by reason.");
   m->Declare("juggle_policy_requests_rejected_total", "counter",
              "GetPolicy calls refused, by reason.");
+  // Workers.
   m->Declare("juggle_workers_connected", "gauge", "Live workers.");
+  m->Declare("juggle_workers_needed", "gauge",
+             "Live workers an iteration needs (synchronous: service.min_workers; else 1).");
   m->Declare("juggle_worker_heartbeat_age_seconds", "gauge",
              "Seconds since each worker's last sign of life.");
   m->Declare("juggle_worker_env_steps_per_second", "gauge",
              "Env steps per second reported by each worker.");
+  m->Declare("juggle_worker_envs", "gauge", "Envs each worker simulates.");
+  m->Declare("juggle_worker_chunks_total", "counter",
+             "Chunks from each live worker, by result (accepted, rejected).");
   m->Declare("juggle_worker_restarts_total", "counter", "Registrations that replaced a live slot.");
   m->Declare("juggle_worker_timeouts_total", "counter", "Workers forgotten after missing heartbeats.");
+  // Training.
+  m->Declare("juggle_run_info", "gauge",
+             "Always 1; the run's config name, family and mode as labels.");
+  m->Declare("juggle_learner_start_time_seconds", "gauge",
+             "Unix time the learner started.");
   m->Declare("juggle_policy_version", "gauge", "Current policy version.");
   m->Declare("juggle_iterations_total", "counter", "PPO iterations.");
+  m->Declare("juggle_last_iteration_timestamp_seconds", "gauge",
+             "Unix time the last iteration ended.");
+  m->Declare("juggle_last_checkpoint_timestamp_seconds", "gauge",
+             "Unix time the last checkpoint was written.");
   m->Declare("juggle_mean_return", "gauge", "Mean episode return over the last iteration.");
+  m->Declare("juggle_episode_length_steps", "gauge",
+             "Mean episode length in control steps over the last iteration.");
   m->Declare("juggle_completions_per_episode", "gauge",
              "Node completions per episode, last iteration.");
   m->Declare("juggle_juggles_per_episode", "gauge", "Juggles per episode, last iteration.");
   m->Declare("juggle_episodes_total", "counter", "Episodes ended, by outcome.");
+  m->Declare("juggle_value_loss", "gauge", "Critic loss of the last PPO update.");
+  m->Declare("juggle_approx_kl", "gauge", "Approximate KL of the last PPO update.");
+  m->Declare("juggle_learning_rate", "gauge", "Actor learning rate of the last PPO update.");
+  m->Declare("juggle_moe_gate_specialization", "gauge",
+             "Mixture-of-experts specialization (paper Eq. 4) on a sample of the last batch.");
+  m->Declare("juggle_moe_gate_utilization", "gauge",
+             "Mixture-of-experts utilization (paper Eq. 4; 1/K = all experts used equally).");
+  // The adaptive walk (labels: the edge's nodes; bounded by the graph).
+  m->Declare("juggle_walk_edge_weight", "gauge",
+             "Adaptive-walk count of each control-graph edge (sampling weight).");
+  m->Declare("juggle_walk_edge_events_total", "counter",
+             "Workers' edge events applied by the learner, by edge and event "
+             "(chosen, completed, failed).");
+  // In-run evaluation.
   m->Declare("juggle_eval_median_juggles", "gauge",
              "Median juggles per episode of the last in-run evaluation.");
-  m->Declare("juggle_eval_frac_juggles_ge_10", "gauge",
+  m->Declare("juggle_eval_juggles_ge_10_ratio", "gauge",
              "Fraction of the last in-run evaluation's episodes with at least 10 juggles.");
   m->Declare("juggle_evaluations_total", "counter", "In-run evaluations run.");
 }
 
+namespace {
+
+double UnixNow() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
 void RecordEvaluation(const EvalSummary& summary, Metrics* m) {
   m->Set("juggle_eval_median_juggles", summary.median_juggles);
-  m->Set("juggle_eval_frac_juggles_ge_10", summary.frac_juggles_ge_10);
+  m->Set("juggle_eval_juggles_ge_10_ratio", summary.frac_juggles_ge_10);
   m->Add("juggle_evaluations_total", 1);
 }
 
-void RecordIteration(const IterationReport& r, const EpisodeCounters& ep,
-                     const std::vector<std::string>& outcome_names, Metrics* m) {
-  m->Add("juggle_samples_total", static_cast<double>(r.samples));
-  m->Set("juggle_samples_per_second", r.samples_per_s);
-  m->Set("juggle_sim_seconds_per_second", r.sim_s_per_s);
-  m->Add("juggle_iterations_total", 1);
-  m->Set("juggle_mean_return", r.mean_return);
-  m->Set("juggle_completions_per_episode", r.completions_per_episode);
-  m->Set("juggle_juggles_per_episode", r.juggles_per_episode);
+std::vector<std::pair<std::string, int64_t>> OutcomeCounts(
+    const EpisodeCounters& ep, const std::vector<std::string>& outcome_names) {
+  std::vector<std::pair<std::string, int64_t>> out;
   for (size_t o = 0; o < ep.outcomes.size(); ++o) {
     if (ep.outcomes[o] == 0) continue;
-    m->Add("juggle_episodes_total", static_cast<double>(ep.outcomes[o]),
-           {{"outcome", OutcomeName(outcome_names, static_cast<Outcome>(o))}});
+    out.emplace_back(OutcomeName(outcome_names, static_cast<Outcome>(o)), ep.outcomes[o]);
+  }
+  return out;
+}
+
+void RecordIteration(const IterationReport& r, Metrics* m) {
+  m->Add("juggle_samples_total", static_cast<double>(r.samples));
+  if (r.samples_per_s > 0) {
+    m->Add("juggle_simulated_seconds_total", r.samples * r.sim_s_per_s / r.samples_per_s);
+  }
+  m->Set("juggle_samples_per_second", r.samples_per_s);
+  m->Set("juggle_sim_seconds_per_second", r.sim_s_per_s);
+  m->Add("juggle_iteration_wait_seconds_total", r.wait_s);
+  m->Add("juggle_iteration_update_seconds_total", r.update_s);
+  m->Add("juggle_iterations_total", 1);
+  m->Set("juggle_last_iteration_timestamp_seconds", UnixNow());
+  m->Set("juggle_mean_return", r.mean_return);
+  m->Set("juggle_episode_length_steps", r.mean_episode_len);
+  m->Set("juggle_completions_per_episode", r.completions_per_episode);
+  m->Set("juggle_juggles_per_episode", r.juggles_per_episode);
+  m->Set("juggle_value_loss", r.value_loss);
+  m->Set("juggle_approx_kl", r.approx_kl);
+  m->Set("juggle_learning_rate", r.actor_lr);
+  if (r.gate_specialization >= 0) {
+    m->Set("juggle_moe_gate_specialization", r.gate_specialization);
+    m->Set("juggle_moe_gate_utilization", r.gate_utilization);
+  }
+  for (const auto& [name, count] : r.outcomes) {
+    m->Add("juggle_episodes_total", static_cast<double>(count), {{"outcome", name}});
+  }
+}
+
+void RecordCheckpointTime(Metrics* m) {
+  m->Set("juggle_last_checkpoint_timestamp_seconds", UnixNow());
+}
+
+void RecordWalk(const std::vector<std::pair<std::string, std::string>>& edge_labels,
+                const std::vector<double>& counts, const std::vector<int64_t>& chosen,
+                const std::vector<int64_t>& completed, const std::vector<int64_t>& failed,
+                Metrics* m) {
+  for (size_t e = 0; e < edge_labels.size(); ++e) {
+    const std::map<std::string, std::string> edge = {{"from", edge_labels[e].first},
+                                                     {"to", edge_labels[e].second}};
+    if (e < counts.size()) m->Set("juggle_walk_edge_weight", counts[e], edge);
+    const std::pair<const char*, const std::vector<int64_t>*> events[] = {
+        {"chosen", &chosen}, {"completed", &completed}, {"failed", &failed}};
+    for (const auto& [event, values] : events) {
+      if (e >= values->size()) continue;
+      std::map<std::string, std::string> labels = edge;
+      labels["event"] = event;
+      m->Add("juggle_walk_edge_events_total", static_cast<double>((*values)[e]), labels);
+    }
   }
 }
 
@@ -94,11 +212,19 @@ void RecordWorkers(const std::vector<WorkerInfo>& live, WorkerRegistry::Clock::t
     m->Set("juggle_worker_heartbeat_age_seconds",
            std::chrono::duration<double>(now - w.last_seen).count(), {{"slot", slot}});
     m->Set("juggle_worker_env_steps_per_second", w.env_steps_per_s, {{"slot", slot}});
+    m->Set("juggle_worker_envs", w.num_envs, {{"slot", slot}});
+    m->Set("juggle_worker_chunks_total", static_cast<double>(w.chunks_accepted),
+           {{"slot", slot}, {"result", "accepted"}});
+    m->Set("juggle_worker_chunks_total", static_cast<double>(w.chunks_rejected),
+           {{"slot", slot}, {"result", "rejected"}});
   }
   for (int slot : *reported_slots) {
     if (std::find(live_slots.begin(), live_slots.end(), slot) != live_slots.end()) continue;
-    m->Erase("juggle_worker_heartbeat_age_seconds", "slot", absl::StrCat(slot));
-    m->Erase("juggle_worker_env_steps_per_second", "slot", absl::StrCat(slot));
+    for (const char* name : {"juggle_worker_heartbeat_age_seconds",
+                             "juggle_worker_env_steps_per_second", "juggle_worker_envs",
+                             "juggle_worker_chunks_total"}) {
+      m->Erase(name, "slot", absl::StrCat(slot));
+    }
   }
   *reported_slots = std::move(live_slots);
   m->Set("juggle_workers_connected", static_cast<double>(live.size()));

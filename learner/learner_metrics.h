@@ -35,7 +35,15 @@ struct IterationReport {
   double update_s = 0;            // of which the PPO update
   int workers = 0;
   double value_loss = 0, approx_kl = 0, actor_lr = 0;
+  int64_t policy_version = 0;     // after the update
+  int queue_depth = 0;            // chunks waiting when the iteration ended
+  // Episodes of the iteration by how they ended (outcome name -> count; zero counts omitted).
+  std::vector<std::pair<std::string, int64_t>> outcomes;
+  // Mixture-of-experts gate statistics of the actor (paper Eq. 4) on a sample of the batch;
+  // negative when the actor is not a mixture.
+  double gate_specialization = -1, gate_utilization = -1;
   std::string latest_eval;        // the last in-run evaluation, short (progress line only)
+  // One metrics.jsonl record (a JSON object on one line).
   std::string ToJson() const;
   std::string ToLine() const;
 };
@@ -43,10 +51,25 @@ struct IterationReport {
 // Declares every learner metric (names, types, help).
 void DeclareLearnerMetrics(Metrics* metrics);
 
-// Records an iteration: samples, rates, return, completions and the episodes by outcome
-// (`outcome_names` from the env spec).
-void RecordIteration(const IterationReport& report, const EpisodeCounters& episodes,
-                     const std::vector<std::string>& outcome_names, Metrics* metrics);
+// The episodes of `counters` by outcome name (`outcome_names` from the env spec), zero
+// counts omitted.
+std::vector<std::pair<std::string, int64_t>> OutcomeCounts(
+    const EpisodeCounters& counters, const std::vector<std::string>& outcome_names);
+
+// Records an iteration: samples, rates, return, completions, PPO statistics, the episodes by
+// outcome, the gate statistics and the time of the iteration.
+void RecordIteration(const IterationReport& report, Metrics* metrics);
+
+// Records that a checkpoint was written now.
+void RecordCheckpointTime(Metrics* metrics);
+
+// The walk's per-edge series: counts (juggle_walk_edge_weight) and the events of one
+// iteration (juggle_walk_edge_events_total), labelled by the edge's nodes. `edge_labels`
+// holds "from->to"-style (from, to) node names per edge.
+void RecordWalk(const std::vector<std::pair<std::string, std::string>>& edge_labels,
+                const std::vector<double>& counts, const std::vector<int64_t>& chosen,
+                const std::vector<int64_t>& completed, const std::vector<int64_t>& failed,
+                Metrics* metrics);
 
 // The last in-run evaluation's juggles distribution (eval/summary.h).
 void RecordEvaluation(const EvalSummary& summary, Metrics* metrics);

@@ -19,6 +19,8 @@
 #include "google/protobuf/text_format.h"
 #include "learner/checkpoint.h"
 #include "learner/contribution_assembler.h"
+#include "learner/dashboard_json.h"
+#include "learner/dashboard_state.h"
 #include "learner/http_routes.h"
 #include "learner/in_run_eval.h"
 #include "learner/learner_state.h"
@@ -46,6 +48,7 @@ struct LearnerServer::State {
   std::unique_ptr<grpc::Server> grpc_server;
   std::unique_ptr<HttpServer> http;
   std::unique_ptr<InRunEvaluator> evaluator;
+  std::unique_ptr<DashboardState> dashboard;
   int port = 0;
   bool shut_down = false;
   std::atomic<int64_t> chunks_ingested{0};
@@ -61,7 +64,14 @@ struct LearnerServer::State {
   absl::Status Checkpoint() {
     absl::StatusOr<std::string> path = checkpoints->Save(
         trainer->iteration(), SaveLearnerState(options.config, *trainer, *walk, progress));
-    return path.ok() ? absl::OkStatus() : path.status();
+    if (!path.ok()) return path.status();
+    RecordCheckpointTime(&metrics);
+    dashboard->RecordCheckpoint();
+    if (options.on_record) {
+      options.on_record(WalkRecordJson(trainer->iteration(), walk->counts(),
+                                       dashboard->Take().totals));
+    }
+    return absl::OkStatus();
   }
 };
 
@@ -89,6 +99,11 @@ absl::Status BuildEnv(const LoadedConfig& config,
   b->num_nodes = std::max(1, (*spec)->graph().num_nodes());
   b->num_edges = (*spec)->graph().num_edges();
   return absl::OkStatus();
+}
+
+double UnixNow() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
 }
 
 }  // namespace
@@ -138,7 +153,26 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
   s->queue = std::make_unique<BoundedQueue<ChunkPart>>(
       std::max(1, config.run.service().queue_capacity()));
   ASSIGN_OR_RETURN(s->evaluator, InRunEvaluator::Create(config));
+  s->dashboard = std::make_unique<DashboardState>(DescribeRun(config, *s->spec));
+  s->dashboard->SetInitial(s->walk->counts(), s->trainer->version(), s->progress.samples,
+                           s->progress.train_seconds);
   DeclareLearnerMetrics(&s->metrics);
+  {
+    const DashboardRunInfo& info = s->dashboard->info();
+    s->metrics.Set("juggle_run_info", 1,
+                   {{"config", info.config_name},
+                    {"family", info.family},
+                    {"mode", info.synchronous ? "synchronous" : "asynchronous"}});
+    s->metrics.Set("juggle_learner_start_time_seconds", UnixNow());
+    s->metrics.Set("juggle_ingest_queue_capacity_chunks", info.queue_capacity);
+    s->metrics.Set("juggle_ingest_queue_chunks", 0);
+    s->metrics.Set("juggle_workers_connected", 0);
+    s->metrics.Set("juggle_workers_needed",
+                   info.synchronous ? std::max(1, info.min_workers) : 1);
+    s->metrics.Set("juggle_iterations_total", 0);
+    s->metrics.Set("juggle_samples_total", 0);
+  }
+  if (s->options.on_record) s->options.on_record(RunRecordJson(s->dashboard->info()));
   s->PublishSnapshot();
 
   // gRPC.
@@ -156,12 +190,14 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
   if (!s->grpc_server || s->port == 0) {
     return absl::UnavailableError(absl::StrCat("learner: cannot listen on port ", port));
   }
-  // HTTP.
-  const int metrics_port =
-      s->options.metrics_port >= 0 ? s->options.metrics_port : config.run.service().metrics_port();
-  if (metrics_port > 0 || s->options.metrics_port == 0) {
-    ASSIGN_OR_RETURN(s->http, HttpServer::Start(metrics_port, s->options.listen_all_interfaces,
-                                                LearnerHttpRoutes(&s->metrics)));
+  // HTTP: -1 the config's port (0 = off), 0 off, kAnyFreePort any free port.
+  const int metrics_port = s->options.metrics_port == -1 ? config.run.service().metrics_port()
+                                                           : s->options.metrics_port;
+  if (metrics_port > 0 || metrics_port == LearnerOptions::kAnyFreePort) {
+    ASSIGN_OR_RETURN(s->http, HttpServer::Start(std::max(0, metrics_port),
+                                                s->options.listen_all_interfaces,
+                                                LearnerHttpRoutes(&s->metrics, s->dashboard.get(),
+                                                                  s->registry.get())));
   }
   return std::unique_ptr<LearnerServer>(new LearnerServer(std::move(s)));
 }
@@ -190,6 +226,11 @@ absl::Status LearnerServer::Train(const std::atomic<bool>* stop) {
   deps.act_dim = s.bootstrap.act_dim;
   deps.on_eval = s.options.on_eval;
   deps.discard_data = s.options.discard_data;
+  deps.dashboard = s.dashboard.get();
+  for (const DashboardRunInfo::Edge& e : s.dashboard->info().edges) {
+    deps.edge_labels.emplace_back(s.dashboard->info().nodes[e.from].name,
+                                  s.dashboard->info().nodes[e.to].name);
+  }
   TrainingLoop::Limits limits;
   limits.max_iterations =
       s.options.max_iterations > 0 ? s.options.max_iterations : run.ppo().iterations();

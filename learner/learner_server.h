@@ -28,12 +28,19 @@ struct LearnerOptions {
   std::string run_dir;
   bool resume = false;
   int port = -1;          // -1: the config's service.port (0 = any free port)
-  int metrics_port = -1;  // -1: the config's service.metrics_port (0 = off)
+  // HTTP port of /metrics and the dashboard: -1 the config's service.metrics_port; 0 off (as
+  // in the config); kAnyFreePort a free port (tests, benchmarks); otherwise that port.
+  static constexpr int kAnyFreePort = -2;
+  int metrics_port = -1;
   bool listen_all_interfaces = true;
   int64_t max_iterations = 0;   // 0: the config's ppo.iterations (0 = until stopped)
   double max_minutes = 0;
   std::function<void(const IterationReport&)> on_iteration;
   std::function<void(const InRunEvaluation&)> on_eval;  // in-run evaluations (may be empty)
+  // The other metrics.jsonl records, one JSON object per call (may be empty): the run and its
+  // graph ("event": "run") at start, the walk's weights and edge-event totals ("event":
+  // "walk") at every checkpoint. `juggle dashboard` reads them back.
+  std::function<void(const std::string&)> on_record;
   // Benchmarks only: accept and count chunks but never train (measures ingestion alone).
   bool discard_data = false;
 };

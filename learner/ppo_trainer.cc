@@ -77,6 +77,16 @@ std::vector<float> PpoTrainer::Values(const float* obs, int64_t n) const {
   return std::vector<float>(v.data_ptr<float>(), v.data_ptr<float>() + n);
 }
 
+std::vector<float> PpoTrainer::ActorGates(const float* obs, int64_t n, int* num_experts) const {
+  *num_experts = 0;
+  if (n == 0 || !impl_->net->actor->is_moe()) return {};
+  torch::NoGradGuard no_grad;
+  torch::Tensor x = torch::from_blob(const_cast<float*>(obs), {n, obs_dim_}, torch::kFloat32);
+  torch::Tensor g = impl_->net->actor->Gate(impl_->net->Normalize(x)).contiguous();
+  *num_experts = static_cast<int>(g.size(1));
+  return std::vector<float>(g.data_ptr<float>(), g.data_ptr<float>() + g.numel());
+}
+
 absl::StatusOr<UpdateStats> PpoTrainer::Update(const UnrollBatch& batch, int64_t max_policy_lag) {
   RETURN_IF_ERROR(ValidateUnrollBatch(batch, obs_dim_, act_dim_, version_, max_policy_lag));
   ActorCritic& net = *impl_->net;

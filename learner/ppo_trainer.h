@@ -64,6 +64,9 @@ class PpoTrainer {
 
   // Values V(s) of raw observations [n, obs_dim] (no gradient).
   std::vector<float> Values(const float* obs, int64_t n) const;
+  // The actor's gate weights for raw observations [n, obs_dim] (no gradient): [n, K] row-major,
+  // K in *num_experts; empty (K = 0) when the actor is not a mixture of experts.
+  std::vector<float> ActorGates(const float* obs, int64_t n, int* num_experts) const;
 
   struct Impl;
 

@@ -101,6 +101,12 @@ absl::Status RolloutService::Reject(const std::string& reason, absl::Status stat
 }
 
 absl::Status RolloutService::Ingest(const rpc::TrajectoryChunk& chunk) {
+  const absl::Status status = IngestChunk(chunk);
+  d_.registry->CountChunk(chunk.incarnation(), status.ok());
+  return status;
+}
+
+absl::Status RolloutService::IngestChunk(const rpc::TrajectoryChunk& chunk) {
   const WorkerBootstrap& b = *d_.bootstrap;
   const std::optional<WorkerInfo> worker = d_.registry->Find(chunk.incarnation());
   if (!worker) {
@@ -142,7 +148,7 @@ absl::Status RolloutService::Ingest(const rpc::TrajectoryChunk& chunk) {
     return Reject("queue_full", absl::ResourceExhaustedError(
                                     "the learner's ingestion queue stayed full for 30 s"));
   }
-  d_.metrics->Set("juggle_queue_depth", static_cast<double>(d_.queue->size()));
+  d_.metrics->Set("juggle_ingest_queue_chunks", static_cast<double>(d_.queue->size()));
   return absl::OkStatus();
 }
 

@@ -53,10 +53,12 @@ class RolloutService final : public rpc::Rollout::Service {
   // The ingest rules for one chunk, as StreamTrajectories applies them: OK and enqueued, or
   // FAILED_PRECONDITION (unregistered incarnation, version ahead of the learner or beyond the
   // allowed lag), INVALID_ARGUMENT (shapes, values), RESOURCE_EXHAUSTED (queue full for 30 s).
-  // Rejections are counted in juggle_chunks_rejected_total by reason.
+  // Rejections are counted in juggle_chunks_rejected_total by reason, and every chunk of a
+  // registered worker in its WorkerInfo (accepted or rejected).
   absl::Status Ingest(const rpc::TrajectoryChunk& chunk);
 
  private:
+  absl::Status IngestChunk(const rpc::TrajectoryChunk& chunk);  // Ingest, before counting
   absl::Status Reject(const std::string& reason, absl::Status status);
   int64_t current_version() const { return d_.store->Current()->version; }
 

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "absl/strings/str_cat.h"
+#include "common/eigen_policy.h"
 
 namespace juggle {
 namespace {
@@ -13,6 +14,28 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+// The actor's gate statistics (paper Eq. 4) on up to `rows` observations of `batch`, taken at
+// an even stride; negative when the actor is not a mixture. Costs one gate forward pass.
+void GateStatisticsOfBatch(const PpoTrainer& trainer, const UnrollBatch& batch, int rows,
+                           IterationReport* r) {
+  const int64_t n = batch.num_samples();
+  if (rows <= 0 || n == 0) return;
+  const int64_t take = std::min<int64_t>(rows, n);
+  const int64_t stride = n / take;
+  std::vector<float> obs(static_cast<size_t>(take) * batch.obs_dim);
+  for (int64_t i = 0; i < take; ++i) {
+    std::copy_n(batch.obs.begin() + i * stride * batch.obs_dim, batch.obs_dim,
+                obs.begin() + i * batch.obs_dim);
+  }
+  int experts = 0;
+  const std::vector<float> gates = trainer.ActorGates(obs.data(), take, &experts);
+  if (experts == 0) return;
+  const RowMatrix g = Eigen::Map<const RowMatrix>(gates.data(), take, experts);
+  const GateStatistics stats = ComputeGateStatistics(g);
+  r->gate_specialization = stats.specialization;
+  r->gate_utilization = stats.utilization;
+}
 
 }  // namespace
 
@@ -23,6 +46,16 @@ absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
   std::vector<int> reported_slots;
   auto last_end = Clock::now();
   std::string latest_eval;
+  auto phase = [this](LoopPhase p) {
+    if (d_.dashboard != nullptr) d_.dashboard->SetPhase(p);
+  };
+  auto checkpoint = [&] {
+    phase(LoopPhase::kCheckpointing);
+    absl::Status s = d_.checkpoint();
+    phase(LoopPhase::kWaitingForData);
+    return s;
+  };
+  phase(LoopPhase::kWaitingForData);
   while (!stop->load()) {
     if (limits_.max_iterations > 0 && d_.trainer->iteration() >= limits_.max_iterations) break;
     if (limits_.max_minutes > 0 && Seconds(Clock::now() - start) > limits_.max_minutes * 60) break;
@@ -34,7 +67,7 @@ absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
         std::fprintf(stderr, "warning: %s\n", std::string(added.message()).c_str());
       }
     }
-    d_.metrics->Set("juggle_queue_depth", static_cast<double>(d_.queue->size()));
+    d_.metrics->Set("juggle_ingest_queue_chunks", static_cast<double>(d_.queue->size()));
     const auto now = Clock::now();
     for (uint64_t dead : d_.registry->Expire(now, std::chrono::duration<double>(svc.worker_timeout_s()))) {
       d_.metrics->Add("juggle_worker_timeouts_total", 1);
@@ -61,6 +94,10 @@ absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
       if (static_cast<int>(live.size()) >= std::max(1, svc.min_workers())) {
         batch = assembler.TakeSync(version, live_slots, &dropped);
       }
+      if (!batch && d_.dashboard != nullptr) {
+        d_.dashboard->SetWaitingFor(assembler.MissingSlots(version, live_slots),
+                                    static_cast<int>(d_.queue->size()));
+      }
     } else {
       const int wanted = svc.unrolls_per_iteration() > 0 ? svc.unrolls_per_iteration() : live_envs;
       if (wanted > 0) batch = assembler.TakeAsync(version, svc.max_policy_lag(), wanted, &dropped);
@@ -70,12 +107,13 @@ absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
 
     // Update. The events were validated against the graph by DecodeChunk.
     const auto t_update = Clock::now();
+    phase(LoopPhase::kUpdating);
     if (svc.adaptive_walk()) {
       for (const EdgeEvent& e : batch->events) d_.walk->Apply(e).IgnoreError();
     }
     double lag_sum = 0;
     for (int64_t v : batch->batch.policy_version) {
-      d_.metrics->Observe("juggle_policy_lag", static_cast<double>(version - v));
+      d_.metrics->Observe("juggle_policy_lag_versions", static_cast<double>(version - v));
       lag_sum += version - v;
     }
     absl::StatusOr<UpdateStats> update =
@@ -84,6 +122,7 @@ absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
       d_.metrics->Add("juggle_unrolls_dropped_total", batch->batch.num_unrolls, {{"reason", "update"}});
       std::fprintf(stderr, "warning: batch rejected by the trainer: %s\n",
                    std::string(update.status().message()).c_str());
+      phase(LoopPhase::kWaitingForData);
       continue;
     }
     d_.publish_snapshot();
@@ -114,14 +153,29 @@ absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
     r.approx_kl = update->approx_kl;
     r.actor_lr = update->actor_lr;
     r.latest_eval = latest_eval;
+    r.policy_version = d_.trainer->version();
+    r.queue_depth = static_cast<int>(d_.queue->size());
+    r.outcomes = OutcomeCounts(ep, d_.outcome_names);
+    GateStatisticsOfBatch(*d_.trainer, batch->batch, d_.gate_sample_rows, &r);
     last_end = t_end;
-    RecordIteration(r, ep, d_.outcome_names, d_.metrics);
+    RecordIteration(r, d_.metrics);
+    if (!d_.edge_labels.empty()) {
+      WalkEventTotals delta;
+      delta.Resize(static_cast<int>(d_.edge_labels.size()));
+      for (const EdgeEvent& e : batch->events) delta.Add(e);
+      RecordWalk(d_.edge_labels, d_.walk->counts(), delta.chosen, delta.completed, delta.failed,
+                 d_.metrics);
+    }
+    if (d_.dashboard != nullptr) {
+      d_.dashboard->RecordIteration(r, batch->events, d_.walk->counts(), r.policy_version);
+    }
     if (d_.on_iteration) d_.on_iteration(r);
     if (d_.evaluator != nullptr && d_.evaluator->enabled() &&
         d_.evaluator->Due(r.iteration, d_.progress->train_seconds)) {
       // The evaluation's wall time counts as training time (it is part of the run) but not
       // as the next iteration's.
       const auto t_eval = Clock::now();
+      phase(LoopPhase::kEvaluating);
       absl::StatusOr<EigenPolicy> policy = EigenPolicy::Create(
           *d_.model, d_.trainer->ExportPolicy(), d_.obs_dim, d_.act_dim);
       if (policy.ok()) {
@@ -132,17 +186,21 @@ absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
         e.train_seconds = d_.progress->train_seconds;
         latest_eval = e.ToShort();
         RecordEvaluation(e.summary, d_.metrics);
+        if (d_.dashboard != nullptr) d_.dashboard->RecordEvaluation(e);
         if (d_.on_eval) d_.on_eval(e);
       }
       last_end = Clock::now();
     }
     if (svc.checkpoint_every() > 0 && r.iteration % svc.checkpoint_every() == 0) {
-      if (absl::Status s = d_.checkpoint(); !s.ok()) return s;
+      if (absl::Status s = checkpoint(); !s.ok()) return s;
     }
+    phase(LoopPhase::kWaitingForData);
   }
   // Workers long-polling for a newer policy get the current one at once, not at their deadline.
   d_.release_workers();
-  return d_.checkpoint();
+  absl::Status saved = checkpoint();
+  phase(LoopPhase::kFinished);
+  return saved;
 }
 
 }  // namespace juggle

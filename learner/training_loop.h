@@ -17,6 +17,7 @@
 #include "common/bounded_queue.h"
 #include "common/metrics.h"
 #include "learner/contribution_assembler.h"
+#include "learner/dashboard_state.h"
 #include "learner/in_run_eval.h"
 #include "learner/learner_metrics.h"
 #include "learner/learner_state.h"
@@ -53,6 +54,12 @@ class TrainingLoop {
     int obs_dim = 0, act_dim = 0;
     std::function<void(const InRunEvaluation&)> on_eval;  // may be empty
     bool discard_data = false;       // benchmarks: count chunks, never train
+    // The dashboard's history and the run's phase (may be null).
+    DashboardState* dashboard = nullptr;
+    // (from, to) node names per graph edge: the labels of the walk's metrics.
+    std::vector<std::pair<std::string, std::string>> edge_labels;
+    // Rows of each batch the actor's gate statistics are computed on (0: none).
+    int gate_sample_rows = 512;
   };
   TrainingLoop(Deps deps, Limits limits) : d_(std::move(deps)), limits_(limits) {}
 

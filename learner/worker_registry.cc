@@ -52,6 +52,13 @@ std::optional<WorkerInfo> WorkerRegistry::Find(uint64_t incarnation) const {
   return it->second;
 }
 
+void WorkerRegistry::CountChunk(uint64_t incarnation, bool accepted) {
+  std::lock_guard<std::mutex> lock(mu_);
+  auto it = by_incarnation_.find(incarnation);
+  if (it == by_incarnation_.end()) return;
+  ++(accepted ? it->second.chunks_accepted : it->second.chunks_rejected);
+}
+
 std::vector<uint64_t> WorkerRegistry::Expire(Clock::time_point now,
                                              std::chrono::duration<double> timeout) {
   std::lock_guard<std::mutex> lock(mu_);

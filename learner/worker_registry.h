@@ -23,6 +23,8 @@ struct WorkerInfo {
   std::chrono::steady_clock::time_point last_seen;
   int64_t policy_version = -1;
   double env_steps_per_s = 0;
+  int64_t chunks_accepted = 0;   // chunks of this incarnation enqueued for training
+  int64_t chunks_rejected = 0;   // chunks of this incarnation refused (any reason)
 };
 
 class WorkerRegistry {
@@ -39,6 +41,8 @@ class WorkerRegistry {
   bool Touch(uint64_t incarnation, Clock::time_point now, int64_t policy_version = -1,
              double env_steps_per_s = -1);
   std::optional<WorkerInfo> Find(uint64_t incarnation) const;
+  // Counts a chunk of `incarnation` as accepted or rejected (unknown incarnations: ignored).
+  void CountChunk(uint64_t incarnation, bool accepted);
   // Forgets workers silent for longer than `timeout`; returns their incarnations.
   std::vector<uint64_t> Expire(Clock::time_point now, std::chrono::duration<double> timeout);
   void Remove(uint64_t incarnation);

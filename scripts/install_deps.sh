@@ -11,9 +11,15 @@ PACKAGES=(
   libgrpc++-dev protobuf-compiler-grpc
   libtorch-dev libopenblas0-openmp
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
-  ffmpeg libegl-dev libopengl-dev libegl1 libegl-mesa0 libgl1-mesa-dri libpng-dev
+  ffmpeg libegl-dev libopengl-dev libegl1 libegl-mesa0 libgl1-mesa-dri libpng-dev zlib1g-dev
   libjs-three chromium blender
+  libcpp-httplib-dev nlohmann-json3-dev libjs-chart.js libjs-d3
+  prometheus
 )
+# libcpp-httplib-dev: the learner's HTTP server; nlohmann-json3-dev: the dashboard's JSON API;
+# libjs-chart.js, libjs-d3: the dashboard's charts and graph (embedded in the binary at build
+# time); prometheus (prometheus + promtool) and chromium: tests of deploy/prometheus and of the
+# dashboard in a real browser.
 
 missing=()
 for p in "${PACKAGES[@]}"; do

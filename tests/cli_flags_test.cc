@@ -71,7 +71,8 @@ TEST(CliFlagsTest, TopLevelHelpListsEveryCommand) {
   const Result r = Juggle("--help");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   for (const char* command : {"train", "learner", "worker", "eval", "simulate", "check-config",
-                              "render", "siteswap", "toss", "export-policy", "bench"}) {
+                              "render", "siteswap", "toss", "export-policy", "bench",
+                              "dashboard"}) {
     EXPECT_THAT(r.output, HasSubstr(command));
   }
 }
@@ -84,6 +85,15 @@ TEST(CliFlagsTest, CommandHelpListsItsFlagsWithDefaults) {
     EXPECT_THAT(r.output, HasSubstr(flag));
   }
   EXPECT_THAT(r.output, HasSubstr("configs/right_foot.textproto"));
+}
+
+TEST(CliFlagsTest, DashboardNeedsARunDirWithAMetricsFile) {
+  const Result missing = Juggle("dashboard");
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_THAT(missing.output, HasSubstr("--run_dir"));
+  const Result empty = Juggle("dashboard --run_dir=/nonexistent/run");
+  EXPECT_EQ(empty.exit_code, 1) << empty.output;
+  EXPECT_THAT(empty.output, HasSubstr("cannot read /nonexistent/run/metrics.jsonl"));
 }
 
 TEST(CliFlagsTest, WorkerBinaryHasTheWorkerFlags) {

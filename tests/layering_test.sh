@@ -37,8 +37,10 @@ declare -A PROJECT=(
   [app]="worker learner render export eval bench envs record common proto"
   [tests]="worker learner render export eval envs record common proto"
 )
+# httplib: cpp-httplib, only common/http_server.cc (the one HTTP implementation; the learner and
+# tests reach HTTP through common/http_server.h, and juggle-worker never links it).
 declare -A LIBS=(
-  [common]=""
+  [common]="httplib"
   [record]="mujoco"
   [envs]="mujoco"
   [worker]="mujoco grpc"
@@ -59,6 +61,7 @@ library_of() {
     grpc/*|grpcpp/*|proto/rollout.grpc.pb.h) echo grpc ;;
     torch/*|ATen/*|c10/*) echo torch ;;
     EGL/*|GL/*|GLES*/*) echo gl ;;
+    httplib.h) echo httplib ;;
     *) echo "" ;;
   esac
 }

@@ -110,7 +110,7 @@ class RolloutProtocolTest : public ::testing::Test {
     options.run_dir = dir_ + "/run";
     ASSERT_EQ(::mkdir(options.run_dir.c_str(), 0755), 0);
     options.port = 0;
-    options.metrics_port = 0;  // a free port
+    options.metrics_port = LearnerOptions::kAnyFreePort;
     options.listen_all_interfaces = false;
     absl::StatusOr<std::unique_ptr<LearnerServer>> server = LearnerServer::Start(std::move(options));
     ASSERT_TRUE(server.ok()) << server.status();

@@ -23,17 +23,21 @@
 
 namespace juggle::testing {
 
-// A child process running `juggle <args>`; killed (SIGKILL) on destruction if still running.
+// A child process running `juggle <args>` (or another program); killed (SIGKILL) on
+// destruction if still running.
 class ChildProcess {
  public:
-  ChildProcess(const std::vector<std::string>& args, const std::string& log_path) {
+  ChildProcess(const std::vector<std::string>& args, const std::string& log_path)
+      : ChildProcess(JUGGLE_BINARY, args, log_path) {}
+  // Runs `binary` (a path) with `args`; stdout and stderr appended to `log_path`.
+  ChildProcess(std::string binary, const std::vector<std::string>& args,
+               const std::string& log_path) {
     pid_ = ::fork();
     if (pid_ == 0) {
       const int fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
       ::dup2(fd, 1);
       ::dup2(fd, 2);
       std::vector<char*> argv;
-      std::string binary = JUGGLE_BINARY;
       argv.push_back(binary.data());
       std::vector<std::string> copy = args;
       for (std::string& a : copy) argv.push_back(a.data());
@@ -73,6 +77,18 @@ class ChildProcess {
   bool exited_ = false;
   int status_ = 0;
 };
+
+// The full path of `program` found in $PATH, or "" when it is not installed.
+inline std::string FindProgram(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  std::istringstream dirs(path == nullptr ? "/usr/bin:/bin" : path);
+  std::string dir;
+  while (std::getline(dirs, dir, ':')) {
+    const std::string candidate = (dir.empty() ? "." : dir) + "/" + program;
+    if (::access(candidate.c_str(), X_OK) == 0) return candidate;
+  }
+  return "";
+}
 
 inline int FreePort() {
   const int fd = ::socket(AF_INET, SOCK_STREAM, 0);

@@ -1,0 +1,30 @@
+// `juggle dashboard`: a run directory rendered as the learner's dashboard page, in one
+// self-contained HTML file (scripts, styles and data inlined; no server, no network), for a
+// finished run or one still training. The data is the run's metrics.jsonl read back
+// (dashboard_json.h); runs recorded before the "run" record existed get their name and control
+// graph from their newest checkpoint's config, and their walk weights from its edge counts.
+// Thread-compatible.
+#ifndef JUGGLE_LEARNER_DASHBOARD_REPORT_H_
+#define JUGGLE_LEARNER_DASHBOARD_REPORT_H_
+
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+
+namespace juggle {
+
+struct DashboardReport {
+  std::string html;
+  int iterations = 0, evaluations = 0;
+  // What could not be shown and why (e.g. "no checkpoint: the control graph is not shown").
+  std::vector<std::string> notes;
+};
+
+// The report of `run_dir` (<run_dir>/metrics.jsonl, <run_dir>/checkpoints/). NOT_FOUND when
+// the metrics file is missing; INVALID_ARGUMENT naming the line for a malformed record.
+absl::StatusOr<DashboardReport> RenderRunDashboard(const std::string& run_dir);
+
+}  // namespace juggle
+
+#endif  // JUGGLE_LEARNER_DASHBOARD_REPORT_H_

@@ -1,7 +1,7 @@
 # juggle — front door. `make train` and `make test` install what is missing, build, and run.
 BUILD_DIR ?= build/release
 PRESET    ?= release
-CONFIG    ?= configs/right_foot.textproto
+CONFIG    ?= configs/right_foot_recipe.textproto
 MINUTES   ?= 30
 JOBS      ?= $(shell nproc)
 

@@ -63,7 +63,8 @@ int Replay(const ReplayFlags& f) {
     return 0;
   }
   absl::StatusOr<std::unique_ptr<HttpServer>> server =
-      HttpServer::Start(f.serve_port, /*all_interfaces=*/false, [&html](const std::string& path) {
+      HttpServer::Start(f.serve_port, /*all_interfaces=*/false, [&html](const HttpRequest& request) {
+        const std::string& path = request.path;
         HttpResponse r;
         if (path == "/" || path == "/index.html" || path == "/replay.html") {
           r.content_type = "text/html; charset=utf-8";
@@ -107,6 +108,8 @@ CommandBody AddReplayCommand(CLI::App* cmd) {
   return [f, cmd] {
     ReplayFlags flags = *f;
     flags.serve = cmd->count("--serve") > 0;
+    // CLI11 reads `--serve=0` as a flag turned off (−1): it means a free port.
+    if (flags.serve && flags.serve_port < 0) flags.serve_port = 0;
     return Replay(flags);
   };
 }

@@ -377,6 +377,7 @@ INSTANTIATE_TEST_SUITE_P(
     AllShipped, ShippedConfigTest,
     ::testing::Values(ShippedConfig{"configs/right_foot.textproto", "right_foot", 2, 2, 1},
                       ShippedConfig{"configs/right_foot_paper.textproto", "right_foot_paper", 2, 2, 1},
+                      ShippedConfig{"configs/right_foot_recipe.textproto", "right_foot_recipe", 2, 2, 1},
                       ShippedConfig{"configs/foot_and_atw.textproto", "foot_and_atw", 4, 6, 2},
                       ShippedConfig{"configs/foot_and_head.textproto", "foot_and_head", 4, 6, 2},
                       ShippedConfig{"configs/full.textproto", "full", 23, 62, 8},

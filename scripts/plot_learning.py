@@ -7,7 +7,7 @@ Top panel: mean juggles of each run's in-run evaluations (the `"event": "eval"` 
 RUN_DIR/metrics.jsonl: mean-action policy, held-out starts, no training curricula). Bottom
 panel: juggles per training episode (exploration noise and training curricula on), moving
 average over 20 iterations. The x axis is training wall-clock minutes (`train_s`), or samples
-(millions) with `--x samples`. Runs are labelled by their directory name.
+(millions) with `--x samples`. Runs are labelled PARENT/RUN (round folder and run folder).
 """
 import json
 import os
@@ -31,6 +31,12 @@ def read_run(path, x_key):
     return evals, train
 
 
+def label(run_dir):
+    """PARENT/RUN: the A/B round's folder and the run's."""
+    path = os.path.normpath(os.path.abspath(run_dir))
+    return "/".join(path.split(os.sep)[-2:])
+
+
 def smooth(points, window=20):
     out, acc = [], 0.0
     for i, (x, y) in enumerate(points):
@@ -50,7 +56,7 @@ def main(argv):
     if len(argv) < 3 or x_key not in ("minutes", "samples"):
         sys.exit(__doc__)
     out, runs = argv[1], argv[2:]
-    data = [(os.path.basename(os.path.normpath(r)), *read_run(r, x_key)) for r in runs]
+    data = [(label(r), *read_run(r, x_key)) for r in runs]
     x_max = max([p[0] for _, e, t in data for p in e + t] + [1e-9])
     width, height = 820, 560
     svg = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}">',
@@ -61,7 +67,7 @@ def main(argv):
     for top, title, index, smoothed in panels:
         series = [smooth(d[index]) if smoothed else d[index] for d in data]
         hi = max([y for s in series for _, y in s] + [1.0])
-        parts, px, py = axes(70, width - 190, top, 200, x_max, 0.0, hi, title)
+        parts, px, py = axes(70, width - 230, top, 200, x_max, 0.0, hi, title)
         svg += parts
         for k, (s, (name, _, _)) in enumerate(zip(series, data)):
             colour = COLOURS[k % len(COLOURS)]
@@ -69,9 +75,9 @@ def main(argv):
             svg.append(f'<polyline points="{pts}" fill="none" stroke="{colour}" stroke-width="2"/>')
             if not smoothed:
                 svg += [f'<circle cx="{px(x):.1f}" cy="{py(y):.1f}" r="3" fill="{colour}"/>' for x, y in s]
-            svg.append(f'<text x="{width - 180}" y="{top + 14 + 16 * k}" font-size="12" '
+            svg.append(f'<text x="{width - 220}" y="{top + 14 + 16 * k}" font-size="12" '
                        f'font-family="sans-serif" fill="{colour}">{name}</text>')
-        svg.append(f'<text x="{(70 + width - 190) / 2}" y="{top + 225}" font-size="12" '
+        svg.append(f'<text x="{(70 + width - 230) / 2}" y="{top + 225}" font-size="12" '
                    f'text-anchor="middle" font-family="sans-serif">{xlabel} (max {x_max:.1f})</text>')
     svg.append("</svg>")
     with open(out, "w") as f:

@@ -37,8 +37,8 @@ for seed in $seeds; do
     line=$("$juggle" eval --policy="$dir" --episodes="$episodes" --max_seconds=60 | tail -n 1)
     echo "$line" > "$dir/final_eval.txt"
     last=$(grep -v '"event"' "$dir/metrics.jsonl" | tail -n 1)
-    iterations=$(echo "$last" | sed -n 's/.*"iteration": \([0-9]*\).*/\1/p')
-    samples=$(echo "$last" | sed -n 's/.*"samples": \([0-9]*\).*/\1/p')
+    iterations=$(echo "$last" | sed -n 's/.*"iteration": *\([0-9]*\).*/\1/p')
+    samples=$(echo "$last" | sed -n 's/.*"samples": *\([0-9]*\).*/\1/p')
     endings=$(echo "$line" | tr ' ' '\n' | grep -E '^(ball_lost|fell|bad_contact|contact_timing|time_limit|diverged)=' | tr '\n' ' ')
     printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$seed" "$minutes" \
         "$iterations" "$samples" "$(value "$line" median_juggles)" "$(value "$line" p10_juggles)" \

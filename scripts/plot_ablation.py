@@ -43,7 +43,7 @@ def load_runs(out_dir):
             row = json.loads(line)
             if row.get("event") == "eval":
                 ev.append((row["samples"], row["median_juggles"]))
-            elif "iteration" in row:
+            elif "event" not in row:
                 it.append((row["samples"], row.get("juggles_per_episode", 0.0),
                            row.get("completions_per_episode", 0.0)))
         if it:

@@ -23,10 +23,12 @@ def read_run(path, x_key):
     with open(os.path.join(path, "metrics.jsonl")) as f:
         for line in f:
             d = json.loads(line)
+            if d.get("event") not in (None, "eval"):
+                continue  # run, walk and other records
             x = d["train_s"] / 60 if x_key == "minutes" else d["samples"] / 1e6
             if d.get("event") == "eval":
                 evals.append((x, d["mean_juggles"]))
-            elif "event" not in d:
+            else:
                 train.append((x, d.get("juggles_per_episode", 0.0)))
     return evals, train
 

@@ -37,6 +37,7 @@ def main(argv):
         return 2
     title = argv[argv.index("--title") + 1] if "--title" in argv else argv[1]
     rows = [json.loads(line) for line in open(argv[1]) if line.strip()]
+    rows = [r for r in rows if "event" not in r]  # iterations only (not eval/run/walk records)
     if not rows:
         print("no rows in", argv[1])
         return 1

@@ -78,6 +78,14 @@ absl::StatusOr<Contribution> DecodeChunk(const rpc::TrajectoryChunk& ch, int obs
   if (ch.num_parts() < 1 || ch.part() < 0 || ch.part() >= ch.num_parts()) {
     return invalid(absl::StrCat("chunk part ", ch.part(), " of ", ch.num_parts(), " is invalid"));
   }
+  // Claimed sizes are checked against what the message carries before anything is allocated
+  // from them (the message itself is bounded by gRPC's receive limit).
+  const int64_t claimed = int64_t{ch.num_unrolls()} * ch.unroll_length();
+  if (ch.num_unrolls() < 1 || ch.unroll_length() < 1 || claimed != ch.rewards_size()) {
+    return invalid(absl::StrCat("chunk claims ", ch.num_unrolls(), " unrolls of ",
+                                ch.unroll_length(), " steps but carries ", ch.rewards_size(),
+                                " rewards"));
+  }
   Contribution c;
   UnrollBatch& b = c.batch;
   b.num_unrolls = ch.num_unrolls();

@@ -122,7 +122,12 @@ absl::Status RolloutService::IngestChunk(const rpc::TrajectoryChunk& chunk) {
                                          " is newer than the learner's ", current)));
   }
   if (chunk.policy_version() < current - b.max_policy_lag) {
-    d_.metrics->Add("juggle_unrolls_dropped_total", chunk.num_unrolls(), {{"reason", "stale"}});
+    // Counts the unrolls the chunk carries, not the number it claims.
+    const int64_t carried =
+        chunk.unroll_length() > 0 ? chunk.rewards_size() / chunk.unroll_length() : 0;
+    d_.metrics->Add("juggle_unrolls_dropped_total",
+                    static_cast<double>(std::clamp<int64_t>(chunk.num_unrolls(), 0, carried)),
+                    {{"reason", "stale"}});
     return Reject("stale_version", absl::FailedPreconditionError(absl::StrCat(
                                        "chunk policy version ", chunk.policy_version(),
                                        " is more than ", b.max_policy_lag,

@@ -273,6 +273,20 @@ TEST_F(RolloutProtocolTest, RejectsBadChunksWithTheirCodesCountsThemAndStillTrai
        kInvalidArgument, "'rewards' has a non-finite value at index 7"},
       {"unknown node id", [](rpc::TrajectoryChunk* c) { c->set_node(3, kNodes); },
        kInvalidArgument, "unknown node id 2 at step 3 (the graph has 2 nodes)"},
+      {"a claim of 2^31 - 1 unrolls with empty arrays",
+       [](rpc::TrajectoryChunk* c) {
+         const int32_t T = c->unroll_length();
+         rpc::TrajectoryChunk empty;
+         empty.set_incarnation(c->incarnation());
+         empty.set_sequence(c->sequence());
+         empty.set_num_parts(1);
+         empty.set_obs_dim(c->obs_dim());
+         empty.set_act_dim(c->act_dim());
+         empty.set_unroll_length(T);
+         empty.set_num_unrolls(std::numeric_limits<int32_t>::max());
+         *c = empty;
+       },
+       kInvalidArgument, "chunk claims 2147483647 unrolls of"},
       {"unregistered incarnation",
        [](rpc::TrajectoryChunk* c) { c->set_incarnation(c->incarnation() + 1000); },
        kFailedPrecondition,
@@ -296,7 +310,7 @@ TEST_F(RolloutProtocolTest, RejectsBadChunksWithTheirCodesCountsThemAndStillTrai
   }
 
   const std::string metrics = Metrics();
-  EXPECT_THAT(metrics, HasSubstr("\njuggle_chunks_rejected_total{reason=\"invalid\"} 3\n"));
+  EXPECT_THAT(metrics, HasSubstr("\njuggle_chunks_rejected_total{reason=\"invalid\"} 4\n"));
   EXPECT_THAT(metrics, HasSubstr("\njuggle_chunks_rejected_total{reason=\"unregistered\"} 1\n"));
   EXPECT_THAT(metrics, HasSubstr("\njuggle_chunks_rejected_total{reason=\"unknown_version\"} 1\n"));
   EXPECT_THAT(metrics, Not(HasSubstr("reason=\"stale_version\"")));
@@ -325,6 +339,13 @@ TEST_F(RolloutProtocolTest, RejectsBadChunksWithTheirCodesCountsThemAndStillTrai
   EXPECT_EQ(stale.code(), kFailedPrecondition);
   EXPECT_THAT(stale.message(), HasSubstr("chunk policy version 0 is more than 0 behind"));
   EXPECT_EQ(stale.latest_version(), 1);
+  // A stale chunk is counted by the unrolls it carries, not by the number it claims.
+  rpc::TrajectoryChunk liar = ValidChunk(reg, sequence++);
+  const int carried = liar.num_unrolls();
+  liar.set_num_unrolls(std::numeric_limits<int32_t>::max());
+  EXPECT_FALSE(send(liar).accepted());
+  EXPECT_EQ(server_->metrics().Get("juggle_unrolls_dropped_total", {{"reason", "stale"}}),
+            2 * carried);
 
   stream->WritesDone();
   const grpc::Status finished = stream->Finish();

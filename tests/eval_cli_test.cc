@@ -67,6 +67,21 @@ TEST(EvalCliTest, PrintsTheNodeTableAndWritesItAsJsonLines) {
   std::system(("rm -rf " + dir).c_str());
 }
 
+// The policy shipped in policies/ (docs/learning.md) still loads with its config and still
+// juggles: on the first 10 held-out starts every episode gets its first juggle (p10 = 1),
+// which the same base controller with zero action does not (p10 = 0).
+TEST(EvalCliTest, ShippedRightFootPolicyGetsTheFirstJuggleOnEveryHeldOutStart) {
+  const std::string dir = MakeTempDir("juggle_eval_");
+  testing::ChildProcess eval(
+      {"eval", "--policy=policies/right_foot/kick_fb_30min.jglpolicy", "--episodes=10"},
+      dir + "/eval.log");
+  ASSERT_EQ(eval.Wait(120), 0) << ReadAll(dir + "/eval.log");
+  const std::string log = ReadAll(dir + "/eval.log");
+  EXPECT_THAT(log, ::testing::HasSubstr(" median_juggles=1 p10_juggles=1 "));
+  EXPECT_THAT(log, ::testing::ContainsRegex("mean_juggles=1\\.[0-9]+"));
+  std::system(("rm -rf " + dir).c_str());
+}
+
 TEST(EvalCliTest, ForceSweepReportsTheLargestPassingForcePerDirection) {
   const std::string dir = MakeTempDir("juggle_eval_");
   testing::ChildProcess eval({"eval", "--zero-action", "--config=configs/right_foot.textproto",

@@ -3,6 +3,7 @@ BUILD_DIR ?= build/release
 PRESET    ?= release
 CONFIG    ?= configs/right_foot_recipe.textproto
 MINUTES   ?= 30
+BENCH_CONFIG ?= configs/right_foot.textproto
 JOBS      ?= $(shell nproc)
 
 .PHONY: deps configure build train train-toss test bench clean
@@ -44,7 +45,7 @@ test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 
 bench: build
-	$(BUILD_DIR)/juggle bench sim --config=$(CONFIG)
+	$(BUILD_DIR)/juggle bench sim --config=$(BENCH_CONFIG)
 
 clean:
 	rm -rf build

@@ -1,17 +1,14 @@
 // The in-run evaluation of `juggle train`: it runs when due, reports the juggles distribution,
 // and does not change training — the same parameters with it on and off (synchronous mode,
 // one worker: a run is reproducible).
-#include <atomic>
-#include <thread>
 #include <vector>
 
-#include "absl/strings/str_cat.h"
 #include "common/testing/temp_dir.h"
 #include "envs/registry.h"
 #include "gtest/gtest.h"
 #include "learner/checkpoint.h"
 #include "learner/learner_server.h"
-#include "worker/worker_client.h"
+#include "tests/one_worker_training.h"
 
 namespace juggle {
 namespace {
@@ -46,21 +43,7 @@ TrainedRun Train(bool evaluate, int iterations, std::string dir = "", bool resum
   o.on_iteration = [&](const IterationReport& r) { run.iterations.push_back(r); };
   auto server = LearnerServer::Start(std::move(o));
   EXPECT_TRUE(server.ok()) << server.status();
-  std::atomic<bool> stop{false}, workers_stop{false};
-  std::thread worker([&] {
-    WorkerOptions wo;
-    wo.learner_address = absl::StrCat("127.0.0.1:", (*server)->port());
-    wo.num_envs = 4;
-    wo.num_threads = 1;
-    wo.requested_slot = 0;
-    wo.stop = &workers_stop;
-    wo.verbose = false;
-    RunWorker(wo).IgnoreError();
-  });
-  EXPECT_TRUE((*server)->Train(&stop).ok());
-  workers_stop = true;
-  worker.join();
-  (*server)->Shutdown();
+  EXPECT_TRUE(TrainWithOneWorker(**server).ok());
   absl::StatusOr<CheckpointDir::Loaded> loaded = CheckpointDir(dir + "/checkpoints").LoadLatest();
   EXPECT_TRUE(loaded.ok()) << loaded.status();
   if (loaded.ok()) run.checkpoint = loaded->sections;

@@ -1,19 +1,16 @@
 // The uniform-walk ablation switch (ServiceConfig.adaptive_walk): with it off, a short run's
 // checkpointed edge counts are still the graph's base weights; with it on (the default), the
 // same run moves them. Local learner + one in-process worker, tiny right-foot config.
-#include <atomic>
 #include <cstring>
-#include <thread>
 #include <vector>
 
-#include "absl/strings/str_cat.h"
 #include "common/adaptive_walk.h"
 #include "common/testing/temp_dir.h"
 #include "envs/registry.h"
 #include "gtest/gtest.h"
 #include "learner/checkpoint.h"
 #include "learner/learner_server.h"
-#include "worker/worker_client.h"
+#include "tests/one_worker_training.h"
 
 namespace juggle {
 namespace {
@@ -34,21 +31,7 @@ void TrainAndReadCounts(bool adaptive, std::vector<double>* counts, std::vector<
   o.max_iterations = 3;
   auto server = LearnerServer::Start(std::move(o));
   ASSERT_TRUE(server.ok()) << server.status();
-  std::atomic<bool> stop{false}, workers_stop{false};
-  std::thread worker([&] {
-    WorkerOptions wo;
-    wo.learner_address = absl::StrCat("127.0.0.1:", (*server)->port());
-    wo.num_envs = 4;
-    wo.num_threads = 1;
-    wo.requested_slot = 0;
-    wo.stop = &workers_stop;
-    wo.verbose = false;
-    RunWorker(wo).IgnoreError();
-  });
-  EXPECT_TRUE((*server)->Train(&stop).ok());
-  workers_stop = true;
-  worker.join();
-  (*server)->Shutdown();
+  EXPECT_TRUE(TrainWithOneWorker(**server).ok());
   absl::StatusOr<CheckpointDir::Loaded> loaded = CheckpointDir(dir + "/checkpoints").LoadLatest();
   ASSERT_TRUE(loaded.ok()) << loaded.status();
   const std::string& bytes = loaded->sections.at("edge_counts");

@@ -4,6 +4,7 @@
 
 #include "app/command.h"
 #include "app/commands.h"
+#include "app/security_flags.h"
 #include "app/signals.h"
 #include "worker/worker_client.h"
 
@@ -11,6 +12,7 @@ namespace juggle {
 
 CommandBody AddWorkerCommand(CLI::App* cmd) {
   auto o = std::make_shared<WorkerOptions>();
+  auto security = std::make_shared<SecurityFlags>();
   o->learner_address = "127.0.0.1:50051";
   cmd->add_option("--learner", o->learner_address, "learner address host:port")
       ->capture_default_str();
@@ -28,7 +30,11 @@ CommandBody AddWorkerCommand(CLI::App* cmd) {
                   "exit after this many seconds without a learner (0: never)")
       ->check(AtLeast(0))
       ->capture_default_str();
-  return [o] {
+  AddSecurityFlags(cmd, SecurityRole::kWorker, security.get());
+  return [o, security] {
+    absl::StatusOr<TransportSecurity> resolved = ResolveSecurity(*security);
+    if (!resolved.ok()) return Fail(resolved.status());
+    o->security = *std::move(resolved);
     o->stop = InstallStopSignals();
     const absl::Status status = RunWorker(*o);
     if (!status.ok()) return Fail(status);

@@ -1,6 +1,7 @@
 #include "learner/contribution_assembler.h"
 
 #include <algorithm>
+#include <climits>
 #include <set>
 
 #include "absl/strings/str_cat.h"
@@ -11,7 +12,22 @@ absl::Status ContributionAssembler::Add(ChunkPart part) {
   auto done = completed_.find(part.incarnation);
   if (done != completed_.end() && part.sequence <= done->second) return absl::OkStatus();
   const auto key = std::make_tuple(part.incarnation, part.version, part.sequence);
-  std::vector<ChunkPart>& parts = partial_[key];
+  auto found = partial_.find(key);
+  if (found == partial_.end()) {
+    // A new contribution in assembly: evict this incarnation's oldest beyond the bound.
+    std::vector<decltype(partial_)::iterator> mine;
+    for (auto it = partial_.lower_bound({part.incarnation, INT64_MIN, INT64_MIN});
+         it != partial_.end() && std::get<0>(it->first) == part.incarnation; ++it) {
+      mine.push_back(it);
+    }
+    for (size_t i = 0; i + kMaxPartialPerIncarnation <= mine.size(); ++i) {
+      for (const ChunkPart& p : mine[i]->second) evicted_unrolls_ += p.data.batch.num_unrolls;
+      partial_.erase(mine[i]);
+    }
+    found = partial_.emplace(key, std::vector<ChunkPart>()).first;
+  }
+  std::vector<ChunkPart>& parts = found->second;
+  int64_t unrolls = part.data.batch.num_unrolls;
   for (const ChunkPart& p : parts) {
     if (p.part == part.part) return absl::OkStatus();  // duplicate part: ignore
     const UnrollBatch& a = p.data.batch;
@@ -22,6 +38,14 @@ absl::Status ContributionAssembler::Add(ChunkPart part) {
           "part ", part.part, " of contribution ", part.sequence,
           " disagrees with its other parts (num_parts, unroll length or dimensions)"));
     }
+    unrolls += a.num_unrolls;
+  }
+  if (unrolls > part.max_unrolls) {
+    for (const ChunkPart& p : parts) evicted_unrolls_ += p.data.batch.num_unrolls;
+    partial_.erase(found);
+    return absl::InvalidArgumentError(absl::StrCat(
+        "the parts of contribution ", part.sequence, " carry ", unrolls,
+        " unrolls; the worker has ", part.max_unrolls, " envs"));
   }
   const int num_parts = part.num_parts;
   parts.push_back(std::move(part));
@@ -29,11 +53,31 @@ absl::Status ContributionAssembler::Add(ChunkPart part) {
   std::sort(parts.begin(), parts.end(), [](const ChunkPart& a, const ChunkPart& b) { return a.part < b.part; });
   Complete c{parts[0].slot, parts[0].version, Contribution()};
   for (const ChunkPart& p : parts) AppendContribution(&c.data, p.data);
+  // The slot's oldest waiting contributions give way beyond the bound.
+  const int64_t envs = std::max(1, parts[0].max_unrolls);
+  const int64_t per_slot = versions_kept_ + (wanted_unrolls_ + envs - 1) / envs;
+  int64_t of_slot = 0;
+  for (const Complete& held : complete_) of_slot += held.slot == c.slot;
+  for (auto it = complete_.begin(); it != complete_.end() && of_slot >= per_slot;) {
+    if (it->slot == c.slot) {
+      evicted_unrolls_ += it->data.batch.num_unrolls;
+      it = complete_.erase(it);
+      --of_slot;
+    } else {
+      ++it;
+    }
+  }
   complete_.push_back(std::move(c));
-  partial_.erase(key);
+  partial_.erase(found);
   int64_t& last = completed_[std::get<0>(key)];
   last = std::max(last, std::get<2>(key));
   return absl::OkStatus();
+}
+
+int64_t ContributionAssembler::held_unrolls() const {
+  int64_t n = 0;
+  for (const Complete& c : complete_) n += c.data.batch.num_unrolls;
+  return n;
 }
 
 int ContributionAssembler::DropIncarnation(uint64_t incarnation) {
@@ -51,6 +95,9 @@ int ContributionAssembler::DropIncarnation(uint64_t incarnation) {
 
 int ContributionAssembler::DropAllBut(const std::vector<uint64_t>& live) {
   const std::set<uint64_t> keep(live.begin(), live.end());
+  for (auto it = completed_.begin(); it != completed_.end();) {
+    it = keep.count(it->first) ? std::next(it) : completed_.erase(it);
+  }
   int dropped = 0;
   for (auto it = partial_.begin(); it != partial_.end();) {
     if (!keep.count(std::get<0>(it->first))) {

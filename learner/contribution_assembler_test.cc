@@ -278,5 +278,61 @@ TEST(ContributionAssemblerTest, TakeAsyncTakesWholeContributionsEvenPastTheWante
   EXPECT_EQ(c->batch.obs.size(), 4u * kT);
 }
 
+TEST(ContributionAssemblerTest, APartialFloodKeepsTwoContributionsInAssemblyPerIncarnation) {
+  ContributionAssembler a;
+  for (int64_t seq = 0; seq < 100; ++seq) ASSERT_TRUE(a.Add(Part(0, 7, seq, 0, 2, 0, 1.0f)).ok());
+  ASSERT_TRUE(a.Add(Part(1, 8, 0, 0, 2, 0, 2.0f)).ok());
+  EXPECT_EQ(a.pending_parts(), ContributionAssembler::kMaxPartialPerIncarnation + 1);
+  EXPECT_EQ(a.evicted_unrolls(), 98);
+  // The newest contribution of the flooding incarnation can still complete.
+  ASSERT_TRUE(a.Add(Part(0, 7, 99, 1, 2, 0, 1.0f)).ok());
+  EXPECT_EQ(a.held_unrolls(), 2);
+}
+
+TEST(ContributionAssemblerTest, PartsCarryingMoreUnrollsThanTheWorkersEnvsAreRejected) {
+  ContributionAssembler a;
+  ChunkPart first = Part(0, 7, 0, 0, 2, 0, 1.0f, 2);
+  first.max_unrolls = 2;
+  ASSERT_TRUE(a.Add(first).ok());
+  ChunkPart second = Part(0, 7, 0, 1, 2, 0, 1.0f, 1);
+  second.max_unrolls = 2;
+  const absl::Status s = a.Add(second);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()), ::testing::HasSubstr("carry 3 unrolls; the worker has 2 envs"));
+  EXPECT_EQ(a.pending_parts(), 0) << "the contribution is dropped";
+  EXPECT_EQ(a.held_unrolls(), 0);
+}
+
+TEST(ContributionAssemblerTest, CompleteContributionsOfOneSlotAreBoundedOldestFirst) {
+  ContributionAssembler a(/*versions_kept=*/2);
+  ASSERT_TRUE(a.Add(Whole(1, 8, 0, 0, 50.0f)).ok());
+  for (int64_t seq = 0; seq < 10; ++seq) {
+    ASSERT_TRUE(a.Add(Whole(0, 7, seq, 0, float(seq))).ok());
+  }
+  EXPECT_EQ(a.held_unrolls(), 3) << "two of slot 0, one of slot 1";
+  EXPECT_EQ(a.evicted_unrolls(), 8);
+  int64_t dropped = 0;
+  const std::optional<Contribution> c = a.TakeSync(0, {0, 1}, &dropped);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_THAT(Marks(*c), ElementsAre(8.0f, 50.0f)) << "slot 0's oldest were evicted";
+}
+
+TEST(ContributionAssemblerTest, AsyncBoundLeavesRoomForABatchFromOneSmallWorker) {
+  // A worker of 2 envs and batches of 8 unrolls: 4 contributions make one batch.
+  ContributionAssembler a(/*versions_kept=*/3, /*wanted_unrolls=*/8);
+  for (int64_t seq = 0; seq < 7; ++seq) {
+    ChunkPart p = Whole(0, 7, seq, 0, float(seq), 2);
+    p.max_unrolls = 2;
+    ASSERT_TRUE(a.Add(p).ok());
+  }
+  EXPECT_EQ(a.evicted_unrolls(), 0) << "3 + 8/2 = 7 contributions fit";
+  ChunkPart eighth = Whole(0, 7, 7, 0, 7.0f, 2);
+  eighth.max_unrolls = 2;
+  ASSERT_TRUE(a.Add(eighth).ok());
+  EXPECT_EQ(a.evicted_unrolls(), 2);
+  int64_t dropped = 0;
+  EXPECT_TRUE(a.TakeAsync(0, 2, 8, &dropped).has_value());
+}
+
 }  // namespace
 }  // namespace juggle

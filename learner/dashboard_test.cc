@@ -132,8 +132,8 @@ TEST(DashboardJsonTest, StatusListsLiveWorkersAndMarksASilentOne) {
   DeclareLearnerMetrics(&metrics);
   std::optional<uint64_t> replaced;
   const auto now = WorkerRegistry::Clock::now();
-  const WorkerInfo fresh = registry.Register(0, 8, "node-a", now, &replaced);
-  const WorkerInfo silent = registry.Register(1, 8, "node-b", now - std::chrono::seconds(5), &replaced);
+  const WorkerInfo fresh = *registry.Register(0, 8, "node-a", now, &replaced);
+  const WorkerInfo silent = *registry.Register(1, 8, "node-b", now - std::chrono::seconds(5), &replaced);
   registry.CountChunk(fresh.incarnation, true);
   registry.CountChunk(fresh.incarnation, true);
   registry.CountChunk(fresh.incarnation, false);

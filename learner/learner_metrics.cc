@@ -73,7 +73,7 @@ void DeclareLearnerMetrics(Metrics* m) {
              "Versions between an unroll's policy and the trained one.", {0, 1, 2, 3, 5, 10});
   m->Declare("juggle_chunks_rejected_total", "counter", "Chunks rejected, by reason.");
   m->Declare("juggle_unrolls_dropped_total", "counter",
-             "Accepted unrolls never trained on, by reason.");
+             "Accepted unrolls never trained on, by reason (stale, overflow, update).");
   m->Declare("juggle_policy_requests_rejected_total", "counter",
              "GetPolicy calls refused, by reason.");
   // Workers.
@@ -89,6 +89,14 @@ void DeclareLearnerMetrics(Metrics* m) {
              "Chunks from each live worker, by result (accepted, rejected).");
   m->Declare("juggle_worker_restarts_total", "counter", "Registrations that replaced a live slot.");
   m->Declare("juggle_worker_timeouts_total", "counter", "Workers forgotten after missing heartbeats.");
+  m->Declare("juggle_registrations_rejected_total", "counter",
+             "Registrations refused, by reason (limit: service.max_workers or "
+             "max_workers_per_host; invalid: slot, env count or host name).");
+  m->Declare("juggle_rpcs_unauthenticated_total", "counter",
+             "RPCs refused for a missing or wrong token, by RPC.");
+  m->Declare("juggle_sync_round_stragglers_total", "counter",
+             "Synchronous rounds that went on without a silent worker "
+             "(service.sync_round_timeout_s).");
   // Training.
   m->Declare("juggle_run_info", "gauge",
              "Always 1; the run's config name, family and mode as labels.");

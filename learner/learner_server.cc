@@ -149,7 +149,12 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
                 static_cast<long>(s->progress.samples), s->progress.train_seconds);
   }
   std::random_device entropy;  // incarnation ids only; never seeds training
-  s->registry = std::make_unique<WorkerRegistry>(entropy());
+  const config::ServiceConfig& service = config.run.service();
+  RegistryLimits limits;
+  limits.max_workers = service.max_workers();
+  limits.max_workers_per_host = service.max_workers_per_host();
+  limits.max_envs_per_worker = service.max_envs_per_worker();
+  s->registry = std::make_unique<WorkerRegistry>(entropy(), limits);
   s->queue = std::make_unique<BoundedQueue<ChunkPart>>(
       std::max(1, config.run.service().queue_capacity()));
   ASSIGN_OR_RETURN(s->evaluator, InRunEvaluator::Create(config));
@@ -178,13 +183,16 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
   // gRPC.
   const int port = s->options.port >= 0 ? s->options.port : config.run.service().port();
   grpc::EnableDefaultHealthCheckService(true);
+  ASSIGN_OR_RETURN(std::shared_ptr<grpc::ServerCredentials> credentials,
+                   MakeServerCredentials(s->options.security));
   grpc::ServerBuilder builder;
   builder.AddListeningPort(
       absl::StrCat(s->options.listen_all_interfaces ? "0.0.0.0:" : "127.0.0.1:", port),
-      grpc::InsecureServerCredentials(), &s->port);
-  builder.SetMaxReceiveMessageSize(64 << 20);
-  s->service = std::make_unique<RolloutService>(RolloutService::Deps{
-      s->registry.get(), &s->store, s->queue.get(), &s->metrics, &s->bootstrap});
+      credentials, &s->port);
+  builder.SetMaxReceiveMessageSize(service.max_chunk_mb() << 20);
+  s->service = std::make_unique<RolloutService>(
+      RolloutService::Deps{s->registry.get(), &s->store, s->queue.get(), &s->metrics,
+                           &s->bootstrap, s->options.security.token});
   builder.RegisterService(s->service.get());
   s->grpc_server = builder.BuildAndStart();
   if (!s->grpc_server || s->port == 0) {
@@ -195,7 +203,7 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
                                                            : s->options.metrics_port;
   if (metrics_port > 0 || metrics_port == LearnerOptions::kAnyFreePort) {
     ASSIGN_OR_RETURN(s->http, HttpServer::Start(std::max(0, metrics_port),
-                                                s->options.listen_all_interfaces,
+                                                s->options.http_all_interfaces,
                                                 LearnerHttpRoutes(&s->metrics, s->dashboard.get(),
                                                                   s->registry.get())));
   }

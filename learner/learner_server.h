@@ -18,6 +18,7 @@
 #include "absl/status/statusor.h"
 #include "common/config_loader.h"
 #include "common/metrics.h"
+#include "common/transport_security.h"
 #include "learner/in_run_eval.h"
 #include "learner/learner_metrics.h"
 
@@ -32,7 +33,11 @@ struct LearnerOptions {
   // in the config); kAnyFreePort a free port (tests, benchmarks); otherwise that port.
   static constexpr int kAnyFreePort = -2;
   int metrics_port = -1;
-  bool listen_all_interfaces = true;
+  bool listen_all_interfaces = true;   // gRPC on 0.0.0.0 (else 127.0.0.1)
+  // HTTP (/metrics, dashboard) on 0.0.0.0; by default only on 127.0.0.1.
+  bool http_all_interfaces = false;
+  // Token and TLS of the gRPC service (common/transport_security.h); empty: none.
+  TransportSecurity security;
   int64_t max_iterations = 0;   // 0: the config's ppo.iterations (0 = until stopped)
   double max_minutes = 0;
   std::function<void(const IterationReport&)> on_iteration;

@@ -6,6 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "common/chunk_codec.h"
+#include "common/transport_security.h"
 
 namespace juggle {
 namespace {
@@ -18,14 +19,34 @@ grpc::Status ToGrpc(const absl::Status& s) {
 
 }  // namespace
 
-grpc::Status RolloutService::Register(grpc::ServerContext*, const rpc::RegisterRequest* req,
+grpc::Status RolloutService::Authorize(const grpc::ServerContext* ctx, const char* rpc) {
+  if (d_.auth_token.empty()) return grpc::Status::OK;
+  const auto& metadata = ctx->client_metadata();
+  const auto it = metadata.find(kAuthorizationHeader);
+  const std::string header = it == metadata.end() ? std::string()
+                                                  : std::string(it->second.data(), it->second.size());
+  if (TokenMatches(d_.auth_token, header)) return grpc::Status::OK;
+  d_.metrics->Add("juggle_rpcs_unauthenticated_total", 1, {{"rpc", rpc}});
+  return grpc::Status(grpc::StatusCode::UNAUTHENTICATED,
+                      it == metadata.end() ? "this learner requires a token (--token_file or "
+                                             "$JUGGLE_TOKEN)"
+                                           : "wrong token");
+}
+
+grpc::Status RolloutService::Register(grpc::ServerContext* ctx, const rpc::RegisterRequest* req,
                                       rpc::RegisterResponse* resp) {
-  if (req->num_envs() < 1) {
-    return ToGrpc(absl::InvalidArgumentError("register: num_envs must be >= 1"));
-  }
+  if (grpc::Status auth = Authorize(ctx, "Register"); !auth.ok()) return auth;
   std::optional<uint64_t> replaced;
-  const WorkerInfo w = d_.registry->Register(req->requested_slot(), req->num_envs(),
-                                             req->hostname(), Clock::now(), &replaced);
+  const absl::StatusOr<WorkerInfo> registered = d_.registry->Register(
+      req->requested_slot(), req->num_envs(), req->hostname(), Clock::now(), &replaced);
+  if (!registered.ok()) {
+    d_.metrics->Add("juggle_registrations_rejected_total", 1,
+                    {{"reason", registered.status().code() == absl::StatusCode::kResourceExhausted
+                                    ? "limit"
+                                    : "invalid"}});
+    return ToGrpc(registered.status());
+  }
+  const WorkerInfo& w = *registered;
   if (replaced) d_.metrics->Add("juggle_worker_restarts_total", 1);
   const WorkerBootstrap& b = *d_.bootstrap;
   resp->set_slot(w.slot);
@@ -41,7 +62,8 @@ grpc::Status RolloutService::Register(grpc::ServerContext*, const rpc::RegisterR
 }
 
 grpc::Status RolloutService::StreamTrajectories(
-    grpc::ServerContext*, grpc::ServerReaderWriter<rpc::ChunkAck, rpc::TrajectoryChunk>* stream) {
+    grpc::ServerContext* ctx, grpc::ServerReaderWriter<rpc::ChunkAck, rpc::TrajectoryChunk>* stream) {
+  if (grpc::Status auth = Authorize(ctx, "StreamTrajectories"); !auth.ok()) return auth;
   rpc::TrajectoryChunk chunk;
   while (stream->Read(&chunk)) {
     rpc::ChunkAck ack;
@@ -57,10 +79,18 @@ grpc::Status RolloutService::StreamTrajectories(
 
 grpc::Status RolloutService::GetPolicy(grpc::ServerContext* ctx, const rpc::PolicyRequest* req,
                                        grpc::ServerWriter<rpc::PolicyChunk>* writer) {
+  if (grpc::Status auth = Authorize(ctx, "GetPolicy"); !auth.ok()) return auth;
   if (!d_.registry->Find(req->incarnation())) {
     d_.metrics->Add("juggle_policy_requests_rejected_total", 1, {{"reason", "unregistered"}});
     return ToGrpc(absl::FailedPreconditionError(absl::StrCat(
         "unregistered incarnation ", req->incarnation(), ": call Register first")));
+  }
+  // A version the learner has not reached cannot be waited for: versions only come from this
+  // learner, so a request beyond the next one is a confused or hostile client.
+  if (const int64_t current = current_version(); req->min_version() > current) {
+    d_.metrics->Add("juggle_policy_requests_rejected_total", 1, {{"reason", "future_version"}});
+    return ToGrpc(absl::OutOfRangeError(absl::StrCat(
+        "min_version ", req->min_version(), " is ahead of the learner's version ", current)));
   }
   const auto deadline = std::min(ctx->deadline(),
                                  std::chrono::system_clock::now() + std::chrono::seconds(30));
@@ -87,8 +117,9 @@ grpc::Status RolloutService::GetPolicy(grpc::ServerContext* ctx, const rpc::Poli
   return grpc::Status::OK;
 }
 
-grpc::Status RolloutService::Heartbeat(grpc::ServerContext*, const rpc::HeartbeatRequest* req,
+grpc::Status RolloutService::Heartbeat(grpc::ServerContext* ctx, const rpc::HeartbeatRequest* req,
                                        rpc::HeartbeatResponse* resp) {
+  if (grpc::Status auth = Authorize(ctx, "Heartbeat"); !auth.ok()) return auth;
   resp->set_known(d_.registry->Touch(req->incarnation(), Clock::now(), req->policy_version(),
                                      req->env_steps_per_s()));
   resp->set_latest_version(current_version());
@@ -138,6 +169,13 @@ absl::Status RolloutService::IngestChunk(const rpc::TrajectoryChunk& chunk) {
                                  absl::StrCat("chunk unroll_length ", chunk.unroll_length(),
                                               " differs from the run's ", b.unroll_length)));
   }
+  // One contribution holds one unroll per env of the worker, in at most that many parts.
+  if (chunk.num_unrolls() > worker->num_envs || chunk.num_parts() > worker->num_envs) {
+    return Reject("invalid", absl::InvalidArgumentError(absl::StrCat(
+                                 "chunk claims ", chunk.num_unrolls(), " unrolls in part ",
+                                 chunk.part(), " of ", chunk.num_parts(), "; the worker registered ",
+                                 worker->num_envs, " envs")));
+  }
   absl::StatusOr<Contribution> decoded =
       DecodeChunk(chunk, b.obs_dim, b.act_dim, b.num_nodes, b.num_edges);
   if (!decoded.ok()) return Reject("invalid", decoded.status());
@@ -148,6 +186,7 @@ absl::Status RolloutService::IngestChunk(const rpc::TrajectoryChunk& chunk) {
   part.part = chunk.part();
   part.num_parts = chunk.num_parts();
   part.version = chunk.policy_version();
+  part.max_unrolls = worker->num_envs;
   part.data = std::move(*decoded);
   if (!d_.queue->Push(std::move(part), Clock::now() + std::chrono::seconds(30))) {
     return Reject("queue_full", absl::ResourceExhaustedError(

@@ -1,6 +1,7 @@
-// The gRPC adapter of proto/rollout.proto on the learner: registers workers, validates chunks and
-// enqueues them (backpressure: a full queue blocks the stream up to 30 s), serves policy
-// snapshots (long-poll up to 30 s) and heartbeats. Holds no training state.
+// The gRPC adapter of proto/rollout.proto on the learner: checks the token, registers workers
+// (within the registry's limits), validates chunks and enqueues them (backpressure: a full
+// queue blocks the stream up to 30 s), serves policy snapshots (long-poll up to 30 s) and
+// heartbeats. Holds no training state.
 // Thread-safe: gRPC calls it from many threads; everything it uses is thread-safe or immutable.
 #ifndef JUGGLE_LEARNER_ROLLOUT_SERVICE_H_
 #define JUGGLE_LEARNER_ROLLOUT_SERVICE_H_
@@ -37,6 +38,9 @@ class RolloutService final : public rpc::Rollout::Service {
     BoundedQueue<ChunkPart>* queue;
     Metrics* metrics;
     const WorkerBootstrap* bootstrap;
+    // Every RPC must carry "authorization: Bearer <token>" (UNAUTHENTICATED otherwise); empty:
+    // no token required.
+    std::string auth_token;
   };
   explicit RolloutService(Deps deps) : d_(deps) {}
 
@@ -60,6 +64,8 @@ class RolloutService final : public rpc::Rollout::Service {
  private:
   absl::Status IngestChunk(const rpc::TrajectoryChunk& chunk);  // Ingest, before counting
   absl::Status Reject(const std::string& reason, absl::Status status);
+  // OK, or UNAUTHENTICATED (counted) when the call lacks the token.
+  grpc::Status Authorize(const grpc::ServerContext* context, const char* rpc);
   int64_t current_version() const { return d_.store->Current()->version; }
 
   Deps d_;

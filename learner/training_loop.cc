@@ -7,6 +7,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "common/eigen_policy.h"
+#include "learner/sync_round.h"
 
 namespace juggle {
 namespace {
@@ -42,7 +43,11 @@ void GateStatisticsOfBatch(const PpoTrainer& trainer, const UnrollBatch& batch, 
 absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
   const config::ServiceConfig& svc = *d_.service;
   const auto start = Clock::now();
-  ContributionAssembler assembler;
+  // What it may hold per worker: the versions a batch can use, plus one of slack.
+  ContributionAssembler assembler(svc.synchronous() ? 2 : svc.max_policy_lag() + 2,
+                                  svc.synchronous() ? 0 : svc.unrolls_per_iteration());
+  int64_t evicted_reported = 0;
+  SyncRound round;
   std::vector<int> reported_slots;
   auto last_end = Clock::now();
   std::string latest_eval;
@@ -92,7 +97,16 @@ absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
     std::optional<Contribution> batch;
     if (svc.synchronous()) {
       if (static_cast<int>(live.size()) >= std::max(1, svc.min_workers())) {
-        batch = assembler.TakeSync(version, live_slots, &dropped);
+        const std::vector<int> stragglers =
+            round.Update(version, now, svc.sync_round_timeout_s(), live_slots,
+                         assembler.MissingSlots(version, live_slots));
+        for (int slot : stragglers) {
+          d_.metrics->Add("juggle_sync_round_stragglers_total", 1);
+          std::printf("worker slot %d sent nothing for policy version %ld within %.0f s; "
+                      "training goes on without it until it does\n",
+                      slot, static_cast<long>(version), svc.sync_round_timeout_s());
+        }
+        batch = assembler.TakeSync(version, round.Required(live_slots), &dropped);
       }
       if (!batch && d_.dashboard != nullptr) {
         d_.dashboard->SetWaitingFor(assembler.MissingSlots(version, live_slots),
@@ -103,6 +117,12 @@ absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
       if (wanted > 0) batch = assembler.TakeAsync(version, svc.max_policy_lag(), wanted, &dropped);
     }
     if (dropped) d_.metrics->Add("juggle_unrolls_dropped_total", dropped, {{"reason", "stale"}});
+    if (assembler.evicted_unrolls() > evicted_reported) {
+      d_.metrics->Add("juggle_unrolls_dropped_total",
+                      static_cast<double>(assembler.evicted_unrolls() - evicted_reported),
+                      {{"reason", "overflow"}});
+      evicted_reported = assembler.evicted_unrolls();
+    }
     if (!batch) continue;
 
     // Update. The events were validated against the graph by DecodeChunk.

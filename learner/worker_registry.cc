@@ -3,26 +3,67 @@
 #include <algorithm>
 #include <set>
 
+#include "absl/strings/str_cat.h"
+
 namespace juggle {
 
-WorkerInfo WorkerRegistry::Register(int requested_slot, int num_envs, const std::string& host,
-                                    Clock::time_point now, std::optional<uint64_t>* replaced) {
-  std::lock_guard<std::mutex> lock(mu_);
+namespace {
+
+bool PrintableAscii(const std::string& s) {
+  for (char c : s) {
+    if (c < 0x21 || c > 0x7e) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+absl::StatusOr<WorkerInfo> WorkerRegistry::Register(int requested_slot, int num_envs,
+                                                    const std::string& host,
+                                                    Clock::time_point now,
+                                                    std::optional<uint64_t>* replaced) {
   replaced->reset();
+  if (requested_slot < -1 || requested_slot >= limits_.max_workers) {
+    return absl::InvalidArgumentError(absl::StrCat("register: slot ", requested_slot,
+                                                   " is outside [-1, ", limits_.max_workers,
+                                                   ") (service.max_workers)"));
+  }
+  if (num_envs < 1 || num_envs > limits_.max_envs_per_worker) {
+    return absl::InvalidArgumentError(absl::StrCat("register: num_envs ", num_envs,
+                                                   " is outside [1, ", limits_.max_envs_per_worker,
+                                                   "] (service.max_envs_per_worker)"));
+  }
+  if (host.empty() || host.size() > RegistryLimits::kMaxHostBytes || !PrintableAscii(host)) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "register: the host name must be 1-", RegistryLimits::kMaxHostBytes,
+        " printable ASCII characters (got ", host.size(), " bytes)"));
+  }
+  std::lock_guard<std::mutex> lock(mu_);
   std::set<int> used;
-  for (const auto& [inc, w] : by_incarnation_) used.insert(w.slot);
+  int on_host = 0;
+  std::optional<uint64_t> holder;  // the incarnation holding the requested slot
+  for (const auto& [inc, w] : by_incarnation_) {
+    used.insert(w.slot);
+    if (w.slot == requested_slot) holder = inc;
+    else if (w.host == host) ++on_host;
+  }
+  const int others = static_cast<int>(by_incarnation_.size()) - (holder ? 1 : 0);
+  if (others >= limits_.max_workers) {
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "register: ", others, " workers are live, the limit (service.max_workers)"));
+  }
+  if (on_host >= limits_.max_workers_per_host) {
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "register: ", on_host, " workers of host ", host,
+        " are live, the limit (service.max_workers_per_host)"));
+  }
   int slot = requested_slot;
   if (slot < 0) {
     slot = 0;
     while (used.count(slot)) ++slot;
-  } else {
-    for (auto it = by_incarnation_.begin(); it != by_incarnation_.end(); ++it) {
-      if (it->second.slot == slot) {
-        *replaced = it->first;
-        by_incarnation_.erase(it);
-        break;
-      }
-    }
+  } else if (holder) {
+    *replaced = *holder;
+    by_incarnation_.erase(*holder);
   }
   WorkerInfo info;
   info.slot = slot;

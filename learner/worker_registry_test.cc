@@ -22,7 +22,10 @@ const Clock::time_point kT0 = Clock::time_point() + std::chrono::hours(1);
 WorkerInfo Reg(WorkerRegistry* r, int requested_slot, Clock::time_point now = kT0,
                std::optional<uint64_t>* replaced = nullptr) {
   std::optional<uint64_t> ignored;
-  return r->Register(requested_slot, 4, "host", now, replaced ? replaced : &ignored);
+  absl::StatusOr<WorkerInfo> w =
+      r->Register(requested_slot, 4, "host", now, replaced ? replaced : &ignored);
+  EXPECT_TRUE(w.ok()) << w.status();
+  return w.value_or(WorkerInfo());
 }
 
 std::vector<int> LiveSlots(const WorkerRegistry& r) {
@@ -53,7 +56,7 @@ TEST(WorkerRegistryTest, LowestFreeSlotSkipsRequestedSlots) {
 TEST(WorkerRegistryTest, RegisterRecordsTheWorkersDetails) {
   WorkerRegistry r(1);
   std::optional<uint64_t> replaced = 99;
-  const WorkerInfo w = r.Register(-1, 16, "box7", kT0, &replaced);
+  const WorkerInfo w = *r.Register(-1, 16, "box7", kT0, &replaced);
   EXPECT_FALSE(replaced.has_value()) << "a first registration replaces nothing";
   const std::optional<WorkerInfo> found = r.Find(w.incarnation);
   ASSERT_TRUE(found.has_value());
@@ -165,6 +168,54 @@ TEST(WorkerRegistryTest, LiveIsSortedBySlotNotByRegistrationOrder) {
   Reg(&r, -1);  // slot 0
   Reg(&r, 2);
   EXPECT_THAT(LiveSlots(r), ElementsAre(0, 1, 2, 3));
+}
+
+TEST(WorkerRegistryTest, RejectsSlotsEnvCountsAndHostNamesOutsideTheLimits) {
+  RegistryLimits limits;
+  limits.max_workers = 8;
+  limits.max_envs_per_worker = 64;
+  WorkerRegistry r(1, limits);
+  std::optional<uint64_t> replaced;
+  auto code = [&](int slot, int envs, const std::string& host) {
+    return r.Register(slot, envs, host, kT0, &replaced).status().code();
+  };
+  EXPECT_EQ(code(8, 4, "h"), absl::StatusCode::kInvalidArgument) << "slot == max_workers";
+  EXPECT_EQ(code(2147483647, 4, "h"), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(code(-2, 4, "h"), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(code(0, 0, "h"), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(code(0, 65, "h"), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(code(0, 4, ""), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(code(0, 4, std::string(4 << 20, 'x')), absl::StatusCode::kInvalidArgument)
+      << "a 4 MiB host name";
+  EXPECT_EQ(code(0, 4, std::string("a\nb")), absl::StatusCode::kInvalidArgument);
+  EXPECT_TRUE(r.Live().empty()) << "a rejected registration leaves nothing behind";
+  EXPECT_EQ(code(7, 64, std::string(253, 'x')), absl::StatusCode::kOk) << "the limits themselves";
+}
+
+TEST(WorkerRegistryTest, TotalAndPerHostLimitsRefuseNewWorkersButNotReplacements) {
+  RegistryLimits limits;
+  limits.max_workers = 4;
+  limits.max_workers_per_host = 2;
+  WorkerRegistry r(1, limits);
+  std::optional<uint64_t> replaced;
+  ASSERT_TRUE(r.Register(-1, 1, "a", kT0, &replaced).ok());
+  ASSERT_TRUE(r.Register(-1, 1, "a", kT0, &replaced).ok());
+  const absl::StatusOr<WorkerInfo> third_on_a = r.Register(-1, 1, "a", kT0, &replaced);
+  EXPECT_EQ(third_on_a.status().code(), absl::StatusCode::kResourceExhausted);
+  EXPECT_THAT(std::string(third_on_a.status().message()), ::testing::HasSubstr("max_workers_per_host"));
+  // A restarted worker of host a takes its slot back although a is full.
+  const absl::StatusOr<WorkerInfo> restarted = r.Register(1, 1, "a", kT0, &replaced);
+  ASSERT_TRUE(restarted.ok()) << restarted.status();
+  EXPECT_TRUE(replaced.has_value());
+  ASSERT_TRUE(r.Register(-1, 1, "b", kT0, &replaced).ok());
+  ASSERT_TRUE(r.Register(-1, 1, "c", kT0, &replaced).ok());
+  const absl::StatusOr<WorkerInfo> fifth = r.Register(-1, 1, "d", kT0, &replaced);
+  EXPECT_EQ(fifth.status().code(), absl::StatusCode::kResourceExhausted);
+  EXPECT_THAT(std::string(fifth.status().message()), ::testing::HasSubstr("service.max_workers"));
+  EXPECT_EQ(r.Live().size(), 4u);
+  // Room again once a worker is forgotten.
+  r.Expire(kT0 + seconds(100), seconds(10));
+  EXPECT_TRUE(r.Register(-1, 1, "d", kT0 + seconds(100), &replaced).ok());
 }
 
 }  // namespace

@@ -104,6 +104,13 @@ class RolloutProtocolTest : public ::testing::Test {
     // One libtorch thread: on a shared 2-core machine OpenMP spin-waiting with the config's
     // two threads makes the network's orthogonal init and the update take seconds.
     config->run.mutable_ppo()->set_torch_threads(1);
+    // Small limits, to reach them: 4 workers per host, 8 in total, 64 envs each; a round
+    // goes on without silent workers after 2 s.
+    config::ServiceConfig* service = config->run.mutable_service();
+    service->set_max_workers(8);
+    service->set_max_workers_per_host(4);
+    service->set_max_envs_per_worker(64);
+    service->set_sync_round_timeout_s(2);
     LearnerOptions options;
     options.config = *std::move(config);
     // LearnerServer does not create its run directory (`juggle learner` does, before Start).
@@ -133,17 +140,21 @@ class RolloutProtocolTest : public ::testing::Test {
     if (!dir_.empty()) std::system(("rm -rf " + dir_).c_str());
   }
 
-  rpc::RegisterResponse Register(int num_envs = 1) {
+  rpc::RegisterResponse Register(int num_envs = 1, const std::string& host = "protocol-test") {
+    rpc::RegisterResponse resp;
+    const grpc::Status s = TryRegister(-1, num_envs, host, &resp);
+    EXPECT_TRUE(s.ok()) << s.error_message();
+    return resp;
+  }
+  grpc::Status TryRegister(int slot, int num_envs, const std::string& host,
+                           rpc::RegisterResponse* resp) {
     grpc::ClientContext ctx;
     SetDeadline(&ctx);
     rpc::RegisterRequest req;
-    req.set_requested_slot(-1);
+    req.set_requested_slot(slot);
     req.set_num_envs(num_envs);
-    req.set_hostname("protocol-test");
-    rpc::RegisterResponse resp;
-    const grpc::Status s = stub_->Register(&ctx, req, &resp);
-    EXPECT_TRUE(s.ok()) << s.error_message();
-    return resp;
+    req.set_hostname(host);
+    return stub_->Register(&ctx, req, resp);
   }
 
   // GetPolicy reassembled: version, edge counts, params bytes; or the RPC's status.
@@ -286,7 +297,7 @@ TEST_F(RolloutProtocolTest, RejectsBadChunksWithTheirCodesCountsThemAndStillTrai
          empty.set_num_unrolls(std::numeric_limits<int32_t>::max());
          *c = empty;
        },
-       kInvalidArgument, "chunk claims 2147483647 unrolls of"},
+       kInvalidArgument, "chunk claims 2147483647 unrolls"},
       {"unregistered incarnation",
        [](rpc::TrajectoryChunk* c) { c->set_incarnation(c->incarnation() + 1000); },
        kFailedPrecondition,
@@ -350,6 +361,99 @@ TEST_F(RolloutProtocolTest, RejectsBadChunksWithTheirCodesCountsThemAndStillTrai
   stream->WritesDone();
   const grpc::Status finished = stream->Finish();
   EXPECT_TRUE(finished.ok()) << finished.error_message();
+}
+
+TEST_F(RolloutProtocolTest, RegisterRefusesHostileRequestsAndStaysWithinItsLimits) {
+  rpc::RegisterResponse resp;
+  struct Case {
+    const char* name;
+    int slot, num_envs;
+    std::string host;
+    grpc::StatusCode code;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {"slot 2^31 - 1", std::numeric_limits<int32_t>::max(), 1, "h",
+       grpc::StatusCode::INVALID_ARGUMENT, "slot 2147483647 is outside [-1, 8)"},
+      {"50,000,000 envs", -1, 50000000, "h", grpc::StatusCode::INVALID_ARGUMENT,
+       "num_envs 50000000 is outside [1, 64]"},
+      {"1 MiB host name", -1, 1, std::string(1 << 20, 'x'), grpc::StatusCode::INVALID_ARGUMENT,
+       "host name must be 1-253 printable ASCII characters (got 1048576 bytes)"},
+      {"2 MiB above the 4 MiB message limit", -1, 1, std::string(6 << 20, 'x'),
+       grpc::StatusCode::RESOURCE_EXHAUSTED, ""},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const grpc::Status s = TryRegister(c.slot, c.num_envs, c.host, &resp);
+    EXPECT_EQ(s.error_code(), c.code) << s.error_message();
+    EXPECT_THAT(s.error_message(), HasSubstr(c.message));
+  }
+  // 300 registrations from one host: the first 4 are taken (max_workers_per_host).
+  int accepted = 0, exhausted = 0;
+  for (int i = 0; i < 300; ++i) {
+    const grpc::Status s = TryRegister(-1, 1, "one-host", &resp);
+    accepted += s.ok();
+    exhausted += s.error_code() == grpc::StatusCode::RESOURCE_EXHAUSTED;
+  }
+  EXPECT_EQ(accepted, 4);
+  EXPECT_EQ(exhausted, 296);
+  // Other hosts fill the total of 8.
+  for (int i = 0; i < 6; ++i) TryRegister(-1, 1, absl::StrCat("host-", i), &resp);
+  EXPECT_EQ(server_->metrics().Get("juggle_workers_connected") <= 8, true);
+  EXPECT_EQ(server_->metrics().Get("juggle_registrations_rejected_total", {{"reason", "limit"}}),
+            296 + 2);
+  EXPECT_EQ(server_->metrics().Get("juggle_registrations_rejected_total", {{"reason", "invalid"}}),
+            3);
+  // A restarted worker (its slot requested again) still gets in when the learner is full.
+  EXPECT_TRUE(TryRegister(0, 1, "one-host", &resp).ok());
+}
+
+TEST_F(RolloutProtocolTest, GetPolicyForAFarFutureVersionFailsAtOnce) {
+  const rpc::RegisterResponse reg = Register();
+  const auto start = Clock::now();
+  const Policy p = GetPolicy(reg.incarnation(), int64_t{1} << 40);
+  EXPECT_EQ(p.status.error_code(), grpc::StatusCode::OUT_OF_RANGE);
+  EXPECT_THAT(p.status.error_message(), HasSubstr("is ahead of the learner's version 0"));
+  EXPECT_LT(std::chrono::duration<double>(Clock::now() - start).count(), 5)
+      << "answered at once, not after the long-poll";
+  EXPECT_EQ(server_->metrics().Get("juggle_policy_requests_rejected_total",
+                                   {{"reason", "future_version"}}),
+            1);
+}
+
+TEST_F(RolloutProtocolTest, ASynchronousRoundGoesOnWithoutAWorkerThatSendsNothing) {
+  const rpc::RegisterResponse silent = Register(1, "silent");
+  const rpc::RegisterResponse active = Register(1, "active");
+  // Keep the silent worker alive with heartbeats while the active one contributes.
+  std::atomic<bool> done{false};
+  std::thread heartbeats([&] {
+    while (!done) {
+      grpc::ClientContext ctx;
+      SetDeadline(&ctx, 2);
+      rpc::HeartbeatRequest req;
+      rpc::HeartbeatResponse resp;
+      req.set_incarnation(silent.incarnation());
+      stub_->Heartbeat(&ctx, req, &resp);
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    }
+  });
+  grpc::ClientContext ctx;
+  SetDeadline(&ctx, 30);
+  auto stream = stub_->StreamTrajectories(&ctx);
+  rpc::ChunkAck ack;
+  ASSERT_TRUE(stream->Write(ValidChunk(active, 0)));
+  ASSERT_TRUE(stream->Read(&ack));
+  EXPECT_TRUE(ack.accepted()) << ack.message();
+  const auto start = Clock::now();
+  EXPECT_TRUE(WaitFor([&] { return server_->version() >= 1; }, 10))
+      << "the round waited for the silent worker past sync_round_timeout_s";
+  EXPECT_GE(std::chrono::duration<double>(Clock::now() - start).count(), 1.5)
+      << "the round did not wait for the timeout";
+  EXPECT_EQ(server_->metrics().Get("juggle_sync_round_stragglers_total"), 1);
+  done = true;
+  heartbeats.join();
+  stream->WritesDone();
+  stream->Finish();
 }
 
 TEST_F(RolloutProtocolTest, HealthServiceReportsServing) {

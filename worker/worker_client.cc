@@ -22,16 +22,23 @@ namespace juggle {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr size_t kChunkBytes = 2 << 20;
+// Chunks stay below half the learner's message limit (service.max_chunk_mb) and 2 MiB.
+size_t ChunkBytes(const config::RunConfig& run) {
+  return std::min<size_t>(size_t{2} << 20, (size_t(std::max(1, run.service().max_chunk_mb())) << 20) / 2);
+}
 
 absl::Status FromGrpc(const grpc::Status& s, const std::string& what) {
   return absl::Status(static_cast<absl::StatusCode>(s.error_code()),
                       absl::StrCat(what, ": ", s.error_message()));
 }
 
-void SetDeadline(grpc::ClientContext* ctx, double seconds) {
-  ctx->set_deadline(std::chrono::system_clock::now() +
-                    std::chrono::milliseconds(static_cast<int64_t>(seconds * 1000)));
+// Every call carries a deadline and, when the learner wants one, the token.
+void PrepareContext(grpc::ClientContext* ctx, double seconds, const std::string& token) {
+  if (seconds > 0) {
+    ctx->set_deadline(std::chrono::system_clock::now() +
+                      std::chrono::milliseconds(static_cast<int64_t>(seconds * 1000)));
+  }
+  if (!token.empty()) ctx->AddMetadata(kAuthorizationHeader, BearerValue(token));
 }
 
 // Sleeps up to `seconds`, waking early when *stop is set.
@@ -46,10 +53,11 @@ struct Snapshot {
   std::vector<double> edge_counts;
 };
 
-absl::StatusOr<Snapshot> FetchPolicy(rpc::Rollout::Stub* stub, uint64_t incarnation,
-                                     int64_t min_version, double timeout_s) {
+absl::StatusOr<Snapshot> FetchPolicy(rpc::Rollout::Stub* stub, const std::string& token,
+                                     uint64_t incarnation, int64_t min_version,
+                                     double timeout_s) {
   grpc::ClientContext ctx;
-  SetDeadline(&ctx, timeout_s + 5);
+  PrepareContext(&ctx, timeout_s + 5, token);
   rpc::PolicyRequest req;
   req.set_incarnation(incarnation);
   req.set_min_version(min_version);
@@ -82,7 +90,7 @@ class Session {
     rpc::RegisterResponse reg;
     {
       grpc::ClientContext ctx;
-      SetDeadline(&ctx, 10);
+      PrepareContext(&ctx, 10, o_.security.token);
       rpc::RegisterRequest req;
       req.set_requested_slot(o_.requested_slot);
       req.set_num_envs(o_.num_envs);
@@ -90,6 +98,11 @@ class Session {
       ::gethostname(host, sizeof(host) - 1);
       req.set_hostname(host);
       const grpc::Status s = stub_->Register(&ctx, req, &reg);
+      // A wrong token or a request the learner's limits refuse will not change by retrying.
+      if (s.error_code() == grpc::StatusCode::UNAUTHENTICATED ||
+          s.error_code() == grpc::StatusCode::INVALID_ARGUMENT) {
+        return Fatal(FromGrpc(s, "Register"));
+      }
       if (!s.ok()) return FromGrpc(s, "Register");
     }
     registered_ = true;
@@ -121,7 +134,7 @@ class Session {
     std::thread heartbeat([&] {
       while (!session_over && !o_.stop->load()) {
         grpc::ClientContext ctx;
-        SetDeadline(&ctx, 2);
+        PrepareContext(&ctx, 2, o_.security.token);
         rpc::HeartbeatRequest req;
         rpc::HeartbeatResponse resp;
         req.set_incarnation(incarnation_);
@@ -153,9 +166,10 @@ class Session {
   absl::Status Loop(const rpc::RegisterResponse& reg, const config::RunConfig& run, EnvPool* pool,
                     RolloutCollector* collector, const std::atomic<bool>* unknown,
                     std::atomic<double>* steps_per_s, std::atomic<int64_t>* version_seen) {
-    absl::StatusOr<Snapshot> snap = FetchPolicy(stub_.get(), incarnation_, -1, 10);
+    absl::StatusOr<Snapshot> snap = FetchPolicy(stub_.get(), o_.security.token, incarnation_, -1, 10);
     if (!snap.ok()) return snap.status();
     grpc::ClientContext stream_ctx;
+    PrepareContext(&stream_ctx, 0, o_.security.token);
     std::unique_ptr<grpc::ClientReaderWriter<rpc::TrajectoryChunk, rpc::ChunkAck>> stream =
         stub_->StreamTrajectories(&stream_ctx);
     Contribution contribution;
@@ -184,7 +198,7 @@ class Session {
       int64_t latest = snap->version;
       bool all_accepted = true;
       for (const rpc::TrajectoryChunk& chunk :
-           EncodeContribution(contribution, incarnation_, sequence, kChunkBytes)) {
+           EncodeContribution(contribution, incarnation_, sequence, ChunkBytes(run))) {
         rpc::ChunkAck ack;
         if (!stream->Write(chunk) || !stream->Read(&ack)) {
           return FromGrpc(stream->Finish(), "StreamTrajectories");
@@ -211,7 +225,8 @@ class Session {
       if (wait_for_next || latest > snap->version || !all_accepted) {
         const int64_t have = snap->version;
         do {
-          snap = FetchPolicy(stub_.get(), incarnation_, wait_for_next ? have : -1, 20);
+          snap = FetchPolicy(stub_.get(), o_.security.token, incarnation_,
+                             wait_for_next ? have : -1, 20);
           if (!snap.ok()) return snap.status();
         } while (wait_for_next && snap->version <= have && !o_.stop->load() && !*unknown);
       }
@@ -237,9 +252,14 @@ absl::Status RunWorker(const WorkerOptions& options) {
   args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 2000);
   double backoff = 0.1;
   auto unreachable_since = Clock::now();
+  absl::StatusOr<std::shared_ptr<grpc::ChannelCredentials>> credentials =
+      MakeChannelCredentials(options.security);
+  if (!credentials.ok()) return credentials.status();
+  if (!options.security.server_name.empty()) {
+    args.SetSslTargetNameOverride(options.security.server_name);
+  }
   while (!options.stop->load()) {
-    auto channel = grpc::CreateCustomChannel(options.learner_address,
-                                             grpc::InsecureChannelCredentials(), args);
+    auto channel = grpc::CreateCustomChannel(options.learner_address, *credentials, args);
     Session session(options, channel);
     const absl::Status status = session.Run();
     if (options.stop->load()) break;

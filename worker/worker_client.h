@@ -11,6 +11,7 @@
 #include <string>
 
 #include "absl/status/status.h"
+#include "common/transport_security.h"
 
 namespace juggle {
 
@@ -23,6 +24,8 @@ struct WorkerOptions {
   bool verbose = true;
   // Give up after this long without reaching the learner (0: never).
   double give_up_after_s = 0;
+  // Token and TLS towards the learner (common/transport_security.h).
+  TransportSecurity security;
 };
 
 // Runs until *stop (OK) or give_up_after_s without a learner (UNAVAILABLE).

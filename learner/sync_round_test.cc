@@ -1,0 +1,73 @@
+#include "learner/sync_round.h"
+
+#include <chrono>
+
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+
+namespace juggle {
+namespace {
+
+using ::testing::ElementsAre;
+using ::testing::IsEmpty;
+using Clock = SyncRound::Clock;
+using std::chrono::seconds;
+
+const Clock::time_point kT0 = Clock::time_point() + std::chrono::hours(1);
+
+TEST(SyncRoundTest, WaitsForEverySlotUntilTheTimeout) {
+  SyncRound r;
+  EXPECT_THAT(r.Update(0, kT0, 30, {0, 1, 2}, {1, 2}), IsEmpty());
+  EXPECT_THAT(r.Update(0, kT0 + seconds(29), 30, {0, 1, 2}, {1, 2}), IsEmpty());
+  EXPECT_THAT(r.Required({0, 1, 2}), ElementsAre(0, 1, 2));
+}
+
+TEST(SyncRoundTest, BenchesTheSilentSlotsOnceAfterTheTimeout) {
+  SyncRound r;
+  r.Update(0, kT0, 30, {0, 1, 2}, {1, 2});
+  EXPECT_THAT(r.Update(0, kT0 + seconds(31), 30, {0, 1, 2}, {1, 2}), ElementsAre(1, 2));
+  EXPECT_THAT(r.Required({0, 1, 2}), ElementsAre(0));
+  EXPECT_THAT(r.Update(0, kT0 + seconds(32), 30, {0, 1, 2}, {1, 2}), IsEmpty())
+      << "a slot is reported once";
+}
+
+TEST(SyncRoundTest, ABenchedSlotThatDeliversIsWaitedForAgain) {
+  SyncRound r;
+  r.Update(0, kT0, 30, {0, 1}, {1});
+  r.Update(0, kT0 + seconds(31), 30, {0, 1}, {1});
+  // Next round: slot 1 still silent, it is not waited for.
+  r.Update(1, kT0 + seconds(32), 30, {0, 1}, {0, 1});
+  EXPECT_THAT(r.Required({0, 1}), ElementsAre(0));
+  // Slot 1 delivers the current version: back in.
+  r.Update(1, kT0 + seconds(33), 30, {0, 1}, {0});
+  EXPECT_THAT(r.Required({0, 1}), ElementsAre(0, 1));
+}
+
+TEST(SyncRoundTest, NeverBenchesWhenNobodyDeliveredOrWithoutATimeout) {
+  SyncRound r;
+  r.Update(0, kT0, 30, {0, 1}, {0, 1});
+  EXPECT_THAT(r.Update(0, kT0 + seconds(100), 30, {0, 1}, {0, 1}), IsEmpty())
+      << "all silent: nothing to train on anyway";
+  SyncRound no_timeout;
+  no_timeout.Update(0, kT0, 0, {0, 1}, {1});
+  EXPECT_THAT(no_timeout.Update(0, kT0 + seconds(1000), 0, {0, 1}, {1}), IsEmpty());
+}
+
+TEST(SyncRoundTest, TheTimeoutRestartsWithEveryVersion) {
+  SyncRound r;
+  r.Update(0, kT0, 30, {0, 1}, {1});
+  r.Update(1, kT0 + seconds(25), 30, {0, 1}, {1});
+  EXPECT_THAT(r.Update(1, kT0 + seconds(40), 30, {0, 1}, {1}), IsEmpty()) << "15 s into round 1";
+  EXPECT_THAT(r.Update(1, kT0 + seconds(56), 30, {0, 1}, {1}), ElementsAre(1));
+}
+
+TEST(SyncRoundTest, ASlotThatLeftIsForgotten) {
+  SyncRound r;
+  r.Update(0, kT0, 1, {0, 1}, {1});
+  r.Update(0, kT0 + seconds(2), 1, {0, 1}, {1});
+  r.Update(0, kT0 + seconds(3), 1, {0}, {});
+  EXPECT_TRUE(r.benched().empty());
+}
+
+}  // namespace
+}  // namespace juggle

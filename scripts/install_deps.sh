@@ -14,12 +14,12 @@ PACKAGES=(
   ffmpeg libegl-dev libopengl-dev libegl1 libegl-mesa0 libgl1-mesa-dri libpng-dev zlib1g-dev
   libjs-three chromium blender
   libcpp-httplib-dev nlohmann-json3-dev libjs-chart.js libjs-d3
-  prometheus
+  prometheus openssl
 )
 # libcpp-httplib-dev: the learner's HTTP server; nlohmann-json3-dev: the dashboard's JSON API;
 # libjs-chart.js, libjs-d3: the dashboard's charts and graph (embedded in the binary at build
 # time); prometheus (prometheus + promtool) and chromium: tests of deploy/prometheus and of the
-# dashboard in a real browser.
+# dashboard in a real browser; openssl: certificates of the TLS tests.
 
 missing=()
 for p in "${PACKAGES[@]}"; do

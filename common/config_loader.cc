@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "absl/strings/str_cat.h"
+#include "common/config_ranges.h"
 #include "common/status_macros.h"
 #include "google/protobuf/io/tokenizer.h"
 #include "google/protobuf/text_format.h"
@@ -54,7 +55,9 @@ absl::StatusOr<SourceLocator> ParseTextMessage(const std::string& text, const st
                                           ? absl::StrCat(path, ": could not parse")
                                           : errors.errors());
   }
-  return SourceLocator(path, message->GetDescriptor(), std::move(tree));
+  SourceLocator where(path, message->GetDescriptor(), std::move(tree));
+  RETURN_IF_ERROR(CheckFieldRanges(*message, where));
+  return where;
 }
 
 absl::StatusOr<std::string> ReadFile(const std::string& path) {

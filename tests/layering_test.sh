@@ -38,9 +38,10 @@ declare -A PROJECT=(
   [tests]="worker learner render export eval envs record common proto"
 )
 # httplib: cpp-httplib, only common/http_server.cc (the one HTTP implementation; the learner and
-# tests reach HTTP through common/http_server.h, and juggle-worker never links it).
+# tests reach HTTP through common/http_server.h, and juggle-worker never links it); grpc, only
+# common/transport_security (token and TLS credentials, its own library juggle_transport).
 declare -A LIBS=(
-  [common]="httplib"
+  [common]="httplib grpc"
   [record]="mujoco"
   [envs]="mujoco"
   [worker]="mujoco grpc"

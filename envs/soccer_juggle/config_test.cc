@@ -140,6 +140,43 @@ TEST(SoccerJuggleConfigTest, NegativeEdgeWeightIsRejectedAtTheWeightField) {
   EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("edge weight must be > 0, got -2.5"));
 }
 
+TEST(SoccerJuggleConfigTest, NonFiniteOrAbsurdApexHeightIsRejectedAtItsLine) {
+  for (const std::string& value : {"nan", "inf", "-inf", "1e300"}) {
+    SCOPED_TRACE(value);
+    const std::string text =
+        WithGraph(Node("down", "DOWN", "initial: true") +
+                  Node("up", "UP", "", "contact_height: 0.5 apex_height: " + value) +
+                  Edge("down", "up") + Edge("up", "down"));
+    const absl::StatusOr<LoadedConfig> loaded = ParseRunConfig(text, kFile);
+    ASSERT_EQ(loaded.status().code(), absl::StatusCode::kInvalidArgument);
+    EXPECT_THAT(std::string(loaded.status().message()),
+                StartsWith(absl::StrCat(Loc(text, "apex_height: " + value),
+                                        ": soccer_juggle.graph.node[1].apex_height: ")));
+    EXPECT_THAT(std::string(loaded.status().message()),
+                HasSubstr(value == "1e300" ? "is outside [0.05, 20] m" : "is not a finite number"));
+  }
+}
+
+TEST(SoccerJuggleConfigTest, EnvCountBeyondItsLimitSaysHowMuchMemoryItWouldNeed) {
+  const std::string text = WithGraph(ValidBody()) + "sampling { num_envs: 50000000 }\n";
+  const absl::StatusOr<LoadedConfig> loaded = ParseRunConfig(text, kFile);
+  ASSERT_EQ(loaded.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(loaded.status().message()),
+              StartsWith(absl::StrCat(Loc(text, "num_envs: 50000000"), ": sampling.num_envs: ")));
+  EXPECT_THAT(std::string(loaded.status().message()),
+              HasSubstr("50000000 is outside [1, 4096] (50000000 would need about 139698 GiB of memory)"));
+}
+
+TEST(SoccerJuggleConfigTest, FloatWithoutADeclaredRangeIsStillBounded) {
+  const std::string text =
+      WithGraph(ValidBody(), "env { reward { w_position: 1e300 } }\n");
+  const absl::StatusOr<LoadedConfig> loaded = ParseRunConfig(text, kFile);
+  ASSERT_EQ(loaded.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(loaded.status().message()),
+              HasSubstr("soccer_juggle.env.reward.w_position: 1e+300 is beyond ±1000000, the bound of "
+                        "fields without a declared range"));
+}
+
 TEST(SoccerJuggleConfigTest, ApexHeightBelowContactHeightIsRejected) {
   const std::string text =
       WithGraph(Node("down", "DOWN", "initial: true") +
@@ -347,7 +384,7 @@ TEST(SoccerJuggleConfigTest, ErrorInsideTheEnvSectionNamesItsField) {
   const absl::StatusOr<LoadedConfig> loaded = ParseRunConfig(text, kFile);
   ASSERT_EQ(loaded.status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(loaded.status().message(),
-            absl::StrCat(Loc(text, "substeps"), ": substeps: must be >= 1"));
+            absl::StrCat(Loc(text, "substeps"), ": soccer_juggle.env.substeps: 0 is outside [1, 1000]"));
 }
 
 // ---- The shipped configs ----------------------------------------------------------------

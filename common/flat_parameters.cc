@@ -1,5 +1,6 @@
 #include "common/flat_parameters.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "absl/strings/str_cat.h"
@@ -41,6 +42,7 @@ class Reader {
     return true;
   }
   bool done() const { return pos_ == bytes_.size(); }
+  size_t remaining() const { return bytes_.size() - pos_; }
 
  private:
   std::string_view bytes_;
@@ -114,6 +116,13 @@ absl::StatusOr<FlatParameters> FlatParameters::Deserialize(std::string_view byte
   if (!r.GetBytes(4, &magic) || magic != std::string(kMagic, 4)) return corrupt("bad magic");
   if (!r.Get(&format) || format != kFormat) return corrupt("unsupported format");
   if (!r.Get(&version) || !r.Get(&count)) return corrupt("truncated header");
+  // Claimed sizes are checked against the bytes before anything is allocated from them: a
+  // tensor's entry takes at least 6 bytes, and no tensor holds more floats than the input.
+  constexpr size_t kMinEntryBytes = 6;
+  if (count > r.remaining() / kMinEntryBytes) {
+    return corrupt(absl::StrCat(count, " tensors cannot fit in ", r.remaining(), " bytes"));
+  }
+  const int64_t max_values = static_cast<int64_t>(bytes.size() / sizeof(float));
   std::vector<TensorSpec> layout(count);
   for (TensorSpec& t : layout) {
     uint32_t len = 0;
@@ -124,8 +133,16 @@ absl::StatusOr<FlatParameters> FlatParameters::Deserialize(std::string_view byte
     }
     if (dtype != 0) return corrupt(absl::StrCat("tensor '", t.name, "' has unknown dtype"));
     t.shape.resize(ndim);
+    // The product of the non-zero dimensions (saturating at max_values + 1) bounds every
+    // partial product numel() computes, so numel() cannot overflow.
+    int64_t nonzero_product = 1;
     for (int64_t& d : t.shape) {
       if (!r.Get(&d) || d < 0) return corrupt("truncated or negative shape");
+      if (d == 0) continue;
+      nonzero_product = nonzero_product > max_values / d ? max_values + 1 : nonzero_product * d;
+    }
+    if (nonzero_product > max_values) {
+      return corrupt(absl::StrCat("tensor '", t.name, "' is larger than the data"));
     }
   }
   uint64_t n = 0;

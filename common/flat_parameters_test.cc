@@ -55,5 +55,40 @@ TEST(FlatParametersTest, EveryTruncationIsDataLoss) {
   EXPECT_THAT(FlatParameters::Deserialize(bad).status().message(), HasSubstr("bad magic"));
 }
 
+// Bytes of a snapshot header claiming `count` tensors, then `rest`.
+std::string Header(uint32_t count, const std::string& rest) {
+  std::string out = "JGLP";
+  const uint32_t format = 1;
+  const int64_t version = 0;
+  out.append(reinterpret_cast<const char*>(&format), 4);
+  out.append(reinterpret_cast<const char*>(&version), 8);
+  out.append(reinterpret_cast<const char*>(&count), 4);
+  return out + rest;
+}
+
+TEST(FlatParametersTest, AClaimedTensorCountBeyondTheBytesIsRefusedBeforeAllocating) {
+  // 2^32 - 1 tensors would be 240 GB of layout entries.
+  const absl::StatusOr<FlatParameters> p = FlatParameters::Deserialize(Header(0xffffffffu, "abc"));
+  EXPECT_EQ(p.status().code(), absl::StatusCode::kDataLoss);
+  EXPECT_THAT(p.status().message(), HasSubstr("4294967295 tensors cannot fit in 3 bytes"));
+}
+
+TEST(FlatParametersTest, AShapeLargerThanTheDataIsRefusedWithoutOverflow) {
+  // One tensor "t" of shape [2^31, 2^31, 2^31, 0]: the partial products overflow int64.
+  std::string entry;
+  const uint32_t len = 1;
+  entry.append(reinterpret_cast<const char*>(&len), 4);
+  entry += "t";
+  entry += std::string(1, '\0') + std::string(1, '\4');
+  for (int64_t d : {int64_t{1} << 31, int64_t{1} << 31, int64_t{1} << 31, int64_t{0}}) {
+    entry.append(reinterpret_cast<const char*>(&d), 8);
+  }
+  const uint64_t n = 0;
+  entry.append(reinterpret_cast<const char*>(&n), 8);
+  const absl::StatusOr<FlatParameters> p = FlatParameters::Deserialize(Header(1, entry));
+  EXPECT_EQ(p.status().code(), absl::StatusCode::kDataLoss);
+  EXPECT_THAT(p.status().message(), HasSubstr("tensor 't' is larger than the data"));
+}
+
 }  // namespace
 }  // namespace juggle

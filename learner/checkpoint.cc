@@ -98,10 +98,13 @@ absl::Status WriteCheckpointFile(const std::string& path, const Sections& sectio
 absl::StatusOr<Sections> ReadCheckpointFile(const std::string& path) {
   absl::StatusOr<std::string> bytes = ReadFile(path);
   if (!bytes.ok()) return bytes.status();
+  return ParseCheckpoint(*bytes, path);
+}
+
+absl::StatusOr<Sections> ParseCheckpoint(const std::string& in, const std::string& path) {
   auto loss = [&](const std::string& what) {
     return absl::DataLossError(absl::StrCat("checkpoint ", path, ": ", what));
   };
-  const std::string& in = *bytes;
   if (in.size() < sizeof(kMagic) || std::memcmp(in.data(), kMagic, sizeof(kMagic)) != 0) {
     return loss("not a juggle checkpoint (bad magic)");
   }
@@ -117,16 +120,19 @@ absl::StatusOr<Sections> ReadCheckpointFile(const std::string& path) {
   size_t p = 0;
   uint32_t count = 0;
   if (!Get(payload, &p, &count)) return loss("truncated section table");
+  // Sizes are compared with what is left, never added to the position first (no overflow).
   for (uint32_t i = 0; i < count; ++i) {
     uint32_t name_len = 0;
     uint64_t len = 0;
-    if (!Get(payload, &p, &name_len) || p + name_len > payload.size()) return loss("bad section");
+    if (!Get(payload, &p, &name_len) || name_len > payload.size() - p) return loss("bad section");
     std::string name = payload.substr(p, name_len);
     p += name_len;
-    if (!Get(payload, &p, &len) || p + len > payload.size()) return loss("bad section");
+    if (!Get(payload, &p, &len) || len > payload.size() - p) return loss("bad section");
+    if (sections.count(name)) return loss(absl::StrCat("section '", name, "' appears twice"));
     sections[name] = payload.substr(p, len);
     p += len;
   }
+  if (p != payload.size()) return loss("bytes after the last section");
   return sections;
 }
 

@@ -21,6 +21,8 @@ absl::Status WriteCheckpointFile(const std::string& path, const Sections& sectio
 // Reads a checkpoint. NOT_FOUND if missing; DATA_LOSS (naming the file and what is wrong) if
 // truncated, corrupted (checksum mismatch) or not a checkpoint.
 absl::StatusOr<Sections> ReadCheckpointFile(const std::string& path);
+// The same for bytes already read; `path` only names them in errors.
+absl::StatusOr<Sections> ParseCheckpoint(const std::string& bytes, const std::string& path);
 
 // 64-bit FNV-1a, the checkpoint checksum.
 uint64_t Fnv1a64(const std::string& bytes);

@@ -61,6 +61,25 @@ TEST_F(CheckpointTest, FlippedByteIsDetectedByTheChecksum) {
   EXPECT_THAT(ReadCheckpointFile(path).status().message(), HasSubstr("checksum mismatch"));
 }
 
+TEST(CheckpointParseTest, ASectionLengthThatWouldWrapThePositionIsDataLoss) {
+  // A valid header and checksum around a section claiming 2^64 - 1 bytes.
+  std::string payload;
+  auto put = [&](auto v) { payload.append(reinterpret_cast<const char*>(&v), sizeof(v)); };
+  put(uint32_t{2});
+  put(uint32_t{1});
+  payload += "a";
+  put(~uint64_t{0});
+  payload += "xyz";
+  std::string file = "JGLCKPT1";
+  const uint64_t size = payload.size(), checksum = Fnv1a64(payload);
+  file.append(reinterpret_cast<const char*>(&size), 8);
+  file.append(reinterpret_cast<const char*>(&checksum), 8);
+  file += payload;
+  const absl::StatusOr<Sections> s = ParseCheckpoint(file, "hostile.jglc");
+  EXPECT_EQ(s.status().code(), absl::StatusCode::kDataLoss);
+  EXPECT_THAT(std::string(s.status().message()), ::testing::HasSubstr("hostile.jglc: bad section"));
+}
+
 TEST_F(CheckpointTest, LoadLatestFallsBackToThePreviousGoodCheckpoint) {
   CheckpointDir ckpts(dir_ + "/ckpts", /*keep=*/3);
   ASSERT_TRUE(ckpts.Save(10, {{"it", "10"}}).ok());

@@ -51,6 +51,22 @@ CommandBody AddBenchCommand(CLI::App* cmd) {
   l->add_option("--iterations", local->iterations, "iterations of each measurement")
       ->check(Between(1, 100000))->capture_default_str();
 
+  auto soak = std::make_shared<SoakBenchOptions>();
+  CLI::App* k = cmd->add_subcommand("soak", "a learner process and synthetic workers under worker "
+                                            "and learner kills: RSS and unroll accounts");
+  k->add_option("--config", soak->config, "asynchronous run config")->capture_default_str();
+  k->add_option("--workers", soak->workers, "synthetic workers")
+      ->check(Between(1, 4096))->capture_default_str();
+  k->add_option("--envs", soak->envs_per_worker, "unrolls per contribution")
+      ->check(Between(2, 1024))->capture_default_str();
+  k->add_option("--minutes", soak->minutes, "duration")->check(Between(0.2, 1440))->capture_default_str();
+  k->add_option("--interval", soak->contribution_interval_s, "seconds between a worker's contributions")
+      ->check(Between(0, 60))->capture_default_str();
+  k->add_option("--kill_every", soak->kill_every_s, "seconds between worker kills")
+      ->check(Between(1, 3600))->capture_default_str();
+  k->add_option("--seed", soak->seed, "seed of the chaos schedule")->capture_default_str();
+  k->add_option("--run_dir", soak->run_dir, "learner run directory and logs (default: a temporary one)");
+
   CLI::App* d = cmd->add_subcommand("dashboard", "local training's samples/s with and without "
                                                  "a client polling the dashboard");
   d->add_option("--config", dashboard->config, "run config")->capture_default_str();
@@ -66,6 +82,7 @@ CommandBody AddBenchCommand(CLI::App* cmd) {
     if (s->parsed()) status = RunSimBench(*sim);
     if (m->parsed()) status = RunMoeBench(*moe);
     if (i->parsed()) status = RunIngestBench(*ingest);
+    if (k->parsed()) status = RunSoakBench(*soak);
     if (b->parsed()) status = RunBroadcastBench(*broadcast);
     if (l->parsed()) status = RunLocalBench(*local);
     if (d->parsed()) status = RunDashboardBench(*dashboard);

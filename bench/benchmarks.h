@@ -4,6 +4,7 @@
 #ifndef JUGGLE_BENCH_BENCHMARKS_H_
 #define JUGGLE_BENCH_BENCHMARKS_H_
 
+#include <cstdint>
 #include <string>
 
 #include "absl/status/status.h"
@@ -60,6 +61,20 @@ struct DashboardBenchOptions {
 };
 
 absl::Status RunDashboardBench(const DashboardBenchOptions& options);
+
+struct SoakBenchOptions {
+  std::string config = "tests/data/soak.textproto";  // asynchronous
+  int workers = 32;                // synthetic workers (threads, one connection each)
+  int envs_per_worker = 4;         // unrolls per contribution (sent in two parts)
+  double minutes = 30;
+  double contribution_interval_s = 0.5;  // each worker's pace
+  double kill_every_s = 20;        // a random worker is killed this often
+  uint64_t seed = 1;               // of the chaos schedule
+  std::string run_dir;             // default: a temporary directory
+};
+// One learner process and synthetic workers under worker and learner kills: RSS over time and
+// the reconciliation of accepted, trained and dropped unrolls (docs/reliability.md).
+absl::Status RunSoakBench(const SoakBenchOptions& options);
 
 }  // namespace juggle
 

@@ -66,6 +66,8 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> StartLearner(const LoadedConfig& 
                                                             std::function<void(const IterationReport&)> cb = nullptr) {
   LearnerOptions o;
   o.config = config;
+  // Every synthetic worker registers from this one host.
+  o.config.run.mutable_service()->set_max_workers_per_host(o.config.run.service().max_workers());
   o.run_dir = MakeTempDir("juggle_bench_run_");
   o.port = 0;
   o.metrics_port = -1;
@@ -89,6 +91,7 @@ uint64_t Register(rpc::Rollout::Stub* stub, int envs) {
   rpc::RegisterRequest req;
   req.set_requested_slot(-1);
   req.set_num_envs(envs);
+  req.set_hostname("bench");
   rpc::RegisterResponse resp;
   return stub->Register(&ctx, req, &resp).ok() ? resp.incarnation() : 0;
 }

@@ -10,7 +10,10 @@ namespace juggle {
 
 absl::Status ContributionAssembler::Add(ChunkPart part) {
   auto done = completed_.find(part.incarnation);
-  if (done != completed_.end() && part.sequence <= done->second) return absl::OkStatus();
+  if (done != completed_.end() && part.sequence <= done->second) {
+    ignored_unrolls_ += part.data.batch.num_unrolls;
+    return absl::OkStatus();
+  }
   const auto key = std::make_tuple(part.incarnation, part.version, part.sequence);
   auto found = partial_.find(key);
   if (found == partial_.end()) {
@@ -29,7 +32,10 @@ absl::Status ContributionAssembler::Add(ChunkPart part) {
   std::vector<ChunkPart>& parts = found->second;
   int64_t unrolls = part.data.batch.num_unrolls;
   for (const ChunkPart& p : parts) {
-    if (p.part == part.part) return absl::OkStatus();  // duplicate part: ignore
+    if (p.part == part.part) {  // duplicate part: ignore
+      ignored_unrolls_ += part.data.batch.num_unrolls;
+      return absl::OkStatus();
+    }
     const UnrollBatch& a = p.data.batch;
     const UnrollBatch& b = part.data.batch;
     if (p.num_parts != part.num_parts || a.unroll_length != b.unroll_length ||
@@ -189,6 +195,14 @@ std::optional<Contribution> ContributionAssembler::TakeAsync(int64_t version, in
 int ContributionAssembler::pending_parts() const {
   int n = 0;
   for (const auto& [key, parts] : partial_) n += static_cast<int>(parts.size());
+  return n;
+}
+
+int64_t ContributionAssembler::partial_unrolls() const {
+  int64_t n = 0;
+  for (const auto& [key, parts] : partial_) {
+    for (const ChunkPart& p : parts) n += p.data.batch.num_unrolls;
+  }
   return n;
 }
 

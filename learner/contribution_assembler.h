@@ -68,6 +68,10 @@ class ContributionAssembler {
 
   int pending_parts() const;
   int64_t evicted_unrolls() const { return evicted_unrolls_; }
+  // Unrolls of duplicate parts and of parts of already completed contributions (ignored).
+  int64_t ignored_unrolls() const { return ignored_unrolls_; }
+  // Unrolls in contributions still being assembled.
+  int64_t partial_unrolls() const;
   // Unrolls held in complete contributions not yet taken.
   int64_t held_unrolls() const;
   // The slots of `slots` without a complete contribution of `version` (what a synchronous
@@ -88,6 +92,7 @@ class ContributionAssembler {
   const int versions_kept_;
   const int wanted_unrolls_;
   int64_t evicted_unrolls_ = 0;
+  int64_t ignored_unrolls_ = 0;
 };
 
 }  // namespace juggle

@@ -72,8 +72,20 @@ void DeclareLearnerMetrics(Metrics* m) {
   m->Declare("juggle_policy_lag_versions", "histogram",
              "Versions between an unroll's policy and the trained one.", {0, 1, 2, 3, 5, 10});
   m->Declare("juggle_chunks_rejected_total", "counter", "Chunks rejected, by reason.");
+  // Unroll accounting: accepted = trained + dropped + held + partial (+ queued), so nothing a
+  // worker was told was accepted goes unaccounted (docs/reliability.md, the soak bench).
+  m->Declare("juggle_unrolls_accepted_total", "counter",
+             "Unrolls of chunks accepted (acked) and queued for training.");
+  m->Declare("juggle_unrolls_trained_total", "counter", "Unrolls PPO updates were computed on.");
+  m->Declare("juggle_unrolls_rejected_total", "counter",
+             "Unrolls of chunks refused at ingestion (never accepted), by reason (stale).");
+  m->Declare("juggle_unrolls_held", "gauge",
+             "Unrolls in complete contributions waiting for a batch.");
+  m->Declare("juggle_unrolls_partial", "gauge",
+             "Unrolls in contributions still missing parts.");
   m->Declare("juggle_unrolls_dropped_total", "counter",
-             "Accepted unrolls never trained on, by reason (stale, overflow, update).");
+             "Accepted unrolls never trained on, by reason (stale, overflow, worker_gone, "
+             "inconsistent_parts, duplicate, update, discarded).");
   m->Declare("juggle_policy_requests_rejected_total", "counter",
              "GetPolicy calls refused, by reason.");
   // Workers.

@@ -156,7 +156,7 @@ absl::Status RolloutService::IngestChunk(const rpc::TrajectoryChunk& chunk) {
     // Counts the unrolls the chunk carries, not the number it claims.
     const int64_t carried =
         chunk.unroll_length() > 0 ? chunk.rewards_size() / chunk.unroll_length() : 0;
-    d_.metrics->Add("juggle_unrolls_dropped_total",
+    d_.metrics->Add("juggle_unrolls_rejected_total",
                     static_cast<double>(std::clamp<int64_t>(chunk.num_unrolls(), 0, carried)),
                     {{"reason", "stale"}});
     return Reject("stale_version", absl::FailedPreconditionError(absl::StrCat(
@@ -192,6 +192,7 @@ absl::Status RolloutService::IngestChunk(const rpc::TrajectoryChunk& chunk) {
     return Reject("queue_full", absl::ResourceExhaustedError(
                                     "the learner's ingestion queue stayed full for 30 s"));
   }
+  d_.metrics->Add("juggle_unrolls_accepted_total", chunk.num_unrolls());
   d_.metrics->Set("juggle_ingest_queue_chunks", static_cast<double>(d_.queue->size()));
   return absl::OkStatus();
 }

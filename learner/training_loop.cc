@@ -46,7 +46,7 @@ absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
   // What it may hold per worker: the versions a batch can use, plus one of slack.
   ContributionAssembler assembler(svc.synchronous() ? 2 : svc.max_policy_lag() + 2,
                                   svc.synchronous() ? 0 : svc.unrolls_per_iteration());
-  int64_t evicted_reported = 0;
+  int64_t evicted_reported = 0, ignored_reported = 0;
   SyncRound round;
   std::vector<int> reported_slots;
   auto last_end = Clock::now();
@@ -66,9 +66,14 @@ absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
     if (limits_.max_minutes > 0 && Seconds(Clock::now() - start) > limits_.max_minutes * 60) break;
     if (std::optional<ChunkPart> part = d_.queue->Pop(Clock::now() + std::chrono::milliseconds(100))) {
       ++*d_.chunks_ingested;
-      if (d_.discard_data) continue;
+      const int unrolls = part->data.batch.num_unrolls;
+      if (d_.discard_data) {
+        d_.metrics->Add("juggle_unrolls_dropped_total", unrolls, {{"reason", "discarded"}});
+        continue;
+      }
       if (absl::Status added = assembler.Add(std::move(*part)); !added.ok()) {
         d_.metrics->Add("juggle_chunks_rejected_total", 1, {{"reason", "inconsistent_parts"}});
+        d_.metrics->Add("juggle_unrolls_dropped_total", unrolls, {{"reason", "inconsistent_parts"}});
         std::fprintf(stderr, "warning: %s\n", std::string(added.message()).c_str());
       }
     }
@@ -88,7 +93,12 @@ absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
       live_slots.push_back(w.slot);
       live_envs += w.num_envs;
     }
+    const int64_t partial_before = assembler.partial_unrolls();
     assembler.DropAllBut(live_incarnations);
+    if (const int64_t gone = partial_before - assembler.partial_unrolls(); gone > 0) {
+      d_.metrics->Add("juggle_unrolls_dropped_total", static_cast<double>(gone),
+                      {{"reason", "worker_gone"}});
+    }
     RecordWorkers(live, now, &reported_slots, d_.metrics);
 
     // A batch for the current version, by mode.
@@ -123,6 +133,14 @@ absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
                       {{"reason", "overflow"}});
       evicted_reported = assembler.evicted_unrolls();
     }
+    if (assembler.ignored_unrolls() > ignored_reported) {
+      d_.metrics->Add("juggle_unrolls_dropped_total",
+                      static_cast<double>(assembler.ignored_unrolls() - ignored_reported),
+                      {{"reason", "duplicate"}});
+      ignored_reported = assembler.ignored_unrolls();
+    }
+    d_.metrics->Set("juggle_unrolls_held", static_cast<double>(assembler.held_unrolls()));
+    d_.metrics->Set("juggle_unrolls_partial", static_cast<double>(assembler.partial_unrolls()));
     if (!batch) continue;
 
     // Update. The events were validated against the graph by DecodeChunk.
@@ -146,6 +164,7 @@ absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
       continue;
     }
     d_.publish_snapshot();
+    d_.metrics->Add("juggle_unrolls_trained_total", batch->batch.num_unrolls);
     const auto t_end = Clock::now();
 
     // Report.

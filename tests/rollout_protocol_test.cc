@@ -355,7 +355,7 @@ TEST_F(RolloutProtocolTest, RejectsBadChunksWithTheirCodesCountsThemAndStillTrai
   const int carried = liar.num_unrolls();
   liar.set_num_unrolls(std::numeric_limits<int32_t>::max());
   EXPECT_FALSE(send(liar).accepted());
-  EXPECT_EQ(server_->metrics().Get("juggle_unrolls_dropped_total", {{"reason", "stale"}}),
+  EXPECT_EQ(server_->metrics().Get("juggle_unrolls_rejected_total", {{"reason", "stale"}}),
             2 * carried);
 
   stream->WritesDone();

@@ -6,7 +6,7 @@ MINUTES   ?= 30
 BENCH_CONFIG ?= configs/right_foot.textproto
 JOBS      ?= $(shell nproc)
 
-.PHONY: deps configure build train train-toss test bench clean
+.PHONY: deps configure build train train-toss test test-sanitize fuzz bench clean
 
 deps:
 	@bash scripts/install_deps.sh
@@ -29,8 +29,20 @@ train: build
 train-toss: build
 	JUGGLE=$(BUILD_DIR)/juggle scripts/train_toss.sh runs
 
+# Every test: each libFuzzer harness briefly (FUZZ_BRIEF seconds; 0 skips), then ctest.
+FUZZ_BRIEF ?= 10
 test: build
+	@if [ "$(FUZZ_BRIEF)" != 0 ]; then scripts/fuzz.sh $(FUZZ_BRIEF); fi
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+# The service's tests under ASan+UBSan and TSan (docs/reliability.md).
+test-sanitize: deps
+	scripts/test_sanitize.sh
+
+# Fuzzing: every harness for FUZZ_SECONDS (docs/reliability.md).
+FUZZ_SECONDS ?= 300
+fuzz: deps
+	scripts/fuzz.sh $(FUZZ_SECONDS)
 
 bench: build
 	$(BUILD_DIR)/juggle bench sim --config=$(BENCH_CONFIG)

@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -283,6 +284,9 @@ absl::Status RunSoakBench(const SoakBenchOptions& o) {
   const Contribution contribution = SoakContribution((*spec)->obs_dim(), (*spec)->act_dim(),
                                                      o.envs_per_worker, T, std::max(1, (*spec)->graph().num_nodes()));
   const std::string dir = o.run_dir.empty() ? MakeTempDir("juggle_soak_") : o.run_dir;
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error) return absl::PermissionDeniedError(absl::StrCat("cannot create ", dir, ": ", error.message()));
   const int port = FreeLoopbackPort(), metrics_port = FreeLoopbackPort();
   auto learner_args = [&](bool resume) {
     std::vector<std::string> a = {"learner", "--config=" + o.config,

@@ -104,6 +104,8 @@ void DeclareLearnerMetrics(Metrics* m) {
   m->Declare("juggle_registrations_rejected_total", "counter",
              "Registrations refused, by reason (limit: service.max_workers or "
              "max_workers_per_host; invalid: slot, env count or host name).");
+  m->Declare("juggle_calls_refused_total", "counter",
+             "Long-lived calls refused beyond 2 × service.max_workers + 16 in flight, by RPC.");
   m->Declare("juggle_rpcs_unauthenticated_total", "counter",
              "RPCs refused for a missing or wrong token, by RPC.");
   m->Declare("juggle_sync_round_stragglers_total", "counter",

@@ -192,7 +192,8 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
   builder.SetMaxReceiveMessageSize(service.max_chunk_mb() << 20);
   s->service = std::make_unique<RolloutService>(
       RolloutService::Deps{s->registry.get(), &s->store, s->queue.get(), &s->metrics,
-                           &s->bootstrap, s->options.security.token});
+                           &s->bootstrap, s->options.security.token,
+                           /*max_concurrent_calls=*/2 * service.max_workers() + 16});
   builder.RegisterService(s->service.get());
   s->grpc_server = builder.BuildAndStart();
   if (!s->grpc_server || s->port == 0) {

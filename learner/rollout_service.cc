@@ -17,6 +17,20 @@ grpc::Status ToGrpc(const absl::Status& s) {
   return grpc::Status(static_cast<grpc::StatusCode>(s.code()), std::string(s.message()));
 }
 
+// Counts one in-flight call of a kind for its lifetime; admitted() is false beyond the limit.
+class CallSlot {
+ public:
+  CallSlot(std::atomic<int>* count, int limit) : count_(count) {
+    admitted_ = count_->fetch_add(1) < limit;
+  }
+  ~CallSlot() { count_->fetch_sub(1); }
+  bool admitted() const { return admitted_; }
+
+ private:
+  std::atomic<int>* count_;
+  bool admitted_;
+};
+
 }  // namespace
 
 grpc::Status RolloutService::Authorize(const grpc::ServerContext* ctx, const char* rpc) {
@@ -64,6 +78,12 @@ grpc::Status RolloutService::Register(grpc::ServerContext* ctx, const rpc::Regis
 grpc::Status RolloutService::StreamTrajectories(
     grpc::ServerContext* ctx, grpc::ServerReaderWriter<rpc::ChunkAck, rpc::TrajectoryChunk>* stream) {
   if (grpc::Status auth = Authorize(ctx, "StreamTrajectories"); !auth.ok()) return auth;
+  const CallSlot slot(&open_streams_, d_.max_concurrent_calls);
+  if (!slot.admitted()) {
+    d_.metrics->Add("juggle_calls_refused_total", 1, {{"rpc", "StreamTrajectories"}});
+    return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                        absl::StrCat("more than ", d_.max_concurrent_calls, " open trajectory streams"));
+  }
   rpc::TrajectoryChunk chunk;
   while (stream->Read(&chunk)) {
     rpc::ChunkAck ack;
@@ -91,6 +111,12 @@ grpc::Status RolloutService::GetPolicy(grpc::ServerContext* ctx, const rpc::Poli
     d_.metrics->Add("juggle_policy_requests_rejected_total", 1, {{"reason", "future_version"}});
     return ToGrpc(absl::OutOfRangeError(absl::StrCat(
         "min_version ", req->min_version(), " is ahead of the learner's version ", current)));
+  }
+  const CallSlot slot(&waiting_polls_, d_.max_concurrent_calls);
+  if (req->min_version() >= 0 && !slot.admitted()) {
+    d_.metrics->Add("juggle_calls_refused_total", 1, {{"rpc", "GetPolicy"}});
+    return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                        absl::StrCat("more than ", d_.max_concurrent_calls, " policy long-polls waiting"));
   }
   const auto deadline = std::min(ctx->deadline(),
                                  std::chrono::system_clock::now() + std::chrono::seconds(30));

@@ -41,6 +41,9 @@ class RolloutService final : public rpc::Rollout::Service {
     // Every RPC must carry "authorization: Bearer <token>" (UNAUTHENTICATED otherwise); empty:
     // no token required.
     std::string auth_token;
+    // Concurrent long-lived calls (open trajectory streams; GetPolicy long-polls) each holds a
+    // server thread: beyond this many of each kind, new ones get RESOURCE_EXHAUSTED at once.
+    int max_concurrent_calls = 512;
   };
   explicit RolloutService(Deps deps) : d_(deps) {}
 
@@ -69,6 +72,7 @@ class RolloutService final : public rpc::Rollout::Service {
   int64_t current_version() const { return d_.store->Current()->version; }
 
   Deps d_;
+  std::atomic<int> open_streams_{0}, waiting_polls_{0};
 };
 
 }  // namespace juggle

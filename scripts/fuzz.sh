@@ -30,7 +30,7 @@ for name in "${names[@]}"; do
   if build/fuzz/fuzz/"$name" "$corpus" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
        -max_len=65536 -print_final_stats=1 -artifact_prefix="$crashes/" \
        >"build/fuzz/$name.log" 2>&1; then
-    grep -E "^stat::number_of_executed_runs|^stat::new_units_added" "build/fuzz/$name.log" | tr '\n' ' '
+    grep -E "^stat::number_of_executed_units|^stat::new_units_added" "build/fuzz/$name.log" | tr '\n' ' '
     echo "corpus now $(ls "$corpus" | wc -l) inputs: ok"
   else
     echo "$name FAILED: see build/fuzz/$name.log and $crashes/"; status=1

@@ -456,6 +456,30 @@ TEST_F(RolloutProtocolTest, ASynchronousRoundGoesOnWithoutAWorkerThatSendsNothin
   stream->Finish();
 }
 
+TEST_F(RolloutProtocolTest, OpenStreamsBeyondTheLimitAreRefusedAtOnce) {
+  // max_workers 8: at most 2 × 8 + 16 = 32 streams in flight.
+  std::vector<std::unique_ptr<grpc::ClientContext>> contexts;
+  std::vector<std::unique_ptr<grpc::ClientReaderWriter<rpc::TrajectoryChunk, rpc::ChunkAck>>> open;
+  for (int i = 0; i < 32; ++i) {
+    contexts.push_back(std::make_unique<grpc::ClientContext>());
+    SetDeadline(contexts.back().get(), 30);
+    open.push_back(stub_->StreamTrajectories(contexts.back().get()));
+  }
+  std::this_thread::sleep_for(std::chrono::seconds(1));  // the server starts every handler
+  grpc::ClientContext ctx;
+  SetDeadline(&ctx, 10);
+  auto extra = stub_->StreamTrajectories(&ctx);
+  extra->WritesDone();
+  const grpc::Status refused = extra->Finish();
+  EXPECT_EQ(refused.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << refused.error_message();
+  EXPECT_THAT(refused.error_message(), HasSubstr("more than 32 open trajectory streams"));
+  EXPECT_EQ(server_->metrics().Get("juggle_calls_refused_total", {{"rpc", "StreamTrajectories"}}), 1);
+  for (auto& stream : open) {
+    stream->WritesDone();
+    EXPECT_TRUE(stream->Finish().ok());
+  }
+}
+
 TEST_F(RolloutProtocolTest, HealthServiceReportsServing) {
   // No generated grpc.health.v1 stub is installed: call Check through the generic stub.
   // HealthCheckRequest{service: ""} encodes to no bytes.

@@ -80,6 +80,19 @@ absl::Status ContributionAssembler::Add(ChunkPart part) {
   return absl::OkStatus();
 }
 
+int64_t ContributionAssembler::DropPartialsOlderThan(int64_t min_version) {
+  int64_t dropped = 0;
+  for (auto it = partial_.begin(); it != partial_.end();) {
+    if (std::get<1>(it->first) < min_version) {
+      for (const ChunkPart& p : it->second) dropped += p.data.batch.num_unrolls;
+      it = partial_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  return dropped;
+}
+
 int64_t ContributionAssembler::held_unrolls() const {
   int64_t n = 0;
   for (const Complete& c : complete_) n += c.data.batch.num_unrolls;

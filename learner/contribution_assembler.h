@@ -55,6 +55,9 @@ class ContributionAssembler {
   int DropIncarnation(uint64_t incarnation);
   // Discards the partial contributions of every incarnation not in `live`.
   int DropAllBut(const std::vector<uint64_t>& live);
+  // Discards partial contributions of versions below `min_version` (they could never be
+  // trained on, e.g. a worker's later part was refused as stale); returns their unrolls.
+  int64_t DropPartialsOlderThan(int64_t min_version);
 
   // Synchronous: the batch of `version` if every slot in `live_slots` (at least one) has a
   // complete contribution of it. Contributions of older versions are discarded (counted in

@@ -334,5 +334,14 @@ TEST(ContributionAssemblerTest, AsyncBoundLeavesRoomForABatchFromOneSmallWorker)
   EXPECT_TRUE(a.TakeAsync(0, 2, 8, &dropped).has_value());
 }
 
+TEST(ContributionAssemblerTest, PartialContributionsOfUnusableVersionsAreDropped) {
+  ContributionAssembler a;
+  ASSERT_TRUE(a.Add(Part(0, 7, 0, 0, 2, /*version=*/3, 1.0f, 2)).ok());
+  ASSERT_TRUE(a.Add(Part(1, 8, 0, 0, 2, /*version=*/5, 1.0f, 1)).ok());
+  EXPECT_EQ(a.DropPartialsOlderThan(4), 2) << "version 3's part";
+  EXPECT_EQ(a.partial_unrolls(), 1);
+  EXPECT_EQ(a.DropPartialsOlderThan(4), 0);
+}
+
 }  // namespace
 }  // namespace juggle

@@ -126,6 +126,8 @@ absl::Status TrainingLoop::Run(const std::atomic<bool>* stop) {
       const int wanted = svc.unrolls_per_iteration() > 0 ? svc.unrolls_per_iteration() : live_envs;
       if (wanted > 0) batch = assembler.TakeAsync(version, svc.max_policy_lag(), wanted, &dropped);
     }
+    dropped += assembler.DropPartialsOlderThan(svc.synchronous() ? version
+                                                                 : version - svc.max_policy_lag());
     if (dropped) d_.metrics->Add("juggle_unrolls_dropped_total", dropped, {{"reason", "stale"}});
     if (assembler.evicted_unrolls() > evicted_reported) {
       d_.metrics->Add("juggle_unrolls_dropped_total",

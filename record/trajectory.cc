@@ -208,7 +208,9 @@ absl::StatusOr<Trajectory> ReadTrajectory(const std::string& path) {
   body << in.rdbuf();
   const std::string bytes = body.str();
   const size_t doubles = 1 + t.channels.size() + t.nq;
-  if (bytes.size() != static_cast<size_t>(records) * doubles * 8) {
+  // Compared by division first: records × doubles × 8 may overflow for a hostile header.
+  if (static_cast<uint64_t>(records) > bytes.size() / (doubles * 8) ||
+      bytes.size() != static_cast<size_t>(records) * doubles * 8) {
     return Invalid(path, absl::StrCat("truncated: ", bytes.size(), " bytes of records, expected ",
                                       records, " × ", doubles * 8));
   }

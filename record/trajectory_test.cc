@@ -99,6 +99,24 @@ TEST(TrajectoryTest, TruncatedFileIsRejectedNamingTheFile) {
   EXPECT_THAT(std::string(r.status().message()), HasSubstr("truncated"));
 }
 
+TEST(TrajectoryTest, ARecordCountWhoseByteSizeOverflowsIsRejectedNotAllocated) {
+  // 2^61 records of 5+ doubles: records × doubles × 8 wraps to a small number.
+  const std::string path = TempPath("hostile.traj");
+  ASSERT_TRUE(WriteTrajectory(TwoEpisodes(), path).ok());
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const size_t data = bytes.find("\ndata ");
+  ASSERT_NE(data, std::string::npos) << "the header's data line";
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      << bytes.substr(0, data) << "\ndata 2305843009213693952\n";
+  absl::StatusOr<Trajectory> r = ReadTrajectory(path);
+  ASSERT_EQ(r.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(r.status().message()), HasSubstr("truncated"));
+}
+
 TEST(TrajectoryTest, OldVersionAndWrongMagicAreRejected) {
   const std::string old_path = TempPath("v1.traj");
   std::ofstream(old_path) << "juggle-trajectory 1 record_doubles=56 nq=43\n";

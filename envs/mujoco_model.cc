@@ -1,6 +1,7 @@
 #include "envs/mujoco_model.h"
 
 #include <cstring>
+#include <mutex>
 #include <memory>
 
 #include "absl/strings/str_cat.h"
@@ -11,10 +12,17 @@ namespace {
 // Stateless, hence safe from every thread.
 void SilentWarning(const char*) {}
 
+// MuJoCo's warning hook is a process-wide global: set it once, not from every loading thread
+// (workers of one process load models concurrently; ThreadSanitizer found the racing writes).
+void SilenceMujocoWarningsOnce() {
+  static std::once_flag once;
+  std::call_once(once, [] { mju_user_warning = SilentWarning; });
+}
+
 }  // namespace
 
 absl::StatusOr<MjModelPtr> LoadModelXml(const std::string& path, const std::string& where) {
-  mju_user_warning = SilentWarning;
+  SilenceMujocoWarningsOnce();
   char error[1024] = "";
   MjModelPtr model(mj_loadXML(path.c_str(), nullptr, error, sizeof(error)));
   if (model == nullptr) {
@@ -25,7 +33,7 @@ absl::StatusOr<MjModelPtr> LoadModelXml(const std::string& path, const std::stri
 }
 
 absl::StatusOr<MjModelPtr> LoadModelCompiled(const std::string& model_mjb) {
-  mju_user_warning = SilentWarning;
+  SilenceMujocoWarningsOnce();
   auto vfs = std::make_unique<mjVFS>();
   mj_defaultVFS(vfs.get());
   const char* kName = "model.mjb";

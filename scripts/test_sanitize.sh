@@ -22,20 +22,22 @@ ASAN_SUITES='RolloutProtocolTest|SecureServiceTest|TransportSecurityTest|AsyncMo
 TSAN_TARGETS=(rollout_protocol_test async_mode_test bounded_queue_test env_pool_test policy_store_test)
 TSAN_SUITES='RolloutProtocolTest|AsyncModeTest|BoundedQueueTest|EnvPoolTest|PolicyStoreTest'
 status=0
-run() {  # run PRESET SUITES TARGETS...
-  local preset=$1 suites=$2; shift 2
+run() {  # run PRESET SUITES EXCLUDE TARGETS...
+  local preset=$1 suites=$2 exclude=$3; shift 3
   [[ -f build/$preset/build.ninja ]] || cmake --preset "$preset" >/dev/null
   cmake --build "build/$preset" -j "$jobs" --target "$@"
-  (cd "build/$preset" && ctest -R "^($suites)\." -j "$jobs" --output-on-failure) || status=1
+  (cd "build/$preset" && ctest -R "^($suites)\." -E "$exclude" -j "$jobs" --output-on-failure) || status=1
 }
 if [[ $which == asan || $which == all ]]; then
   export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:detect_odr_violation=0"
   export LSAN_OPTIONS="suppressions=$root/tests/sanitizers/lsan.supp:print_suppressions=0"
   export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:suppressions=$root/tests/sanitizers/ubsan.supp"
-  run asan "$ASAN_SUITES" "${ASAN_TARGETS[@]}"
+  run asan "$ASAN_SUITES" '^$' "${ASAN_TARGETS[@]}"
 fi
 if [[ $which == tsan || $which == all ]]; then
-  export TSAN_OPTIONS="suppressions=$root/tests/sanitizers/tsan.supp:halt_on_error=1:second_deadlock_stack=1"
-  run tsan "$TSAN_SUITES" "${TSAN_TARGETS[@]}"
+  export TSAN_OPTIONS="suppressions=$root/tests/sanitizers/tsan.supp:halt_on_error=1:second_deadlock_stack=1:ignore_noninstrumented_modules=1"
+  # The gRPC health-service test exercises only gRPC's callback server (no juggle code), whose
+  # objects cross threads inside uninstrumented libgrpc++: not meaningful under TSan here.
+  run tsan "$TSAN_SUITES" 'HealthServiceReportsServing' "${TSAN_TARGETS[@]}"
 fi
 exit $status

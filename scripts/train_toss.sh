@@ -22,6 +22,10 @@ mkdir -p "$runs" "$partners" "$runs/toss_pair"
 
 stage() {  # stage NAME CONFIG ITERATIONS [INIT_FROM]: trains unless already at ITERATIONS
   local name=$1 config=$2 iterations=$3 init=${4:-} dir=$runs/$1
+  if [[ -f $dir/checkpoints/$(printf 'ckpt-%010d.jglc' "$iterations") ]]; then
+    echo "[$(date +%T)] $name: already at iteration $iterations"
+    return 0
+  fi
   local args=(train --config="$config" --run_dir="$dir" --iterations="$iterations"
               --metrics_port=0)
   if compgen -G "$dir/checkpoints/*.jglc" >/dev/null; then args+=(--resume)
@@ -48,11 +52,23 @@ export_policy "$runs/toss_loop1_throw" "$partners/throw_r1.jglpolicy"
 # Round 2: the catch against the round-1 throw it will meet.
 stage toss_loop2_catch configs/toss_loop2_catch.textproto 6585 "$runs/toss_loop1_catch"
 
-# Held-out choice of the round-2 checkpoint (seeds 101-105), then the pair and its table.
+# Held-out choice of the round-2 checkpoint (seeds 101-105), then the pair and its table. The
+# checkpoints are ranked in two halves side by side.
 echo "[$(date +%T)] ranking round-2 catch checkpoints on seeds 101-105"
-JUGGLE=$juggle scripts/rank_toss_checkpoints.sh catch "$runs/toss_loop2_catch/checkpoints" \
-  "$runs/toss_loop1_throw" 3,4,5,531,53,441,6,7 | tee "$runs/toss_loop2_catch/ranking.txt"
-best=$(tail -n 1 "$runs/toss_loop2_catch/ranking.txt" | cut -d' ' -f3)
+rank_dir=$runs/toss_loop2_catch/rank
+rm -rf "$rank_dir" && mkdir -p "$rank_dir/a" "$rank_dir/b"
+half=a
+for ckpt in "$runs"/toss_loop2_catch/checkpoints/*.jglc; do
+  ln -s "$(realpath "$ckpt")" "$rank_dir/$half/"
+  if [[ $half == a ]]; then half=b; else half=a; fi
+done
+for half in a b; do
+  JUGGLE=$juggle scripts/rank_toss_checkpoints.sh catch "$rank_dir/$half" \
+    "$runs/toss_loop1_throw" 3,4,5,531,53,441,6,7 >"$rank_dir/$half.txt" &
+done
+wait
+sort -k1,1n -k2,2n "$rank_dir/a.txt" "$rank_dir/b.txt" | tee "$runs/toss_loop2_catch/ranking.txt"
+best=$(realpath "$(tail -n 1 "$runs/toss_loop2_catch/ranking.txt" | cut -d' ' -f3)")
 export_policy "$best" "$runs/toss_pair/catch.jglpolicy"
 export_policy "$runs/toss_loop1_throw" "$runs/toss_pair/throw.jglpolicy"
 echo "$best" >"$runs/toss_pair/catch_source.txt"

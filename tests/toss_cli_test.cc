@@ -91,6 +91,23 @@ TEST_F(TossCliTest, WorkerProcessTrainsTheThrowTaskFromTheLearnersConfigAlone) {
   EXPECT_EQ(worker.Wait(30), 0);
 }
 
+// The pair shipped in policies/toss/ (docs/results.md) loads without its training runs and
+// reproduces its row of the table: 3, 4 and 441 to the 200-throw cap on all ten seeds; 531
+// drops at its fourth throw.
+TEST_F(TossCliTest, ShippedPairReproducesItsTableRow) {
+  ASSERT_EQ(Run({"toss", "--eval", "--catch=policies/toss/catch.jglpolicy",
+                 "--throw=policies/toss/throw.jglpolicy", "--patterns=3,4,441,531",
+                 "--wind-max=0"},
+                300, "shipped.log"),
+            0)
+      << output_;
+  EXPECT_EQ(Value("seeds"), 10);
+  EXPECT_EQ(Value("throws_3"), 200);
+  EXPECT_EQ(Value("throws_4"), 200);
+  EXPECT_EQ(Value("throws_441"), 200);
+  EXPECT_EQ(Value("throws_531"), 4);
+}
+
 TEST_F(TossCliTest, ZeroActionEvalEndsWithTheProtocolKeys) {
   ASSERT_EQ(Run({"toss", "--zero-action", "--eval", "--seeds=2", "--patterns=3,531",
                  "--wind-max=0.02"}, 120, "eval.log"), 0) << output_;

@@ -13,9 +13,9 @@
 
 #include "absl/strings/str_cat.h"
 #include "bench/benchmarks.h"
+#include "bench/synthetic_contribution.h"
 #include "common/chunk_codec.h"
 #include "envs/registry.h"
-#include "common/rng.h"
 #include "common/testing/temp_dir.h"
 #include "learner/learner_server.h"
 #include "learner/ppo_trainer.h"
@@ -35,31 +35,6 @@ using soccer_juggle::ObservationSize;
 using Clock = std::chrono::steady_clock;
 
 double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-// A contribution of `unrolls` random unrolls shaped for `config`.
-Contribution SyntheticContribution(int obs_dim, int unrolls, int T, int num_nodes) {
-  Contribution c;
-  UnrollBatch& b = c.batch;
-  b.num_unrolls = unrolls;
-  b.unroll_length = T;
-  b.obs_dim = obs_dim;
-  b.act_dim = kNumActions;
-  Rng rng(5);
-  const size_t n = size_t(unrolls) * T;
-  b.obs.resize(n * obs_dim);
-  for (float& x : b.obs) x = static_cast<float>(rng.Normal());
-  b.actions.resize(n * kNumActions);
-  for (float& x : b.actions) x = static_cast<float>(rng.Uniform(-1, 1));
-  b.log_probs.assign(n, 10.0f);
-  b.rewards.assign(n, 0.05f);
-  b.done.assign(n, 0);
-  b.truncated.assign(n, 0);
-  b.bootstrap_obs.assign(size_t(unrolls) * obs_dim, 0.1f);
-  b.policy_version.assign(unrolls, 0);
-  c.node.assign(n, 0);
-  for (size_t i = 0; i < n; ++i) c.node[i] = static_cast<int32_t>(i % num_nodes);
-  return c;
-}
 
 absl::StatusOr<std::unique_ptr<LearnerServer>> StartLearner(const LoadedConfig& config,
                                                             bool discard,
@@ -111,7 +86,7 @@ absl::Status RunIngestBench(const IngestBenchOptions& o) {
   const int workers = static_cast<int>(o.workers);
   const int T = config->run.ppo().unroll_length();
   const int obs_dim = ObservationSize(config->graph->num_nodes());
-  const Contribution c = SyntheticContribution(obs_dim, static_cast<int>(o.unrolls_per_chunk),
+  const Contribution c = SyntheticContribution(obs_dim, kNumActions, static_cast<int>(o.unrolls_per_chunk),
                                                T, config->graph->num_nodes());
   std::atomic<int64_t> samples{0}, bytes{0}, rejected{0};
   const double seconds = o.seconds;
@@ -173,7 +148,7 @@ absl::Status RunBroadcastBench(const BroadcastBenchOptions& o) {
   std::atomic<bool> stop{false};
   std::thread trainer([&] { (*server)->Train(&stop).IgnoreError(); });
   const int obs_dim = ObservationSize(config->graph->num_nodes());
-  const Contribution c = SyntheticContribution(obs_dim, 1, 2, config->graph->num_nodes());
+  const Contribution c = SyntheticContribution(obs_dim, kNumActions, 1, 2, config->graph->num_nodes());
   std::vector<std::unique_ptr<rpc::Rollout::Stub>> stubs;
   std::vector<uint64_t> incs;
   for (int w = 0; w < workers; ++w) {

@@ -27,9 +27,9 @@
 
 #include "absl/strings/str_cat.h"
 #include "bench/benchmarks.h"
+#include "bench/synthetic_contribution.h"
 #include "common/chunk_codec.h"
 #include "common/http_server.h"
-#include "common/rng.h"
 #include "common/testing/temp_dir.h"
 #include "envs/registry.h"
 #include "proto/rollout.grpc.pb.h"
@@ -236,30 +236,6 @@ class SyntheticWorker {
   std::thread thread_;
 };
 
-Contribution SoakContribution(int obs_dim, int act_dim, int unrolls, int T, int nodes) {
-  Contribution c;
-  UnrollBatch& b = c.batch;
-  b.num_unrolls = unrolls;
-  b.unroll_length = T;
-  b.obs_dim = obs_dim;
-  b.act_dim = act_dim;
-  Rng rng(11);
-  const size_t n = size_t(unrolls) * T;
-  b.obs.resize(n * obs_dim);
-  for (float& x : b.obs) x = static_cast<float>(rng.Normal());
-  b.actions.resize(n * act_dim);
-  for (float& x : b.actions) x = static_cast<float>(rng.Uniform(-0.1, 0.1));
-  b.log_probs.assign(n, 10.0f);
-  b.rewards.assign(n, 0.05f);
-  b.done.assign(n, 0);
-  b.truncated.assign(n, 0);
-  b.bootstrap_obs.assign(size_t(unrolls) * obs_dim, 0.1f);
-  b.policy_version.assign(unrolls, 0);
-  c.node.resize(n);
-  for (size_t i = 0; i < n; ++i) c.node[i] = static_cast<int32_t>(i % nodes);
-  return c;
-}
-
 int FreeLoopbackPort() {
   // Ask the kernel for a free port through a throwaway HTTP server.
   absl::StatusOr<std::unique_ptr<HttpServer>> s =
@@ -281,7 +257,7 @@ absl::Status RunSoakBench(const SoakBenchOptions& o) {
   absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*config);
   if (!spec.ok()) return spec.status();
   const int T = config->run.ppo().unroll_length();
-  const Contribution contribution = SoakContribution((*spec)->obs_dim(), (*spec)->act_dim(),
+  const Contribution contribution = SyntheticContribution((*spec)->obs_dim(), (*spec)->act_dim(),
                                                      o.envs_per_worker, T, std::max(1, (*spec)->graph().num_nodes()));
   const std::string dir = o.run_dir.empty() ? MakeTempDir("juggle_soak_") : o.run_dir;
   std::error_code error;
@@ -352,7 +328,11 @@ absl::Status RunSoakBench(const SoakBenchOptions& o) {
       std::printf("[%5.0f s] learner SIGKILLed at iteration %.0f; restarting with --resume\n", t,
                   iteration_at_kill);
       std::this_thread::sleep_for(std::chrono::seconds(1));
-      learner = std::make_unique<LearnerProcess>(learner_args(true), dir + "/learner.log");
+      // --resume needs a checkpoint (a very short soak may be killed before the first one).
+      std::error_code ignored;
+      const bool has_checkpoint =
+          !std::filesystem::is_empty(dir + "/run/checkpoints", ignored) && !ignored;
+      learner = std::make_unique<LearnerProcess>(learner_args(has_checkpoint), dir + "/learner.log");
       continue;
     }
     if (std::chrono::duration<double>(Clock::now() - last_sample).count() >= 10) {

@@ -1,4 +1,5 @@
-# Writes OUT, a C++ file defining `const char <name>[]` with the text of each file:
+# Writes OUT, a C++ file defining `const char <name>[]` with the text of each file (the replay
+# page in export/, the dashboard's files and chart libraries in learner/):
 #   cmake -DOUT=web_assets.cc -DHEADER=export/web_assets.h -DNAMES="kA;kB" -DFILES="a;b" -P embed_files.cmake
 # Each text becomes a raw string literal; a file containing the delimiter is an error.
 set(delimiter "juggle_embed")

@@ -2,6 +2,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_replace.h"
+#include "learner/dashboard_asset_files.h"
 
 namespace juggle {
 namespace {
@@ -9,6 +10,17 @@ namespace {
 absl::string_view View(std::string_view s) { return absl::string_view(s.data(), s.size()); }
 
 }  // namespace
+
+const std::vector<WebAsset>& DashboardAssets() {
+  static const std::vector<WebAsset> assets = {
+      {"index.html", "text/html; charset=utf-8", kDashboardHtml},
+      {"dashboard.js", "application/javascript; charset=utf-8", kDashboardJs},
+      {"dashboard.css", "text/css; charset=utf-8", kDashboardCss},
+      {"chart.min.js", "application/javascript; charset=utf-8", kChartJs},
+      {"d3.min.js", "application/javascript; charset=utf-8", kD3Js},
+  };
+  return assets;
+}
 
 const WebAsset* FindDashboardAsset(std::string_view name) {
   for (const WebAsset& asset : DashboardAssets()) {

@@ -1,4 +1,4 @@
-// The dashboard's web files, embedded in the binary at build time (cmake/embed_assets.cmake):
+// The dashboard's web files, embedded in the binary at build time (cmake/embed_files.cmake):
 // web/dashboard.{html,js,css} and the chart libraries from Debian's libjs-chart.js and
 // libjs-d3 packages. The learner serves them; `juggle dashboard` inlines them into one HTML
 // file. Immutable; thread-safe.

@@ -67,6 +67,17 @@ CommandBody AddBenchCommand(CLI::App* cmd) {
   k->add_option("--seed", soak->seed, "seed of the chaos schedule")->capture_default_str();
   k->add_option("--run_dir", soak->run_dir, "learner run directory and logs (default: a temporary one)");
 
+  auto scale = std::make_shared<ScaleBenchOptions>();
+  CLI::App* sc = cmd->add_subcommand("scale", "one learner and 8..64 worker processes on loopback: "
+                                              "where the learner saturates");
+  sc->add_option("--config", scale->config, "asynchronous run config")->capture_default_str();
+  sc->add_option("--workers", scale->workers, "worker process counts, comma-separated")
+      ->capture_default_str();
+  sc->add_option("--warmup", scale->warmup_s, "seconds before measuring")
+      ->check(Between(0, 3600))->capture_default_str();
+  sc->add_option("--seconds", scale->seconds, "seconds measured per count")
+      ->check(Between(1, 3600))->capture_default_str();
+
   CLI::App* d = cmd->add_subcommand("dashboard", "local training's samples/s with and without "
                                                  "a client polling the dashboard");
   d->add_option("--config", dashboard->config, "run config")->capture_default_str();
@@ -83,6 +94,7 @@ CommandBody AddBenchCommand(CLI::App* cmd) {
     if (m->parsed()) status = RunMoeBench(*moe);
     if (i->parsed()) status = RunIngestBench(*ingest);
     if (k->parsed()) status = RunSoakBench(*soak);
+    if (sc->parsed()) status = RunScaleBench(*scale);
     if (b->parsed()) status = RunBroadcastBench(*broadcast);
     if (l->parsed()) status = RunLocalBench(*local);
     if (d->parsed()) status = RunDashboardBench(*dashboard);

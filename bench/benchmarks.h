@@ -76,6 +76,16 @@ struct SoakBenchOptions {
 // the reconciliation of accepted, trained and dropped unrolls (docs/reliability.md).
 absl::Status RunSoakBench(const SoakBenchOptions& options);
 
+struct ScaleBenchOptions {
+  std::string config = "tests/data/scale.textproto";  // asynchronous
+  std::string workers = "8,16,32,64";  // worker process counts, 1 env each
+  double warmup_s = 20;
+  double seconds = 30;                 // measured per count
+};
+// One learner process and N worker processes on loopback, per N: samples/s accepted and
+// trained, learner CPU and RSS, policy lag, stale drops (docs/performance.md).
+absl::Status RunScaleBench(const ScaleBenchOptions& options);
+
 }  // namespace juggle
 
 #endif  // JUGGLE_BENCH_BENCHMARKS_H_

@@ -7,7 +7,6 @@
 // the learner drains, and the unroll accounts of the resumed learner must reconcile:
 // accepted = trained + dropped + held + partial. The last line is key=value pairs.
 #include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -15,11 +14,8 @@
 #include <filesystem>
 #include <cstdio>
 #include <fstream>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <random>
-#include <sstream>
 #include <thread>
 #include <vector>
 
@@ -27,9 +23,9 @@
 
 #include "absl/strings/str_cat.h"
 #include "bench/benchmarks.h"
+#include "bench/bench_processes.h"
 #include "bench/synthetic_contribution.h"
 #include "common/chunk_codec.h"
-#include "common/http_server.h"
 #include "common/testing/temp_dir.h"
 #include "envs/registry.h"
 #include "proto/rollout.grpc.pb.h"
@@ -40,90 +36,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-// The learner as a child process: `juggle learner` from this same binary.
-class LearnerProcess {
- public:
-  LearnerProcess(const std::vector<std::string>& args, const std::string& log) {
-    std::fflush(stdout);  // or the child's copy of the buffer is printed twice
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      FILE* f = std::freopen(log.c_str(), "a", stdout);
-      if (f != nullptr) ::dup2(::fileno(stdout), 2);
-      std::vector<char*> argv;
-      std::string self = "/proc/self/exe";
-      argv.push_back(self.data());
-      std::vector<std::string> copy = args;
-      for (std::string& a : copy) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      ::execv("/proc/self/exe", argv.data());
-      ::_exit(127);
-    }
-  }
-  ~LearnerProcess() { Stop(SIGKILL); }
-  // Sends `sig` and reaps the process (up to 60 s); returns its exit code (-1: signalled).
-  int Stop(int sig) {
-    if (pid_ <= 0) return -1;
-    ::kill(pid_, sig);
-    int status = 0;
-    for (int i = 0; i < 600 && ::waitpid(pid_, &status, WNOHANG) == 0; ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
-    pid_ = -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
-  // Resident set size in MiB (VmRSS), or -1.
-  double RssMb() const {
-    std::ifstream in(absl::StrCat("/proc/", pid_, "/status"));
-    std::string line;
-    while (std::getline(in, line)) {
-      if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
-    }
-    return -1;
-  }
-
- private:
-  pid_t pid_ = -1;
-};
-
-// The learner's unroll accounts and progress, from one /metrics scrape.
-struct Accounts {
-  bool ok = false;
-  double accepted = 0, trained = 0, dropped = 0, held = 0, partial = 0, queued_chunks = 0;
-  double iterations = 0, version = 0, workers = 0;
-  std::map<std::string, double> dropped_by_reason;
-  double unaccounted() const { return accepted - trained - dropped - held - partial; }
-};
-
-Accounts Scrape(int metrics_port) {
-  Accounts a;
-  absl::StatusOr<std::string> body = HttpGet(metrics_port, "/metrics");
-  if (!body.ok()) return a;
-  a.ok = true;
-  std::istringstream in(*body);
-  std::string line;
-  auto value = [&](const std::string& l) { return std::stod(l.substr(l.rfind(' ') + 1)); };
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    const std::string name = line.substr(0, line.find_first_of(" {"));
-    if (name == "juggle_unrolls_accepted_total") a.accepted = value(line);
-    else if (name == "juggle_unrolls_trained_total") a.trained = value(line);
-    else if (name == "juggle_unrolls_held") a.held = value(line);
-    else if (name == "juggle_unrolls_partial") a.partial = value(line);
-    else if (name == "juggle_ingest_queue_chunks") a.queued_chunks = value(line);
-    else if (name == "juggle_iterations_total") a.iterations = value(line);
-    else if (name == "juggle_policy_version") a.version = value(line);
-    else if (name == "juggle_workers_connected") a.workers = value(line);
-    else if (name == "juggle_unrolls_dropped_total") {
-      const size_t r = line.find("reason=\"");
-      const std::string reason =
-          r == std::string::npos ? "?" : line.substr(r + 8, line.find('"', r + 8) - r - 8);
-      a.dropped_by_reason[reason] += value(line);
-      a.dropped += value(line);
-    }
-  }
-  return a;
-}
 
 // One synthetic worker: registers in its slot, streams two-part contributions at a steady pace,
 // heartbeats, re-registers when the learner forgets it or restarts. `kill` makes it stop after
@@ -236,16 +148,6 @@ class SyntheticWorker {
   std::thread thread_;
 };
 
-int FreeLoopbackPort() {
-  // Ask the kernel for a free port through a throwaway HTTP server.
-  absl::StatusOr<std::unique_ptr<HttpServer>> s =
-      HttpServer::Start(0, false, [](const HttpRequest&) { return HttpResponse{}; });
-  if (!s.ok()) return 0;
-  const int port = (*s)->port();
-  (*s)->Stop();
-  return port;
-}
-
 }  // namespace
 
 absl::Status RunSoakBench(const SoakBenchOptions& o) {
@@ -274,7 +176,7 @@ absl::Status RunSoakBench(const SoakBenchOptions& o) {
   };
   std::printf("soak: %d workers × %d envs, %.0f min, learner kill at %.0f min; logs in %s\n",
               o.workers, o.envs_per_worker, o.minutes, o.minutes / 2, dir.c_str());
-  auto learner = std::make_unique<LearnerProcess>(learner_args(false), dir + "/learner.log");
+  auto learner = std::make_unique<SelfProcess>(learner_args(false), dir + "/learner.log");
 
   std::vector<std::unique_ptr<SyntheticWorker>> workers(o.workers);
   for (int w = 0; w < o.workers; ++w) {
@@ -332,7 +234,7 @@ absl::Status RunSoakBench(const SoakBenchOptions& o) {
       std::error_code ignored;
       const bool has_checkpoint =
           !std::filesystem::is_empty(dir + "/run/checkpoints", ignored) && !ignored;
-      learner = std::make_unique<LearnerProcess>(learner_args(has_checkpoint), dir + "/learner.log");
+      learner = std::make_unique<SelfProcess>(learner_args(has_checkpoint), dir + "/learner.log");
       continue;
     }
     if (std::chrono::duration<double>(Clock::now() - last_sample).count() >= 10) {

@@ -10,6 +10,7 @@
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "record/testing/inline_model.h"
 
 namespace juggle {
 namespace {
@@ -26,20 +27,8 @@ constexpr char kModel[] = R"(
   </worldbody>
 </mujoco>)";
 
-struct ModelDeleter {
-  void operator()(mjModel* m) const { mj_deleteModel(m); }
-};
-
-std::unique_ptr<mjModel, ModelDeleter> LoadInlineModel() {
-  mjVFS vfs;
-  mj_defaultVFS(&vfs);
-  mj_makeEmptyFileVFS(&vfs, "model.xml", sizeof(kModel));
-  std::memcpy(vfs.filedata[mj_findFileVFS(&vfs, "model.xml")], kModel, sizeof(kModel));
-  char error[512] = "";
-  mjModel* m = mj_loadXML("model.xml", &vfs, error, sizeof(error));
-  mj_deleteVFS(&vfs);
-  EXPECT_NE(m, nullptr) << error;
-  return std::unique_ptr<mjModel, ModelDeleter>(m);
+std::unique_ptr<mjModel, testing::ModelDeleter> LoadInlineModel() {
+  return testing::LoadInlineModel(kModel);
 }
 
 // Two episodes: episode 0 has samples at t = 0, 0.1, 0.2 (ends "fell"), episode 1 at 0.2, 0.3.

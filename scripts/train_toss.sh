@@ -34,7 +34,9 @@ stage() {  # stage NAME CONFIG ITERATIONS [INIT_FROM]: trains unless already at 
   "$juggle" "${args[@]}" >"$dir.log" 2>&1 || { echo "error: $name failed, see $dir.log" >&2; return 1; }
   echo "[$(date +%T)] $name: done ($(tail -n 1 "$dir.log"))"
 }
-export_policy() { "$juggle" export-policy --checkpoint="$1" --out="$2" | tail -n 1; }
+export_policy() {  # export_policy CHECKPOINT OUT [CONFIG]
+  "$juggle" export-policy --checkpoint="$1" --out="$2" ${3:+--config="$3"} | tail -n 1
+}
 
 # Single-arm tasks, side by side.
 stage toss_catch configs/toss_catch.textproto 2500 & catch_pid=$!
@@ -69,8 +71,10 @@ done
 wait
 sort -k1,1n -k2,2n "$rank_dir/a.txt" "$rank_dir/b.txt" | tee "$runs/toss_loop2_catch/ranking.txt"
 best=$(realpath "$(tail -n 1 "$runs/toss_loop2_catch/ranking.txt" | cut -d' ' -f3)")
-export_policy "$best" "$runs/toss_pair/catch.jglpolicy"
-export_policy "$runs/toss_loop1_throw" "$runs/toss_pair/throw.jglpolicy"
+# The pair carries the single-arm task configs: the same world as the loop configs, without the
+# loop's inlined partner policies (which would make each file several MB).
+export_policy "$best" "$runs/toss_pair/catch.jglpolicy" configs/toss_catch.textproto
+export_policy "$runs/toss_loop1_throw" "$runs/toss_pair/throw.jglpolicy" configs/toss_throw.textproto
 echo "$best" >"$runs/toss_pair/catch_source.txt"
 "$juggle" toss --eval --catch="$runs/toss_pair/catch.jglpolicy" \
   --throw="$runs/toss_pair/throw.jglpolicy" | tee "$runs/toss_pair/eval.txt"

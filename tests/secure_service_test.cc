@@ -147,6 +147,16 @@ std::vector<std::string> ListeningAddresses(int port) {
   return addresses;
 }
 
+// The learner's side: the token, its certificate and, for mutual TLS, the clients' CA.
+TransportSecurity LearnerSecurity(const Certificates& c, bool mutual) {
+  TransportSecurity s;
+  s.token = kToken;
+  s.cert_file = c.Path("learner.pem");
+  s.key_file = c.Path("learner.key");
+  if (mutual) s.ca_file = c.Path("ca.pem");
+  return s;
+}
+
 std::shared_ptr<grpc::Channel> TlsChannel(const std::string& address, const Certificates& c,
                                           const std::string& client = "") {
   TransportSecurity s;
@@ -206,11 +216,7 @@ TEST(TransportSecurityTest, MismatchedTlsSettingsAreRefusedWithTheirReason) {
 TEST(SecureServiceTest, EveryRpcNeedsTheTokenOverTls) {
   const Certificates& c = Certificates::Get();
   ASSERT_TRUE(c.ok);
-  TransportSecurity security;
-  security.token = kToken;
-  security.cert_file = c.Path("learner.pem");
-  security.key_file = c.Path("learner.key");
-  SecureLearner learner(security);
+  SecureLearner learner(LearnerSecurity(c, /*mutual=*/false));
   ASSERT_NE(learner.server(), nullptr);
   auto tls = TlsChannel(learner.address(), c);
 
@@ -258,12 +264,7 @@ TEST(SecureServiceTest, EveryRpcNeedsTheTokenOverTls) {
 TEST(SecureServiceTest, MutualTlsAdmitsOnlyClientsWithACertificateFromTheCa) {
   const Certificates& c = Certificates::Get();
   ASSERT_TRUE(c.ok);
-  TransportSecurity security;
-  security.token = kToken;
-  security.cert_file = c.Path("learner.pem");
-  security.key_file = c.Path("learner.key");
-  security.ca_file = c.Path("ca.pem");
-  SecureLearner learner(security);
+  SecureLearner learner(LearnerSecurity(c, /*mutual=*/true));
   ASSERT_NE(learner.server(), nullptr);
   EXPECT_NE(Register(TlsChannel(learner.address(), c), kToken).error_code(), grpc::StatusCode::OK)
       << "no client certificate";

@@ -6,7 +6,7 @@ MINUTES   ?= 30
 BENCH_CONFIG ?= configs/right_foot.textproto
 JOBS      ?= $(shell nproc)
 
-.PHONY: deps configure build train train-toss test test-sanitize fuzz bench clean
+.PHONY: deps configure build train train-toss test test-deploy test-sanitize fuzz bench clean
 
 deps:
 	@bash scripts/install_deps.sh
@@ -33,7 +33,13 @@ train-toss: build
 FUZZ_BRIEF ?= 10
 test: build
 	@if [ "$(FUZZ_BRIEF)" != 0 ]; then scripts/fuzz.sh $(FUZZ_BRIEF); fi
-	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) -LE deploy
+
+# The deployment tests on real engines (docs/cluster.md): images built with podman, the k8s
+# manifests under `podman kube play`, the Slurm job on a single-node Slurm. Needs root.
+test-deploy: build
+	@bash scripts/install_deps.sh --deploy
+	cd $(BUILD_DIR) && ctest --output-on-failure -L deploy
 
 # The service's tests under ASan+UBSan and TSan (docs/reliability.md).
 test-sanitize: deps

@@ -63,6 +63,9 @@ void AddLearnerFlags(CLI::App* cmd, LearnerFlags* f) {
                   "run directory: checkpoints/ and metrics.jsonl (default runs/<name>)");
   cmd->add_flag("--resume", f->resume,
                 "continue from the newest readable checkpoint in the run directory");
+  cmd->add_flag("--resume_if_any", f->resume_if_any,
+                "--resume when the run directory holds a checkpoint, else start a new run (for "
+                "schedulers that restart the learner: Kubernetes, Slurm requeue)");
   cmd->add_option("--init_from", f->init_from,
                   "start a new run from this checkpoint (file or run directory): fine-tuning "
                   "under this config");
@@ -100,6 +103,17 @@ absl::StatusOr<LearnerOptions> MakeLearnerOptions(const LearnerFlags& flags) {
   if (error) {
     return absl::PermissionDeniedError(absl::StrCat("cannot create run directory ", o.run_dir,
                                                     ": ", error.message()));
+  }
+  if (flags.resume_if_any) {
+    if (!flags.init_from.empty()) {
+      return absl::InvalidArgumentError(
+          "--init_from starts a new run; it cannot be combined with --resume_if_any");
+    }
+    // A folder of unreadable checkpoints still resumes, and so fails loudly: never start over
+    // silently on top of a run.
+    o.resume = o.resume || !CheckpointDir(o.run_dir + "/checkpoints").List().empty();
+    std::printf("%s\n", o.resume ? "resuming from the run directory's newest checkpoint"
+                                  : "no checkpoint in the run directory: starting a new run");
   }
   if (!flags.init_from.empty()) {
     if (o.resume) {

@@ -16,6 +16,7 @@ struct LearnerFlags {
   std::string config = "configs/right_foot.textproto";
   std::string run_dir;    // empty: runs/<config name>
   bool resume = false;
+  bool resume_if_any = false;  // resume when the run directory has a checkpoint, else start
   std::string init_from;  // a checkpoint (file or run directory) a new run starts from
   int64_t iterations = 0;
   double minutes = 0;

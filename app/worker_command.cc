@@ -6,6 +6,7 @@
 #include "app/commands.h"
 #include "app/security_flags.h"
 #include "app/signals.h"
+#include "worker/health_probe.h"
 #include "worker/worker_client.h"
 
 namespace juggle {
@@ -30,11 +31,21 @@ CommandBody AddWorkerCommand(CLI::App* cmd) {
                   "exit after this many seconds without a learner (0: never)")
       ->check(AtLeast(0))
       ->capture_default_str();
+  auto probe = std::make_shared<bool>(false);
+  cmd->add_flag("--probe", *probe,
+                "check the learner's gRPC health service once (with these security flags) and "
+                "exit: 0 if it is SERVING, 1 if not (for container probes)");
   AddSecurityFlags(cmd, SecurityRole::kWorker, security.get());
-  return [o, security] {
+  return [o, security, probe] {
     absl::StatusOr<TransportSecurity> resolved = ResolveSecurity(*security);
     if (!resolved.ok()) return Fail(resolved.status());
     o->security = *std::move(resolved);
+    if (*probe) {
+      const absl::Status health = ProbeLearnerHealth(o->learner_address, o->security, 5.0);
+      if (!health.ok()) return Fail(health);
+      std::printf("learner at %s: SERVING\n", o->learner_address.c_str());
+      return 0;
+    }
     o->stop = InstallStopSignals();
     const absl::Status status = RunWorker(*o);
     if (!status.ok()) return Fail(status);

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs juggle's build and run dependencies from Debian packages when missing.
 # Idempotent: does nothing (and needs no network) when everything is present.
+#   scripts/install_deps.sh            build, run and `make test`
+#   scripts/install_deps.sh --deploy   also `make test-deploy`'s engines (Slurm, podman, kubectl)
 set -euo pipefail
 
 PACKAGES=(
@@ -21,6 +23,15 @@ PACKAGES=(
 # time); prometheus (prometheus + promtool) and chromium: tests of deploy/prometheus and of the
 # dashboard in a real browser; openssl: certificates of the TLS tests; clang and
 # libclang-rt-14-dev: the libFuzzer harnesses (scripts/fuzz.sh).
+if [ "${1:-}" = --deploy ]; then
+  PACKAGES+=(slurmctld slurmd slurm-client munge podman runc catatonit debootstrap curl
+             containernetworking-plugins iptables)
+  # kubectl: any that has `kubectl kustomize`; Debian's kubernetes-client when there is none.
+  command -v kubectl >/dev/null || PACKAGES+=(kubernetes-client)
+fi
+# Deploy tests (docs/cluster.md): a single-node Slurm 22.05 (slurmctld, slurmd, munge), podman
+# with runc (crun refuses this machine's hybrid cgroups) and catatonit (kube play's pause
+# image), debootstrap for the local Debian base image, kubectl for `kubectl kustomize`.
 
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "gmock/gmock.h"
+#include "common/config_loader.h"
 #include "common/testing/temp_dir.h"
 #include "gtest/gtest.h"
 #include "learner/checkpoint.h"
@@ -29,12 +30,13 @@ class MultiProcessTest : public ::testing::Test {
     if (!HasFailure() && !std::getenv("JUGGLE_KEEP_TEST_LOGS")) std::system(("rm -rf " + dir_).c_str());
     else std::fprintf(stderr, "logs kept in %s\n", dir_.c_str());
   }
-  std::unique_ptr<ChildProcess> StartLearner(bool resume) {
+  // --resume_if_any, as the Kubernetes and Slurm templates start it: a new run the first time,
+  // a resumed one after a restart.
+  std::unique_ptr<ChildProcess> StartLearner() {
     std::vector<std::string> args = {"learner", "--config=tests/data/tiny_right_foot.textproto",
                                      "--port=" + std::to_string(port_),
                                      "--metrics_port=" + std::to_string(metrics_port_),
-                                     "--run_dir=" + dir_ + "/run"};
-    if (resume) args.push_back("--resume");
+                                     "--run_dir=" + dir_ + "/run", "--resume_if_any"};
     return std::make_unique<ChildProcess>(args, dir_ + "/learner.log");
   }
   std::unique_ptr<ChildProcess> StartWorker(int slot) {
@@ -57,7 +59,7 @@ class MultiProcessTest : public ::testing::Test {
 };
 
 TEST_F(MultiProcessTest, SurvivesWorkerAndLearnerDeathsAndResumes) {
-  auto learner = StartLearner(false);
+  auto learner = StartLearner();
   auto w0 = StartWorker(0);
   auto w1 = StartWorker(1);
   ASSERT_TRUE(WaitFor([&] { return Metric("juggle_workers_connected") == 2; }, 60))
@@ -82,12 +84,15 @@ TEST_F(MultiProcessTest, SurvivesWorkerAndLearnerDeathsAndResumes) {
   learner->Wait(5);
   absl::StatusOr<CheckpointDir::Loaded> last = CheckpointDir(dir_ + "/run/checkpoints").LoadLatest();
   ASSERT_TRUE(last.ok()) << last.status();
-  learner = StartLearner(true);
+  learner = StartLearner();
   ASSERT_TRUE(WaitFor([&] { return Metric("juggle_workers_connected") == 2; }, 60))
       << "workers did not rejoin the resumed learner";
   const double resumed_at = Metric("juggle_policy_version");
   ASSERT_TRUE(TrainsFurther(2, 60));
   EXPECT_GE(resumed_at, 3);  // it did not start over from version 0
+  const std::string log = ReadFile(dir_ + "/learner.log").value_or("");
+  EXPECT_NE(log.find("no checkpoint in the run directory: starting a new run"), std::string::npos);
+  EXPECT_NE(log.find("resuming from the run directory's newest checkpoint"), std::string::npos);
 
   // Clean exits on SIGTERM.
   w0->Kill(SIGTERM);

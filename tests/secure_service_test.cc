@@ -17,6 +17,7 @@
 #include "common/testing/temp_dir.h"
 #include "envs/registry.h"
 #include "common/transport_security.h"
+#include "worker/health_probe.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "learner/learner_server.h"
@@ -259,6 +260,33 @@ TEST(SecureServiceTest, EveryRpcNeedsTheTokenOverTls) {
   auto plain = grpc::CreateChannel(learner.address(), grpc::InsecureChannelCredentials());
   EXPECT_EQ(Register(plain, kToken).error_code(), grpc::StatusCode::UNAVAILABLE);
   EXPECT_EQ(m.Get("juggle_workers_connected") <= 1, true);
+}
+
+TEST(SecureServiceTest, HealthProbeAnswersServingOnlyOverTheLearnersTransport) {
+  const Certificates& c = Certificates::Get();
+  ASSERT_TRUE(c.ok);
+  SecureLearner learner(LearnerSecurity(c, /*mutual=*/false));
+  ASSERT_NE(learner.server(), nullptr);
+  TransportSecurity tls;
+  tls.ca_file = c.Path("ca.pem");
+  // The health service needs TLS but no token (probes hold no secrets beyond the CA).
+  EXPECT_TRUE(ProbeLearnerHealth(learner.address(), tls, 5).ok());
+  tls.server_name = "localhost";
+  EXPECT_TRUE(ProbeLearnerHealth(learner.address(), tls, 5).ok()) << "name override";
+
+  EXPECT_FALSE(ProbeLearnerHealth(learner.address(), TransportSecurity{}, 5).ok())
+      << "plaintext to the TLS port";
+  TransportSecurity rogue;
+  rogue.ca_file = c.Path("rogue_ca.pem");
+  EXPECT_FALSE(ProbeLearnerHealth(learner.address(), rogue, 5).ok()) << "another CA";
+  tls.server_name = "not-the-learner";
+  EXPECT_FALSE(ProbeLearnerHealth(learner.address(), tls, 5).ok()) << "wrong name";
+
+  const int closed_port = FreePort();
+  const absl::Status nobody =
+      ProbeLearnerHealth(absl::StrCat("127.0.0.1:", closed_port), TransportSecurity{}, 5);
+  EXPECT_EQ(nobody.code(), absl::StatusCode::kUnavailable) << nobody;
+  EXPECT_THAT(std::string(nobody.message()), HasSubstr(absl::StrCat(":", closed_port)));
 }
 
 TEST(SecureServiceTest, MutualTlsAdmitsOnlyClientsWithACertificateFromTheCa) {

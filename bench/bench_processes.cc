@@ -86,6 +86,8 @@ Accounts Scrape(int metrics_port) {
     else if (name == "juggle_samples_total") a.samples = value(line);
     else if (name == "juggle_policy_lag_versions_sum") a.lag_sum = value(line);
     else if (name == "juggle_policy_lag_versions_count") a.lag_count = value(line);
+    else if (name == "juggle_policy_broadcast_seconds_sum") a.broadcast_sum = value(line);
+    else if (name == "juggle_policy_broadcast_seconds_count") a.broadcast_count = value(line);
     else if (name == "juggle_unrolls_dropped_total") {
       const size_t r = line.find("reason=\"");
       const std::string reason =

@@ -34,6 +34,7 @@ struct Accounts {
   double accepted = 0, trained = 0, dropped = 0, held = 0, partial = 0, queued_chunks = 0;
   double iterations = 0, version = 0, workers = 0, samples = 0;
   double lag_sum = 0, lag_count = 0;  // juggle_policy_lag_versions histogram
+  double broadcast_sum = 0, broadcast_count = 0;  // juggle_policy_broadcast_seconds histogram
   std::map<std::string, double> dropped_by_reason;
   double unaccounted() const { return accepted - trained - dropped - held - partial; }
 };

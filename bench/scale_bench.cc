@@ -1,7 +1,8 @@
 // `juggle bench scale`: one learner process (asynchronous) and 8, 16, 32, 64 real worker
 // processes (`juggle worker`, 1 env and 1 thread each) on loopback. Per count, after a warm-up:
 // samples/s accepted and trained, the learner's CPU (cores) and RSS, the mean policy lag of the
-// trained unrolls, and what was dropped as stale — where one learner saturates and what
+// trained unrolls, the mean time a new policy version takes to reach every worker
+// (juggle_policy_broadcast_seconds), and what was dropped as stale — where one learner saturates and what
 // happens then. The last line is key=value pairs.
 #include <chrono>
 #include <cstdio>
@@ -46,8 +47,8 @@ absl::Status RunScaleBench(const ScaleBenchOptions& o) {
   const std::string dir = MakeTempDir("juggle_scale_");
   std::printf("scale: %s, %.0f s warm-up + %.0f s measured per worker count; logs in %s\n",
               o.config.c_str(), o.warmup_s, o.seconds, dir.c_str());
-  std::printf("%8s %12s %12s %10s %9s %9s %12s %9s\n", "workers", "accepted/s", "trained/s",
-              "learner", "rss MiB", "lag", "stale/s", "live");
+  std::printf("%8s %12s %12s %10s %9s %9s %13s %12s %9s\n", "workers", "accepted/s", "trained/s",
+              "learner", "rss MiB", "lag", "broadcast ms", "stale/s", "live");
   std::string summary;
   for (int n : counts) {
     const std::string run = absl::StrCat(dir, "/w", n);
@@ -81,14 +82,17 @@ absl::Status RunScaleBench(const ScaleBenchOptions& o) {
     const double cores = (cpu1 - cpu0) / dt;
     const double lag_n = a1.lag_count - a0.lag_count;
     const double lag = lag_n > 0 ? (a1.lag_sum - a0.lag_sum) / lag_n : 0;
+    const double broadcasts = a1.broadcast_count - a0.broadcast_count;
+    const double broadcast_ms =
+        broadcasts > 0 ? 1000 * (a1.broadcast_sum - a0.broadcast_sum) / broadcasts : 0;
     const double stale = ((a1.dropped_by_reason.count("stale") ? a1.dropped_by_reason.at("stale") : 0) -
                           (a0.dropped_by_reason.count("stale") ? a0.dropped_by_reason.at("stale") : 0)) * T / dt;
-    std::printf("%8d %12.0f %12.0f %9.2fc %9.0f %9.2f %12.0f %9.0f\n", n, accepted, trained, cores,
-                rss, lag, stale, a1.workers);
+    std::printf("%8d %12.0f %12.0f %9.2fc %9.0f %9.2f %13.1f %12.0f %9.0f\n", n, accepted, trained,
+                cores, rss, lag, broadcast_ms, stale, a1.workers);
     std::fflush(stdout);
     absl::StrAppend(&summary, " accepted_", n, "=", static_cast<int64_t>(accepted), " trained_", n,
                     "=", static_cast<int64_t>(trained), " learner_cores_", n, "=", cores,
-                    " rss_mb_", n, "=", static_cast<int64_t>(rss), " lag_", n, "=", lag);
+                    " rss_mb_", n, "=", static_cast<int64_t>(rss), " lag_", n, "=", lag, " broadcast_ms_", n, "=", broadcast_ms);
   }
   std::printf("scale:%s\n", summary.c_str());
   return absl::OkStatus();

@@ -69,6 +69,10 @@ void DeclareLearnerMetrics(Metrics* m) {
   m->Declare("juggle_ingest_queue_chunks", "gauge", "Chunks waiting in the ingestion queue.");
   m->Declare("juggle_ingest_queue_capacity_chunks", "gauge",
              "Capacity of the ingestion queue (service.queue_capacity).");
+  m->Declare("juggle_policy_broadcast_seconds", "histogram",
+              "Time from a policy version's publication until every worker live then has "
+              "received it (or a newer one).",
+              {0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 0.5, 1, 2.5, 5, 10});
   m->Declare("juggle_policy_lag_versions", "histogram",
              "Versions between an unroll's policy and the trained one.", {0, 1, 2, 3, 5, 10});
   m->Declare("juggle_chunks_rejected_total", "counter", "Chunks rejected, by reason.");

@@ -42,6 +42,7 @@ struct LearnerServer::State {
   std::unique_ptr<WorkerRegistry> registry;
   std::unique_ptr<BoundedQueue<ChunkPart>> queue;
   PolicyStore store;
+  BroadcastTracker broadcast;
   Metrics metrics;
   std::unique_ptr<CheckpointDir> checkpoints;
   std::unique_ptr<RolloutService> service;
@@ -58,6 +59,11 @@ struct LearnerServer::State {
     snap->version = trainer->version();
     snap->params = trainer->ExportPolicy().Serialize();
     snap->edge_counts = walk->counts();
+    std::vector<uint64_t> live;
+    if (registry) {
+      for (const WorkerInfo& w : registry->Live()) live.push_back(w.incarnation);
+    }
+    broadcast.Published(snap->version, std::chrono::steady_clock::now(), live);
     store.Publish(std::move(snap));
     metrics.Set("juggle_policy_version", static_cast<double>(trainer->version()));
   }
@@ -193,7 +199,8 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
   s->service = std::make_unique<RolloutService>(
       RolloutService::Deps{s->registry.get(), &s->store, s->queue.get(), &s->metrics,
                            &s->bootstrap, s->options.security.token,
-                           /*max_concurrent_calls=*/2 * service.max_workers() + 16});
+                           /*max_concurrent_calls=*/2 * service.max_workers() + 16,
+                           &s->broadcast});
   builder.RegisterService(s->service.get());
   s->grpc_server = builder.BuildAndStart();
   if (!s->grpc_server || s->port == 0) {

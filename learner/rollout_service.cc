@@ -140,6 +140,13 @@ grpc::Status RolloutService::GetPolicy(grpc::ServerContext* ctx, const rpc::Poli
     offset += n;
     if (!writer->Write(out)) return grpc::Status(grpc::StatusCode::CANCELLED, "client gone");
   } while (offset < snap->params.size());
+  if (d_.broadcast) {
+    for (double seconds : d_.broadcast->Delivered(
+             req->incarnation(), snap->version, Clock::now(),
+             [this](uint64_t incarnation) { return d_.registry->Find(incarnation).has_value(); })) {
+      d_.metrics->Observe("juggle_policy_broadcast_seconds", seconds);
+    }
+  }
   return grpc::Status::OK;
 }
 

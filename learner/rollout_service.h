@@ -13,6 +13,7 @@
 #include "absl/status/status.h"
 #include "common/bounded_queue.h"
 #include "common/metrics.h"
+#include "learner/broadcast_tracker.h"
 #include "learner/contribution_assembler.h"
 #include "learner/policy_store.h"
 #include "learner/worker_registry.h"
@@ -44,6 +45,8 @@ class RolloutService final : public rpc::Rollout::Service {
     // Concurrent long-lived calls (open trajectory streams; GetPolicy long-polls) each holds a
     // server thread: beyond this many of each kind, new ones get RESOURCE_EXHAUSTED at once.
     int max_concurrent_calls = 512;
+    // Measures each version's broadcast (juggle_policy_broadcast_seconds); null: not measured.
+    BroadcastTracker* broadcast = nullptr;
   };
   explicit RolloutService(Deps deps) : d_(deps) {}
 

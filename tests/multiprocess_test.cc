@@ -65,6 +65,8 @@ TEST_F(MultiProcessTest, SurvivesWorkerAndLearnerDeathsAndResumes) {
   ASSERT_TRUE(WaitFor([&] { return Metric("juggle_workers_connected") == 2; }, 60))
       << "workers did not register";
   ASSERT_TRUE(TrainsFurther(3, 60)) << "no training with two workers";
+  EXPECT_GE(Metric("juggle_policy_broadcast_seconds_count"), 1)
+      << "no version was measured reaching both workers";
 
   // A worker dies mid-unroll: training goes on with the other after its timeout.
   w1->Kill(SIGKILL);

@@ -101,8 +101,11 @@ log "scontrol requeue $JOB at policy version $before"
 scontrol requeue "$JOB"
 learner_gone() { ! curl -sf --max-time 1 "http://127.0.0.1:$METRICS/healthz" >/dev/null; }
 wait_for 60 "the requeued job's learner stopped" learner_gone || die "requeue did not stop the job"
-# Slurm holds a requeued job back for a while (BeginTime); release it now.
-scontrol update JobId="$JOB" StartTime=now 2>/dev/null || true
+# Slurm holds a requeued job back (BeginTime about 2 minutes ahead) once it is pending again;
+# start it now.
+job_pending() { [ "$(squeue -h -j "$JOB" -o %T 2>/dev/null)" = PENDING ]; }
+wait_for 60 "the job is pending again" job_pending || { show; die "the requeued job is not pending"; }
+scontrol update JobId="$JOB" StartTime=now || die "cannot move the requeued job's start time"
 wait_for 180 "the job runs again and its learner answers" metric_at_least "$METRICS" juggle_policy_version 1 \
   || { show; die "the requeued job did not start"; }
 after=$(metric "$METRICS" juggle_policy_version)

@@ -156,7 +156,7 @@ double JuggleEnv::assist_strength() const {
   return std::clamp(1.0 - static_cast<double>(policy_version_) / a.anneal_iterations(), 0.0, 1.0);
 }
 
-void JuggleEnv::ApplyTorques(const double* feedforward, const BallReference& ball_ref) {
+void JuggleEnv::ApplyTorques(const double* feedforward, double phase) {
   const double h = model_->opt.timestep;
   const double* qpos = data_->qpos;
   const double* qvel = data_->qvel;
@@ -185,11 +185,16 @@ void JuggleEnv::ApplyTorques(const double* feedforward, const BallReference& bal
     const config::BallAssist& a = spec_->env().ball_assist();
     const double* ball = data_->qpos + spec_->ball_qpos();
     const double* v = data_->qvel + spec_->ball_dof();
+    const BallReference ball_ref = spec_->cursor().DesiredBall(cursor_, phase);
     const double target[3] = {qpos[0] + ball_ref.x, qpos[1] + ball_ref.y, ball_ref.z};
     // Horizontal: spring and damper (the reference's horizontal velocity is the root's, ~0).
-    // Vertical: spring only (damping would slow the fall itself).
+    // Vertical: spring and damper on the errors from the reference flight's height and
+    // vertical velocity, so a free ball on its reference parabola feels nothing.
     for (int c = 0; c < 2; ++c) xfrc[c] += strength * (-a.kp() * (ball[c] - target[c]) - a.kd() * v[c]);
-    if (a.vertical()) xfrc[2] += strength * -a.kp() * (ball[2] - target[2]);
+    if (a.vertical()) {
+      const double vz_ref = spec_->cursor().DesiredBallVelocity(cursor_, phase).z;
+      xfrc[2] += strength * (-a.kp() * (ball[2] - target[2]) - a.kd() * (v[2] - vz_ref));
+    }
   }
 }
 
@@ -466,7 +471,7 @@ StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
   StepResult result;
   const int substeps = spec_->env().substeps();
   for (int k = 0; k < substeps && result.outcome == Outcome::kRunning; ++k) {
-    ApplyTorques(feedforward, ball_ref);
+    ApplyTorques(feedforward, phase0 + cursor_.phase_speed * k / substeps);
     for (int w : kWatchedWarnings) data_->warning[w].number = 0;
     mj_step(model_, data_.get());
     if (Diverged()) {

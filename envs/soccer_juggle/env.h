@@ -72,8 +72,8 @@ class JuggleEnv : public juggle::Env {
 
  private:
   // PD + feed-forward torques and the external forces on the ball (ball_force, the assist
-  // toward `ball_ref`).
-  void ApplyTorques(const double* feedforward, const BallReference& ball_ref);
+  // toward the ball reference at `phase`, the substep's own phase).
+  void ApplyTorques(const double* feedforward, double phase);
   // Adds env.reference_feedforward × the inverse dynamics of the reference at `phase`.
   void AddReferenceFeedforward(double phase, double* feedforward);
   // Adds env.stance_balance's torques on the stance leg of a leg-swing node.

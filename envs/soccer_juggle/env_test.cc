@@ -268,6 +268,27 @@ TEST_F(JuggleEnvTest, BallAssistAnnealsWithThePolicyVersionAndPullsTheBallToItsR
   EXPECT_LT(lateral_speed(0), -0.05);          // pulled back (−y) at full strength
   EXPECT_NEAR(lateral_speed(100), 0.0, 1e-9);  // annealed away: free flight
 
+  // Vertical: a ball on its reference flight feels nothing; one that falls 1 m/s too fast is
+  // slowed by about kd·1 m/s·dt/m over a control step (cross-checked against free flight).
+  config.run.mutable_soccer_juggle()->mutable_env()->mutable_ball_assist()->set_vertical(true);
+  auto vertical_spec = JuggleSpec::Create(config);
+  ASSERT_TRUE(vertical_spec.ok()) << vertical_spec.status();
+  auto vertical_speed = [&](int64_t version, double extra_vz) {
+    JuggleEnv e(*vertical_spec, Rng(3));
+    e.SetPolicyVersion(version);
+    e.ResetAt(down_, *walk_);
+    e.data()->qvel[(*vertical_spec)->ball_dof() + 2] += extra_vz;
+    mj_forward((*vertical_spec)->model(), e.data());
+    e.Step(kZeroAction, *walk_);
+    return e.data()->qvel[(*vertical_spec)->ball_dof() + 2];
+  };
+  const double mass = (*vertical_spec)->model()->body_mass[(*vertical_spec)->ball_body()];
+  const double dt = (*vertical_spec)->control_dt();
+  EXPECT_NEAR(vertical_speed(0, 0.0), vertical_speed(100, 0.0), 1e-3) << "on the reference";
+  const double slowed = vertical_speed(0, -1.0) - vertical_speed(100, -1.0);
+  EXPECT_GT(slowed, 0.5 * 4.0 * dt / mass);
+  EXPECT_LT(slowed, 1.5 * 4.0 * dt / mass);
+
   absl::StatusOr<const EnvFamily*> family = FamilyOf(config.run);
   ASSERT_TRUE(family.ok());
   (*family)->ConfigureForEvaluation(0, &config.run);

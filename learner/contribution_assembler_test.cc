@@ -83,12 +83,12 @@ TEST(ContributionAssemblerTest, PartsResentAfterTheirContributionCompletedAreIgn
 TEST(ContributionAssemblerTest, CompletesAContributionOnlyWhenEveryPartArrivedInAnyOrder) {
   ContributionAssembler a;
   int64_t dropped = 0;
-  a.Add(Part(0, 7, 0, 2, 3, 0, 2.0f));
-  a.Add(Part(0, 7, 0, 0, 3, 0, 0.0f));
+  EXPECT_TRUE(a.Add(Part(0, 7, 0, 2, 3, 0, 2.0f)).ok());
+  EXPECT_TRUE(a.Add(Part(0, 7, 0, 0, 3, 0, 0.0f)).ok());
   EXPECT_EQ(a.pending_parts(), 2);
   EXPECT_FALSE(a.TakeAsync(0, 0, 1, &dropped).has_value());
   EXPECT_FALSE(a.TakeSync(0, {0}, &dropped).has_value());
-  a.Add(Part(0, 7, 0, 1, 3, 0, 1.0f));
+  EXPECT_TRUE(a.Add(Part(0, 7, 0, 1, 3, 0, 1.0f)).ok());
   EXPECT_EQ(a.pending_parts(), 0);
   const std::optional<Contribution> c = a.TakeSync(0, {0}, &dropped);
   ASSERT_TRUE(c.has_value());
@@ -101,11 +101,11 @@ TEST(ContributionAssemblerTest, CompletesAContributionOnlyWhenEveryPartArrivedIn
 TEST(ContributionAssemblerTest, IgnoresADuplicatePart) {
   ContributionAssembler a;
   int64_t dropped = 0;
-  a.Add(Part(0, 7, 0, 0, 2, 0, 10.0f));
-  a.Add(Part(0, 7, 0, 0, 2, 0, 99.0f));  // a resend of part 0
+  EXPECT_TRUE(a.Add(Part(0, 7, 0, 0, 2, 0, 10.0f)).ok());
+  EXPECT_TRUE(a.Add(Part(0, 7, 0, 0, 2, 0, 99.0f)).ok());  // a resend of part 0
   EXPECT_EQ(a.pending_parts(), 1);
   EXPECT_FALSE(a.TakeAsync(0, 0, 1, &dropped).has_value()) << "a duplicate completed it";
-  a.Add(Part(0, 7, 0, 1, 2, 0, 11.0f));
+  EXPECT_TRUE(a.Add(Part(0, 7, 0, 1, 2, 0, 11.0f)).ok());
   const std::optional<Contribution> c = a.TakeAsync(0, 0, 1, &dropped);
   ASSERT_TRUE(c.has_value());
   EXPECT_THAT(Marks(*c), ElementsAre(10.0f, 11.0f));
@@ -114,8 +114,8 @@ TEST(ContributionAssemblerTest, IgnoresADuplicatePart) {
 TEST(ContributionAssemblerTest, KeepsContributionsOfDifferentSequencesApart) {
   ContributionAssembler a;
   int64_t dropped = 0;
-  a.Add(Part(0, 7, 0, 0, 2, 0, 1.0f));
-  a.Add(Part(0, 7, 1, 1, 2, 0, 2.0f));
+  EXPECT_TRUE(a.Add(Part(0, 7, 0, 0, 2, 0, 1.0f)).ok());
+  EXPECT_TRUE(a.Add(Part(0, 7, 1, 1, 2, 0, 2.0f)).ok());
   EXPECT_EQ(a.pending_parts(), 2);
   EXPECT_FALSE(a.TakeAsync(0, 0, 1, &dropped).has_value());
 }
@@ -123,13 +123,13 @@ TEST(ContributionAssemblerTest, KeepsContributionsOfDifferentSequencesApart) {
 TEST(ContributionAssemblerTest, DropIncarnationDiscardsPartialPartsButKeepsCompleteOnes) {
   ContributionAssembler a;
   int64_t dropped = 0;
-  a.Add(Whole(0, 7, 0, 0, 1.0f));               // complete
-  a.Add(Part(0, 7, 1, 0, 2, 0, 2.0f));          // partial of the same incarnation
-  a.Add(Part(1, 8, 0, 0, 2, 0, 3.0f));          // partial of another
+  EXPECT_TRUE(a.Add(Whole(0, 7, 0, 0, 1.0f)).ok());               // complete
+  EXPECT_TRUE(a.Add(Part(0, 7, 1, 0, 2, 0, 2.0f)).ok());          // partial of the same incarnation
+  EXPECT_TRUE(a.Add(Part(1, 8, 0, 0, 2, 0, 3.0f)).ok());          // partial of another
   EXPECT_EQ(a.DropIncarnation(7), 1);
   EXPECT_EQ(a.pending_parts(), 1);
   // The dropped part is gone: its other half no longer completes anything.
-  a.Add(Part(0, 7, 1, 1, 2, 0, 2.5f));
+  EXPECT_TRUE(a.Add(Part(0, 7, 1, 1, 2, 0, 2.5f)).ok());
   EXPECT_EQ(a.pending_parts(), 2);
   const std::optional<Contribution> c = a.TakeSync(0, {0}, &dropped);
   ASSERT_TRUE(c.has_value()) << "the complete contribution of the dropped incarnation was lost";
@@ -140,14 +140,14 @@ TEST(ContributionAssemblerTest, DropIncarnationDiscardsPartialPartsButKeepsCompl
 TEST(ContributionAssemblerTest, DropAllButDiscardsPartialPartsOfDeadIncarnationsOnly) {
   ContributionAssembler a;
   int64_t dropped = 0;
-  a.Add(Whole(0, 7, 0, 0, 1.0f));
-  a.Add(Part(0, 7, 1, 0, 3, 0, 0.0f));
-  a.Add(Part(0, 7, 1, 1, 3, 0, 0.0f));
-  a.Add(Part(1, 8, 0, 0, 2, 0, 0.0f));
-  a.Add(Part(2, 9, 0, 0, 2, 0, 0.0f));
+  EXPECT_TRUE(a.Add(Whole(0, 7, 0, 0, 1.0f)).ok());
+  EXPECT_TRUE(a.Add(Part(0, 7, 1, 0, 3, 0, 0.0f)).ok());
+  EXPECT_TRUE(a.Add(Part(0, 7, 1, 1, 3, 0, 0.0f)).ok());
+  EXPECT_TRUE(a.Add(Part(1, 8, 0, 0, 2, 0, 0.0f)).ok());
+  EXPECT_TRUE(a.Add(Part(2, 9, 0, 0, 2, 0, 0.0f)).ok());
   EXPECT_EQ(a.DropAllBut({8}), 3);
   EXPECT_EQ(a.pending_parts(), 1);
-  a.Add(Part(1, 8, 0, 1, 2, 0, 5.0f));  // the live one still completes
+  EXPECT_TRUE(a.Add(Part(1, 8, 0, 1, 2, 0, 5.0f)).ok());  // the live one still completes
   EXPECT_EQ(a.pending_parts(), 0);
   const std::optional<Contribution> c = a.TakeSync(0, {0, 1}, &dropped);
   ASSERT_TRUE(c.has_value());
@@ -157,10 +157,10 @@ TEST(ContributionAssemblerTest, DropAllButDiscardsPartialPartsOfDeadIncarnations
 TEST(ContributionAssemblerTest, TakeSyncWaitsForEveryLiveSlotAndReturnsSlotOrder) {
   ContributionAssembler a;
   int64_t dropped = 0;
-  a.Add(Whole(2, 9, 0, 4, 2.0f));
-  a.Add(Whole(0, 7, 0, 4, 0.0f, 2));
+  EXPECT_TRUE(a.Add(Whole(2, 9, 0, 4, 2.0f)).ok());
+  EXPECT_TRUE(a.Add(Whole(0, 7, 0, 4, 0.0f, 2)).ok());
   EXPECT_FALSE(a.TakeSync(4, {0, 1, 2}, &dropped).has_value());
-  a.Add(Whole(1, 8, 0, 4, 1.0f));
+  EXPECT_TRUE(a.Add(Whole(1, 8, 0, 4, 1.0f)).ok());
   const std::optional<Contribution> c = a.TakeSync(4, {0, 1, 2}, &dropped);
   ASSERT_TRUE(c.has_value());
   EXPECT_THAT(Marks(*c), ElementsAre(0.0f, 0.0f, 1.0f, 2.0f));
@@ -172,13 +172,13 @@ TEST(ContributionAssemblerTest, TakeSyncWaitsForEveryLiveSlotAndReturnsSlotOrder
 TEST(ContributionAssemblerTest, TakeSyncDiscardsOlderVersionsAndCountsTheirUnrolls) {
   ContributionAssembler a;
   int64_t dropped = 0;
-  a.Add(Whole(0, 7, 0, 0, 9.0f, 3));
-  a.Add(Whole(1, 8, 0, 0, 9.0f, 2));
-  a.Add(Whole(0, 7, 1, 1, 1.0f));
+  EXPECT_TRUE(a.Add(Whole(0, 7, 0, 0, 9.0f, 3)).ok());
+  EXPECT_TRUE(a.Add(Whole(1, 8, 0, 0, 9.0f, 2)).ok());
+  EXPECT_TRUE(a.Add(Whole(0, 7, 1, 1, 1.0f)).ok());
   // Not ready (slot 1 has no version-1 contribution), but the stale ones go anyway.
   EXPECT_FALSE(a.TakeSync(1, {0, 1}, &dropped).has_value());
   EXPECT_EQ(dropped, 5);
-  a.Add(Whole(1, 8, 1, 1, 2.0f));
+  EXPECT_TRUE(a.Add(Whole(1, 8, 1, 1, 2.0f)).ok());
   const std::optional<Contribution> c = a.TakeSync(1, {0, 1}, &dropped);
   ASSERT_TRUE(c.has_value());
   EXPECT_THAT(Marks(*c), ElementsAre(1.0f, 2.0f));
@@ -189,8 +189,8 @@ TEST(ContributionAssemblerTest, TakeSyncDiscardsOlderVersionsAndCountsTheirUnrol
 TEST(ContributionAssemblerTest, TakeSyncIncludesADeadWorkersCompleteContribution) {
   ContributionAssembler a;
   int64_t dropped = 0;
-  a.Add(Whole(1, 8, 0, 2, 1.0f));  // slot 1's worker then dies
-  a.Add(Whole(0, 7, 0, 2, 0.0f));
+  EXPECT_TRUE(a.Add(Whole(1, 8, 0, 2, 1.0f)).ok());  // slot 1's worker then dies
+  EXPECT_TRUE(a.Add(Whole(0, 7, 0, 2, 0.0f)).ok());
   const std::optional<Contribution> c = a.TakeSync(2, {0}, &dropped);
   ASSERT_TRUE(c.has_value());
   EXPECT_THAT(Marks(*c), ElementsAre(0.0f, 1.0f));
@@ -199,8 +199,8 @@ TEST(ContributionAssemblerTest, TakeSyncIncludesADeadWorkersCompleteContribution
 TEST(ContributionAssemblerTest, TakeSyncTakesOneContributionPerSlotTheFirstThatArrived) {
   ContributionAssembler a;
   int64_t dropped = 0;
-  a.Add(Whole(0, 7, 0, 0, 1.0f));
-  a.Add(Whole(0, 17, 0, 0, 2.0f));  // a restarted worker in the same slot
+  EXPECT_TRUE(a.Add(Whole(0, 7, 0, 0, 1.0f)).ok());
+  EXPECT_TRUE(a.Add(Whole(0, 17, 0, 0, 2.0f)).ok());  // a restarted worker in the same slot
   const std::optional<Contribution> c = a.TakeSync(0, {0}, &dropped);
   ASSERT_TRUE(c.has_value());
   EXPECT_THAT(Marks(*c), ElementsAre(1.0f));
@@ -212,7 +212,7 @@ TEST(ContributionAssemblerTest, TakeSyncTakesOneContributionPerSlotTheFirstThatA
 TEST(ContributionAssemblerTest, TakeSyncWithNoLiveSlotReturnsNothing) {
   ContributionAssembler a;
   int64_t dropped = 0;
-  a.Add(Whole(0, 7, 0, 0, 1.0f));
+  EXPECT_TRUE(a.Add(Whole(0, 7, 0, 0, 1.0f)).ok());
   EXPECT_FALSE(a.TakeSync(0, {}, &dropped).has_value());
   EXPECT_TRUE(a.TakeSync(0, {0}, &dropped).has_value()) << "the contribution was discarded";
 }
@@ -221,10 +221,10 @@ TEST(ContributionAssemblerTest, TakeAsyncReturnsNothingUntilEnoughUnrolls) {
   ContributionAssembler a;
   int64_t dropped = 0;
   EXPECT_FALSE(a.TakeAsync(0, 2, 4, &dropped).has_value());
-  a.Add(Whole(0, 7, 0, 0, 1.0f, 2));
-  a.Add(Whole(1, 8, 0, 0, 2.0f, 1));
+  EXPECT_TRUE(a.Add(Whole(0, 7, 0, 0, 1.0f, 2)).ok());
+  EXPECT_TRUE(a.Add(Whole(1, 8, 0, 0, 2.0f, 1)).ok());
   EXPECT_FALSE(a.TakeAsync(0, 2, 4, &dropped).has_value());
-  a.Add(Whole(0, 7, 1, 0, 3.0f, 1));
+  EXPECT_TRUE(a.Add(Whole(0, 7, 1, 0, 3.0f, 1)).ok());
   const std::optional<Contribution> c = a.TakeAsync(0, 2, 4, &dropped);
   ASSERT_TRUE(c.has_value());
   EXPECT_THAT(Marks(*c), ElementsAre(1.0f, 1.0f, 2.0f, 3.0f));
@@ -234,9 +234,9 @@ TEST(ContributionAssemblerTest, TakeAsyncReturnsNothingUntilEnoughUnrolls) {
 TEST(ContributionAssemblerTest, TakeAsyncDropsVersionsOlderThanTheLagAndCountsThem) {
   ContributionAssembler a;
   int64_t dropped = 0;
-  a.Add(Whole(0, 7, 0, 2, 1.0f, 2));  // 5 − 2 = 3 is the oldest allowed
-  a.Add(Whole(1, 8, 0, 3, 2.0f, 1));
-  a.Add(Whole(0, 7, 1, 5, 3.0f, 1));
+  EXPECT_TRUE(a.Add(Whole(0, 7, 0, 2, 1.0f, 2)).ok());  // 5 − 2 = 3 is the oldest allowed
+  EXPECT_TRUE(a.Add(Whole(1, 8, 0, 3, 2.0f, 1)).ok());
+  EXPECT_TRUE(a.Add(Whole(0, 7, 1, 5, 3.0f, 1)).ok());
   const std::optional<Contribution> c = a.TakeAsync(5, 2, 2, &dropped);
   ASSERT_TRUE(c.has_value());
   EXPECT_EQ(dropped, 2);
@@ -247,7 +247,7 @@ TEST(ContributionAssemblerTest, TakeAsyncDropsVersionsOlderThanTheLagAndCountsTh
 TEST(ContributionAssemblerTest, TakeAsyncCountsStaleUnrollsEvenWhenNotReady) {
   ContributionAssembler a;
   int64_t dropped = 0;
-  a.Add(Whole(0, 7, 0, 0, 1.0f, 3));
+  EXPECT_TRUE(a.Add(Whole(0, 7, 0, 0, 1.0f, 3)).ok());
   EXPECT_FALSE(a.TakeAsync(4, 2, 1, &dropped).has_value());
   EXPECT_EQ(dropped, 3);
 }
@@ -255,9 +255,9 @@ TEST(ContributionAssemblerTest, TakeAsyncCountsStaleUnrollsEvenWhenNotReady) {
 TEST(ContributionAssemblerTest, TakeAsyncTakesTheOldestFirstAndLeavesTheRest) {
   ContributionAssembler a;
   int64_t dropped = 0;
-  a.Add(Whole(0, 7, 0, 3, 1.0f));
-  a.Add(Whole(1, 8, 0, 4, 2.0f));
-  a.Add(Whole(0, 7, 1, 4, 3.0f));
+  EXPECT_TRUE(a.Add(Whole(0, 7, 0, 3, 1.0f)).ok());
+  EXPECT_TRUE(a.Add(Whole(1, 8, 0, 4, 2.0f)).ok());
+  EXPECT_TRUE(a.Add(Whole(0, 7, 1, 4, 3.0f)).ok());
   const std::optional<Contribution> first = a.TakeAsync(4, 2, 2, &dropped);
   ASSERT_TRUE(first.has_value());
   EXPECT_THAT(Marks(*first), ElementsAre(1.0f, 2.0f));
@@ -270,8 +270,8 @@ TEST(ContributionAssemblerTest, TakeAsyncTakesTheOldestFirstAndLeavesTheRest) {
 TEST(ContributionAssemblerTest, TakeAsyncTakesWholeContributionsEvenPastTheWantedCount) {
   ContributionAssembler a;
   int64_t dropped = 0;
-  a.Add(Whole(0, 7, 0, 0, 1.0f, 2));
-  a.Add(Whole(1, 8, 0, 0, 2.0f, 2));
+  EXPECT_TRUE(a.Add(Whole(0, 7, 0, 0, 1.0f, 2)).ok());
+  EXPECT_TRUE(a.Add(Whole(1, 8, 0, 0, 2.0f, 2)).ok());
   const std::optional<Contribution> c = a.TakeAsync(0, 0, 3, &dropped);
   ASSERT_TRUE(c.has_value());
   EXPECT_EQ(c->batch.num_unrolls, 4);

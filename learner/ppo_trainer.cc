@@ -313,7 +313,7 @@ absl::Status PpoTrainer::RestoreState(const std::map<std::string, std::string>& 
     archive.load_from(in);
     net->load(archive);
     if (sections.count("actor_opt")) {
-      Impl probe{impl_->model, net, nullptr, nullptr, {}};
+      Impl probe{impl_->model, net, nullptr, nullptr, ObsNormalizer(0)};
       actor_opt = std::make_unique<torch::optim::Adam>(probe.ActorParams(),
                                                        torch::optim::AdamOptions(lr));
       critic_opt = std::make_unique<torch::optim::Adam>(net->critic->parameters(),

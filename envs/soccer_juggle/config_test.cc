@@ -141,7 +141,7 @@ TEST(SoccerJuggleConfigTest, NegativeEdgeWeightIsRejectedAtTheWeightField) {
 }
 
 TEST(SoccerJuggleConfigTest, NonFiniteOrAbsurdApexHeightIsRejectedAtItsLine) {
-  for (const std::string& value : {"nan", "inf", "-inf", "1e300"}) {
+  for (const std::string value : {"nan", "inf", "-inf", "1e300"}) {
     SCOPED_TRACE(value);
     const std::string text =
         WithGraph(Node("down", "DOWN", "initial: true") +

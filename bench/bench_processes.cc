@@ -64,6 +64,34 @@ double SelfProcess::CpuSeconds() const {
   return (std::stod(fields[11]) + std::stod(fields[12])) / double(::sysconf(_SC_CLK_TCK));
 }
 
+absl::StatusOr<LoadedConfig> LoadAsynchronousConfig(const std::string& path,
+                                                    const std::string& bench) {
+  absl::StatusOr<LoadedConfig> config = LoadRunConfig(path);
+  if (config.ok() && config->run.service().synchronous()) {
+    return absl::InvalidArgumentError(absl::StrCat(path, ": ", bench, " needs an asynchronous config"));
+  }
+  return config;
+}
+
+namespace {
+// The unlabelled series Scrape reads, and where each goes.
+const std::map<std::string, double Accounts::*> kScalarFields = {
+    {"juggle_unrolls_accepted_total", &Accounts::accepted},
+    {"juggle_unrolls_trained_total", &Accounts::trained},
+    {"juggle_unrolls_held", &Accounts::held},
+    {"juggle_unrolls_partial", &Accounts::partial},
+    {"juggle_ingest_queue_chunks", &Accounts::queued_chunks},
+    {"juggle_iterations_total", &Accounts::iterations},
+    {"juggle_policy_version", &Accounts::version},
+    {"juggle_workers_connected", &Accounts::workers},
+    {"juggle_samples_total", &Accounts::samples},
+    {"juggle_policy_lag_versions_sum", &Accounts::lag_sum},
+    {"juggle_policy_lag_versions_count", &Accounts::lag_count},
+    {"juggle_policy_broadcast_seconds_sum", &Accounts::broadcast_sum},
+    {"juggle_policy_broadcast_seconds_count", &Accounts::broadcast_count},
+};
+}  // namespace
+
 Accounts Scrape(int metrics_port) {
   Accounts a;
   absl::StatusOr<std::string> body = HttpGet(metrics_port, "/metrics");
@@ -75,20 +103,9 @@ Accounts Scrape(int metrics_port) {
   while (std::getline(in, line)) {
     if (line.empty() || line[0] == '#') continue;
     const std::string name = line.substr(0, line.find_first_of(" {"));
-    if (name == "juggle_unrolls_accepted_total") a.accepted = value(line);
-    else if (name == "juggle_unrolls_trained_total") a.trained = value(line);
-    else if (name == "juggle_unrolls_held") a.held = value(line);
-    else if (name == "juggle_unrolls_partial") a.partial = value(line);
-    else if (name == "juggle_ingest_queue_chunks") a.queued_chunks = value(line);
-    else if (name == "juggle_iterations_total") a.iterations = value(line);
-    else if (name == "juggle_policy_version") a.version = value(line);
-    else if (name == "juggle_workers_connected") a.workers = value(line);
-    else if (name == "juggle_samples_total") a.samples = value(line);
-    else if (name == "juggle_policy_lag_versions_sum") a.lag_sum = value(line);
-    else if (name == "juggle_policy_lag_versions_count") a.lag_count = value(line);
-    else if (name == "juggle_policy_broadcast_seconds_sum") a.broadcast_sum = value(line);
-    else if (name == "juggle_policy_broadcast_seconds_count") a.broadcast_count = value(line);
-    else if (name == "juggle_unrolls_dropped_total") {
+    if (const auto field = kScalarFields.find(name); field != kScalarFields.end()) {
+      a.*(field->second) = value(line);
+    } else if (name == "juggle_unrolls_dropped_total") {
       const size_t r = line.find("reason=\"");
       const std::string reason =
           r == std::string::npos ? "?" : line.substr(r + 8, line.find('"', r + 8) - r - 8);

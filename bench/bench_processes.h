@@ -10,6 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "absl/status/statusor.h"
+#include "envs/registry.h"
+
 namespace juggle {
 
 // This same binary (/proc/self/exe) run with `args`, stdout and stderr appended to `log`.
@@ -39,6 +42,11 @@ struct Accounts {
   double unaccounted() const { return accepted - trained - dropped - held - partial; }
 };
 Accounts Scrape(int metrics_port);
+
+// The run config at `path`; INVALID_ARGUMENT naming `bench` unless it is asynchronous (the
+// process benches need a learner that trains on whatever arrives).
+absl::StatusOr<LoadedConfig> LoadAsynchronousConfig(const std::string& path,
+                                                    const std::string& bench);
 
 // A free TCP port on 127.0.0.1 (0 if none).
 int FreeLoopbackPort();

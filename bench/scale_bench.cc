@@ -30,11 +30,8 @@ void Sleep(double seconds) {
 }  // namespace
 
 absl::Status RunScaleBench(const ScaleBenchOptions& o) {
-  absl::StatusOr<LoadedConfig> config = LoadRunConfig(o.config);
+  absl::StatusOr<LoadedConfig> config = LoadAsynchronousConfig(o.config, "the scale bench");
   if (!config.ok()) return config.status();
-  if (config->run.service().synchronous()) {
-    return absl::InvalidArgumentError(absl::StrCat(o.config, ": the scale bench needs an asynchronous config"));
-  }
   const int T = config->run.ppo().unroll_length();
   std::vector<int> counts;
   for (absl::string_view c : absl::StrSplit(o.workers, ',')) {

@@ -151,11 +151,8 @@ class SyntheticWorker {
 }  // namespace
 
 absl::Status RunSoakBench(const SoakBenchOptions& o) {
-  absl::StatusOr<LoadedConfig> config = LoadRunConfig(o.config);
+  absl::StatusOr<LoadedConfig> config = LoadAsynchronousConfig(o.config, "the soak");
   if (!config.ok()) return config.status();
-  if (config->run.service().synchronous()) {
-    return absl::InvalidArgumentError(absl::StrCat(o.config, ": the soak needs an asynchronous config"));
-  }
   absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*config);
   if (!spec.ok()) return spec.status();
   const int T = config->run.ppo().unroll_length();

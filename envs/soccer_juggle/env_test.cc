@@ -334,6 +334,39 @@ TEST_F(JuggleEnvTest, BallErrorObservationIsTheBallMinusItsReferenceAfterTheOneH
   }
 }
 
+TEST_F(JuggleEnvTest, RaisedCosineSwingIsSineSquaredAndComesToRestWhereTheCycleWraps) {
+  LoadedConfig config = spec_->config();
+  config::ControlGraph* graph = config.run.mutable_soccer_juggle()->mutable_graph();
+  for (config::NodeSpec& node : *graph->mutable_node()) {
+    node.mutable_pose()->mutable_leg_swing()->set_profile(config::RAISED_COSINE);
+  }
+  absl::StatusOr<ControlGraph> built = ControlGraph::Build(*graph, config.graph_locator);
+  ASSERT_TRUE(built.ok()) << built.status();
+  config.graph = std::make_shared<const ControlGraph>(*std::move(built));
+  auto raised = JuggleSpec::Create(config);
+  ASSERT_TRUE(raised.ok()) << raised.status();
+  const config::LegSwing& swing = spec_->graph().node(down_).spec.pose().leg_swing();
+  ASSERT_EQ(swing.phase_lead(), 0);  // the paper's swing: s(φ) itself
+  const int knee = spec_->joint(kRightKnee).qpos_adr;
+  auto knee_at = [&](const JuggleSpec& spec, double phase) {
+    CharacterPose pose;
+    ComputeReferencePose(spec, down_, phase, &pose);
+    return pose[knee];
+  };
+  for (double phase : {0.1, 0.25, 0.4, 0.5}) {
+    const double s = std::sin(M_PI * phase);
+    EXPECT_NEAR(knee_at(**raised, phase), -swing.knee_amplitude() * s * s, 1e-12) << phase;
+    EXPECT_NEAR(knee_at(*spec_, phase), -swing.knee_amplitude() * s, 1e-12) << phase;
+  }
+  // Speed of the knee just after the wrap: the sine starts at amplitude·π per cycle, the raised
+  // cosine from rest.
+  constexpr double kDelta = 1e-4;
+  const double sine_speed = std::abs(knee_at(*spec_, kDelta) - knee_at(*spec_, 0)) / kDelta;
+  const double raised_speed = std::abs(knee_at(**raised, kDelta) - knee_at(**raised, 0)) / kDelta;
+  EXPECT_NEAR(sine_speed, swing.knee_amplitude() * M_PI, 1e-3);
+  EXPECT_LT(raised_speed, 0.005);
+}
+
 TEST_F(JuggleEnvTest, KickFeedbackMovesTheSwingByTheGainsTimesThePredictedBallOffset) {
   LoadedConfig config = spec_->config();
   config::KickFeedback* f = config.run.mutable_soccer_juggle()->mutable_env()->mutable_kick_feedback();

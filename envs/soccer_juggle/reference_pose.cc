@@ -53,7 +53,8 @@ void LegSwingPose(const JuggleSpec& spec, const config::LegSwing& g, const Swing
   }
   const double hip_amplitude = g.hip_amplitude() + adjust.hip;
   const double abduction = g.hip_abduction() + adjust.abduction;
-  const double s = g.hold_peak() ? 1.0 : std::sin(M_PI * phi);
+  double s = g.hold_peak() ? 1.0 : std::sin(M_PI * phi);
+  if (g.profile() == config::RAISED_COSINE && !g.hold_peak()) s *= s;
   const bool left = g.side() == config::LEFT;
   const JointId hip = left ? kLeftHip : kRightHip;
   const JointId knee = left ? kLeftKnee : kRightKnee;

@@ -16,13 +16,14 @@ PACKAGES=(
   ffmpeg libegl-dev libopengl-dev libegl1 libegl-mesa0 libgl1-mesa-dri libpng-dev zlib1g-dev
   libjs-three chromium blender
   libcpp-httplib-dev nlohmann-json3-dev libjs-chart.js libjs-d3
-  prometheus openssl clang libclang-rt-14-dev
+  prometheus openssl clang libclang-rt-14-dev python3
 )
 # libcpp-httplib-dev: the learner's HTTP server; nlohmann-json3-dev: the dashboard's JSON API;
 # libjs-chart.js, libjs-d3: the dashboard's charts and graph (embedded in the binary at build
 # time); prometheus (prometheus + promtool) and chromium: tests of deploy/prometheus and of the
 # dashboard in a real browser; openssl: certificates of the TLS tests; clang and
-# libclang-rt-14-dev: the libFuzzer harnesses (scripts/fuzz.sh).
+# libclang-rt-14-dev: the libFuzzer harnesses (scripts/fuzz.sh); python3: the scripts/ tools
+# (standard library only) and their tests.
 if [ "${1:-}" = --deploy ]; then
   PACKAGES+=(slurmctld slurmd slurm-client munge podman runc catatonit debootstrap curl
              containernetworking-plugins iptables)

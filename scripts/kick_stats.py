@@ -25,7 +25,7 @@ import sys
 
 
 def load(path):
-    """Returns (channel names, records); a record is [time, channels..., qpos...]."""
+    """Returns (channel names, records, header); a record is [time, channels..., qpos...]."""
     try:
         f = open(path, 'rb')
     except OSError as e:

@@ -53,8 +53,10 @@ void LegSwingPose(const JuggleSpec& spec, const config::LegSwing& g, const Swing
   }
   const double hip_amplitude = g.hip_amplitude() + adjust.hip;
   const double abduction = g.hip_abduction() + adjust.abduction;
-  double s = g.hold_peak() ? 1.0 : std::sin(M_PI * phi);
-  if (g.profile() == config::RAISED_COSINE && !g.hold_peak()) s *= s;
+  const double sine = std::sin(M_PI * phi);
+  const double s = g.hold_peak()                        ? 1.0
+                   : g.profile() == config::RAISED_COSINE ? sine * sine
+                                                          : sine;
   const bool left = g.side() == config::LEFT;
   const JointId hip = left ? kLeftHip : kRightHip;
   const JointId knee = left ? kLeftKnee : kRightKnee;

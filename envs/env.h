@@ -11,10 +11,14 @@
 
 #include <mujoco/mujoco.h>
 
+#include "absl/status/status.h"
+#include "absl/strings/str_cat.h"
+
 #include "common/adaptive_walk.h"
 #include "common/control_graph.h"
 #include "common/outcome.h"
 #include "common/rng.h"
+#include "envs/env_snapshot.h"
 #include "record/trajectory.h"
 
 namespace juggle {
@@ -73,6 +77,16 @@ class Env {
   // EnvSpec::annotation_channels() (soccer: node, phase; toss: hand modes). Recorded with
   // every trajectory sample (record/trajectory.h).
   virtual void AppendAnnotations(std::vector<double>* out) const {}
+  // An exact copy of the episode's state (envs/env_snapshot.h): an env of an equal spec that
+  // restores it steps bit for bit as this one would. Null for families without snapshots.
+  virtual std::unique_ptr<EnvSnapshot> Snapshot() const { return nullptr; }
+  // Replaces this env's state with `snapshot`'s. INVALID_ARGUMENT (nothing changed) for a
+  // snapshot of another family, model or config; UNIMPLEMENTED for families without snapshots.
+  virtual absl::Status Restore(const EnvSnapshot& snapshot) {
+    return absl::UnimplementedError(
+        absl::StrCat("the ", snapshot.family(), " snapshot cannot be restored: this env family "
+                     "has no snapshots"));
+  }
 
  private:
   std::vector<EdgeEvent> no_events_;
@@ -97,6 +111,19 @@ class EnvSpec : public std::enable_shared_from_this<EnvSpec> {
   virtual std::vector<AnnotationChannel> annotation_channels() const { return {}; }
   // A new env drawing from `rng`. REQUIRES: this spec is owned by a shared_ptr.
   virtual std::unique_ptr<Env> NewEnv(Rng rng) const = 0;
+  // Identifies the compiled model and the family's config (equal specs, equal fingerprints):
+  // snapshots restore only into envs of a spec with the snapshot's fingerprint.
+  uint64_t fingerprint() const { return fingerprint_; }
+
+ protected:
+  // Called once by the family's builder when the model is final: the fingerprint of the
+  // model and of `config_bytes` (the family's serialized config section).
+  void SetFingerprint(const std::string& config_bytes) {
+    fingerprint_ = Fingerprint(config_bytes, ModelFingerprint(model()));
+  }
+
+ private:
+  uint64_t fingerprint_ = 0;
 };
 
 }  // namespace juggle

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/status_macros.h"
 #include "envs/soccer_juggle/reference_pose.h"
 
 namespace juggle::soccer_juggle {
@@ -22,8 +23,9 @@ double RotationSin2(const double* a, const double* b) {
 }  // namespace
 
 JuggleEnv::JuggleEnv(std::shared_ptr<const JuggleSpec> spec, Rng rng)
-    : spec_(std::move(spec)), model_(spec_->model()), data_(mj_makeData(model_)), rng_(rng) {
-  events_.reserve(8);
+    : spec_(std::move(spec)), model_(spec_->model()), data_(mj_makeData(model_)) {
+  s_.rng = rng;
+  s_.events.reserve(8);
   if (spec_->env().reference_feedforward() != 0) id_data_.reset(mj_makeData(model_));
 }
 
@@ -32,40 +34,57 @@ std::unique_ptr<Env> JuggleSpec::NewEnv(Rng rng) const {
       std::static_pointer_cast<const JuggleSpec>(shared_from_this()), rng);
 }
 
+std::unique_ptr<EnvSnapshot> JuggleEnv::Snapshot() const {
+  auto snapshot = std::make_unique<JuggleSnapshot>();
+  snapshot->spec_fingerprint = spec_->fingerprint();
+  snapshot->physics.Save(model_, data_.get());
+  snapshot->state = s_;
+  return snapshot;
+}
+
+absl::Status JuggleEnv::Restore(const EnvSnapshot& snapshot) {
+  RETURN_IF_ERROR(CheckSnapshotMatches(snapshot, spec_->family(), spec_->fingerprint()));
+  const auto* juggle = dynamic_cast<const JuggleSnapshot*>(&snapshot);
+  if (juggle == nullptr) return absl::InvalidArgumentError("not a soccer_juggle env snapshot");
+  juggle->physics.Restore(data_.get());
+  s_ = juggle->state;
+  return absl::OkStatus();
+}
+
 void JuggleEnv::Reset(const AdaptiveWalk& walk) {
-  events_.clear();
+  s_.events.clear();
   const config::StartVariation& start = spec_->env().start();
   if (start.recorded_start_fraction() > 0 && !recorded_starts_.empty() &&
-      rng_.Uniform() < start.recorded_start_fraction()) {
-    StartFrom(recorded_starts_[rng_.UniformInt(recorded_starts_.size())]);
+      s_.rng.Uniform() < start.recorded_start_fraction()) {
+    StartFrom(recorded_starts_[s_.rng.UniformInt(recorded_starts_.size())]);
     return;
   }
-  spec_->cursor().Reset(walk, &rng_, &cursor_);
+  spec_->cursor().Reset(walk, &s_.rng, &s_.cursor);
   PlaceAtReference();
 }
 
-JuggleEnv::Snapshot JuggleEnv::TakeSnapshot() const {
-  Snapshot s;
+JuggleEnv::RecordedStart JuggleEnv::TakeRecordedStart() const {
+  RecordedStart s;
   s.qpos.assign(data_->qpos, data_->qpos + model_->nq);
   s.qvel.assign(data_->qvel, data_->qvel + model_->nv);
-  s.cursor = cursor_;
+  s.cursor = s_.cursor;
   return s;
 }
 
-void JuggleEnv::StartFrom(const Snapshot& s) {
-  steps_ = 0;
-  kick_touched_ = kick_rewarded_ = false;
+void JuggleEnv::StartFrom(const RecordedStart& s) {
+  s_.steps = 0;
+  s_.kick_touched = s_.kick_rewarded = false;
   candidate_.reset();
   mj_resetData(model_, data_.get());
   mju_copy(data_->qpos, s.qpos.data(), model_->nq);
   mju_copy(data_->qvel, s.qvel.data(), model_->nv);
-  cursor_ = s.cursor;
-  cursor_.entered_by = -1;  // the episode's first node
-  cursor_.completions = 0;
-  cursor_.juggles = 0;
-  swing_adjust_ = {};
-  ComputeReferencePose(*spec_, cursor_.current, cursor_.phase, &reference_, swing_adjust_);
-  target_ = reference_;
+  s_.cursor = s.cursor;
+  s_.cursor.entered_by = -1;  // the episode's first node
+  s_.cursor.completions = 0;
+  s_.cursor.juggles = 0;
+  s_.swing_adjust = {};
+  ComputeReferencePose(*spec_, s_.cursor.current, s_.cursor.phase, &s_.reference, s_.swing_adjust);
+  s_.target = s_.reference;
   PerturbStart(spec_->env().start());
   mj_forward(model_, data_.get());
 }
@@ -74,8 +93,8 @@ void JuggleEnv::RecordStartCandidates(bool entered_down, const StepResult& resul
   const config::StartVariation& start = spec_->env().start();
   if (start.recorded_start_fraction() <= 0) return;
   if (entered_down && result.outcome == Outcome::kRunning &&
-      cursor_.juggles >= start.recorded_start_min_juggles()) {
-    candidate_ = TakeSnapshot();
+      s_.cursor.juggles >= start.recorded_start_min_juggles()) {
+    candidate_ = TakeRecordedStart();
   }
   if (!result.terminated() || !candidate_) return;
   const size_t capacity = static_cast<size_t>(std::max(1, start.recorded_start_capacity()));
@@ -89,34 +108,34 @@ void JuggleEnv::RecordStartCandidates(bool entered_down, const StepResult& resul
 }
 
 bool JuggleEnv::ResetAt(int node, const AdaptiveWalk& walk) {
-  events_.clear();
-  spec_->cursor().ResetAt(node, walk, &rng_, &cursor_);
+  s_.events.clear();
+  spec_->cursor().ResetAt(node, walk, &s_.rng, &s_.cursor);
   PlaceAtReference();
   return true;
 }
 
 void JuggleEnv::PlaceAtReference() {
-  steps_ = 0;
-  kick_touched_ = kick_rewarded_ = false;
+  s_.steps = 0;
+  s_.kick_touched = s_.kick_rewarded = false;
   candidate_.reset();
   mj_resetData(model_, data_.get());
   const config::StartVariation& start = spec_->env().start();
   // A random phase of the initial DOWN node: the fall is already under way.
   double fall_s = 0;
   if (start.random_phase_fraction() > 0 &&
-      spec_->graph().node(cursor_.current).stage == config::DOWN &&
-      rng_.Uniform() < start.random_phase_fraction()) {
-    cursor_.phase = rng_.Uniform(0, start.max_phase());
-    fall_s = cursor_.phase / cursor_.phase_speed * spec_->control_dt();
+      spec_->graph().node(s_.cursor.current).stage == config::DOWN &&
+      s_.rng.Uniform() < start.random_phase_fraction()) {
+    s_.cursor.phase = s_.rng.Uniform(0, start.max_phase());
+    fall_s = s_.cursor.phase / s_.cursor.phase_speed * spec_->control_dt();
   }
-  swing_adjust_ = {};
-  ComputeReferencePose(*spec_, cursor_.current, cursor_.phase, &reference_, swing_adjust_);
-  target_ = reference_;
-  mju_copy(data_->qpos, reference_.data(), kCharacterNq);
-  const BallReference ball = spec_->cursor().DesiredBall(cursor_, cursor_.phase);
+  s_.swing_adjust = {};
+  ComputeReferencePose(*spec_, s_.cursor.current, s_.cursor.phase, &s_.reference, s_.swing_adjust);
+  s_.target = s_.reference;
+  mju_copy(data_->qpos, s_.reference.data(), kCharacterNq);
+  const BallReference ball = spec_->cursor().DesiredBall(s_.cursor, s_.cursor.phase);
   double* ball_qpos = data_->qpos + spec_->ball_qpos();
-  ball_qpos[0] = reference_[0] + ball.x;
-  ball_qpos[1] = reference_[1] + ball.y;
+  ball_qpos[0] = s_.reference[0] + ball.x;
+  ball_qpos[1] = s_.reference[1] + ball.y;
   ball_qpos[2] = ball.z;
   ball_qpos[3] = 1;
   ball_qpos[4] = ball_qpos[5] = ball_qpos[6] = 0;
@@ -130,7 +149,7 @@ void JuggleEnv::PerturbStart(const config::StartVariation& start) {
   double* qpos = data_->qpos;
   double* qvel = data_->qvel;
   auto noise = [this](double amplitude) {
-    return amplitude > 0 ? rng_.Uniform(-amplitude, amplitude) : 0.0;
+    return amplitude > 0 ? s_.rng.Uniform(-amplitude, amplitude) : 0.0;
   };
   double* ball = qpos + spec_->ball_qpos();
   double* ball_vel = qvel + spec_->ball_dof();
@@ -153,7 +172,7 @@ double JuggleEnv::assist_strength() const {
   if (!spec_->env().has_ball_assist()) return 0;
   const config::BallAssist& a = spec_->env().ball_assist();
   if (a.anneal_iterations() <= 0) return 0;
-  return std::clamp(1.0 - static_cast<double>(policy_version_) / a.anneal_iterations(), 0.0, 1.0);
+  return std::clamp(1.0 - static_cast<double>(s_.policy_version) / a.anneal_iterations(), 0.0, 1.0);
 }
 
 void JuggleEnv::ApplyTorques(const double* feedforward, double phase) {
@@ -167,12 +186,12 @@ void JuggleEnv::ApplyTorques(const double* feedforward, double phase) {
     if (joint.dofs == 3) {
       // Stable PD: kp·(err − h·q̇); the damping kd·q̇ is the joint's implicit damping.
       double err[3];
-      mju_subQuat(err, target_.data() + joint.qpos_adr, qpos + joint.qpos_adr);
+      mju_subQuat(err, s_.target.data() + joint.qpos_adr, qpos + joint.qpos_adr);
       for (int d = 0; d < 3; ++d) {
         tau[dof + d] = joint.kp * (err[d] - h * qvel[dof + d]) + feedforward[dof + d];
       }
     } else {
-      const double err = target_[joint.qpos_adr] - qpos[joint.qpos_adr];
+      const double err = s_.target[joint.qpos_adr] - qpos[joint.qpos_adr];
       tau[dof] = joint.kp * (err - h * qvel[dof]) + feedforward[dof];
     }
   }
@@ -185,14 +204,14 @@ void JuggleEnv::ApplyTorques(const double* feedforward, double phase) {
     const config::BallAssist& a = spec_->env().ball_assist();
     const double* ball = data_->qpos + spec_->ball_qpos();
     const double* v = data_->qvel + spec_->ball_dof();
-    const BallReference ball_ref = spec_->cursor().DesiredBall(cursor_, phase);
+    const BallReference ball_ref = spec_->cursor().DesiredBall(s_.cursor, phase);
     const double target[3] = {qpos[0] + ball_ref.x, qpos[1] + ball_ref.y, ball_ref.z};
     // Horizontal: spring and damper (the reference's horizontal velocity is the root's, ~0).
     // Vertical: spring and damper on the errors from the reference flight's height and
     // vertical velocity, so a free ball on its reference parabola feels nothing.
     for (int c = 0; c < 2; ++c) xfrc[c] += strength * (-a.kp() * (ball[c] - target[c]) - a.kd() * v[c]);
     if (a.vertical()) {
-      const double vz_ref = spec_->cursor().DesiredBallVelocity(cursor_, phase).z;
+      const double vz_ref = spec_->cursor().DesiredBallVelocity(s_.cursor, phase).z;
       xfrc[2] += strength * (-a.kp() * (ball[2] - target[2]) - a.kd() * (v[2] - vz_ref));
     }
   }
@@ -204,7 +223,7 @@ void JuggleEnv::AddReferenceFeedforward(double phase, double* feedforward) {
   constexpr double kLift = 100;  // m
   const int nq = model_->nq, nv = model_->nv;
   const double dt = 0.5 * spec_->control_dt();
-  const double dphase = 0.5 * cursor_.phase_speed;
+  const double dphase = 0.5 * s_.cursor.phase_speed;
   mjData* d = id_data_.get();
   mjMARKSTACK;
   mjtNum* q_minus = mj_stackAlloc(d, nq);
@@ -217,10 +236,10 @@ void JuggleEnv::AddReferenceFeedforward(double phase, double* feedforward) {
     mju_copy(qpos, p.data(), kCharacterNq);
     qpos[2] += kLift;
   };
-  load(reference_, d->qpos);
-  ComputeReferencePose(*spec_, cursor_.current, phase - dphase, &pose, swing_adjust_);
+  load(s_.reference, d->qpos);
+  ComputeReferencePose(*spec_, s_.cursor.current, phase - dphase, &pose, s_.swing_adjust);
   load(pose, q_minus);
-  ComputeReferencePose(*spec_, cursor_.current, phase + dphase, &pose, swing_adjust_);
+  ComputeReferencePose(*spec_, s_.cursor.current, phase + dphase, &pose, s_.swing_adjust);
   load(pose, q_plus);
   mj_differentiatePos(model_, v_minus, dt, q_minus, d->qpos);
   mj_differentiatePos(model_, v_plus, dt, d->qpos, q_plus);
@@ -247,7 +266,7 @@ void JuggleEnv::AddReferenceFeedforward(double phase, double* feedforward) {
 
 void JuggleEnv::AddStanceBalance(double* feedforward) {
   const config::StanceBalance& b = spec_->env().stance_balance();
-  const config::ReferencePose& ref = spec_->graph().node(cursor_.current).spec.pose();
+  const config::ReferencePose& ref = spec_->graph().node(s_.cursor.current).spec.pose();
   if (!ref.has_leg_swing()) return;
   const bool kick_left = ref.leg_swing().side() == config::LEFT;
   const ActuatedJoint& hip = spec_->joint(kick_left ? kRightHip : kLeftHip);
@@ -297,8 +316,8 @@ bool JuggleEnv::Diverged() const {
 
 Outcome JuggleEnv::CheckBallContacts(double substep_phase) {
   const int ball_geom = spec_->ball_geom();
-  const NodeRuntime& rt = spec_->node_runtime(cursor_.current);
-  const config::NodeSpec& node = spec_->graph().node(cursor_.current).spec;
+  const NodeRuntime& rt = spec_->node_runtime(s_.cursor.current);
+  const config::NodeSpec& node = spec_->graph().node(s_.cursor.current).spec;
   const bool stall = node.stage() == config::STALL;
   const double ball_z = data_->qpos[spec_->ball_qpos() + 2];
   for (int i = 0; i < data_->ncon; ++i) {
@@ -307,8 +326,8 @@ Outcome JuggleEnv::CheckBallContacts(double substep_phase) {
     const int other = c.geom1 == ball_geom ? c.geom2 : c.geom1;
     const int body = model_->geom_bodyid[other];
     if (!rt.contact_allowed[body]) return kBadContact;
-    touched_this_step_ = true;
-    if (!stall && std::abs(spec_->cursor().SecondsFromContact(cursor_, substep_phase)) >
+    s_.touched_this_step = true;
+    if (!stall && std::abs(spec_->cursor().SecondsFromContact(s_.cursor, substep_phase)) >
                       node.contact_window_s() + 1e-9) {
       return kContactTiming;
     }
@@ -328,11 +347,11 @@ Outcome JuggleEnv::CheckTermination(const BallReference& ball_ref) const {
       ball[2] < term.min_ball_height()) {
     return kBallLost;
   }
-  const NodeRuntime& rt = spec_->node_runtime(cursor_.current);
-  if (rt.atw_foot_body >= 0 && !rt.atw_angle.empty() && cursor_.phase_speed > 0) {
-    const bool up = spec_->graph().node(cursor_.current).stage == config::UP;
-    const double local = (cursor_.phase - (up ? 0.5 : 0.0)) / 0.5;  // [0, 1] over the node
-    const double skip = rt.atw_skip_steps * cursor_.phase_speed / 0.5;
+  const NodeRuntime& rt = spec_->node_runtime(s_.cursor.current);
+  if (rt.atw_foot_body >= 0 && !rt.atw_angle.empty() && s_.cursor.phase_speed > 0) {
+    const bool up = spec_->graph().node(s_.cursor.current).stage == config::UP;
+    const double local = (s_.cursor.phase - (up ? 0.5 : 0.0)) / 0.5;  // [0, 1] over the node
+    const double skip = rt.atw_skip_steps * s_.cursor.phase_speed / 0.5;
     if (local > skip && local < 1.0 - skip) {
       const int bins = static_cast<int>(rt.atw_angle.size());
       const int bin = std::clamp(static_cast<int>(local * bins), 0, bins - 1);
@@ -362,15 +381,15 @@ float JuggleEnv::ComputeReward(const BallReference& ball_ref) const {
     const ActuatedJoint& joint = spec_->joint(j);
     const int adr = joint.qpos_adr;
     if (joint.dofs == 3) {
-      joint_err += RotationSin2(qpos + adr, reference_.data() + adr);
+      joint_err += RotationSin2(qpos + adr, s_.reference.data() + adr);
     } else {
-      const double d = qpos[adr] - reference_[adr];
+      const double d = qpos[adr] - s_.reference[adr];
       joint_err += d * d;
     }
   }
-  const double dz = qpos[2] - reference_[2];
+  const double dz = qpos[2] - s_.reference[2];
   const double pos_err = qvel[0] * qvel[0] + qvel[1] * qvel[1] + dz * dz;
-  const double ori_err = RotationSin2(qpos + 3, reference_.data() + 3);
+  const double ori_err = RotationSin2(qpos + 3, s_.reference.data() + 3);
   const double* ball = qpos + spec_->ball_qpos();
   const double bx = ball_ref.x - (ball[0] - qpos[0]);
   const double by = ball_ref.y - (ball[1] - qpos[1]);
@@ -385,8 +404,8 @@ float JuggleEnv::ComputeReward(const BallReference& ball_ref) const {
 
 void JuggleEnv::UpdateSwingAdjust() {
   if (!spec_->env().has_kick_feedback()) return;
-  const GraphNode& node = spec_->graph().node(cursor_.current);
-  if (node.stage != config::DOWN || kick_touched_ || !node.spec.pose().has_leg_swing()) return;
+  const GraphNode& node = spec_->graph().node(s_.cursor.current);
+  if (node.stage != config::DOWN || s_.kick_touched || !node.spec.pose().has_leg_swing()) return;
   const double* qpos = data_->qpos;
   const double* ball = qpos + spec_->ball_qpos();
   const double* ball_vel = data_->qvel + spec_->ball_dof();
@@ -397,28 +416,28 @@ void JuggleEnv::UpdateSwingAdjust() {
   const double t = (vz + std::sqrt(vz * vz + 2 * g * drop)) / g;  // free fall to the height
   const double ex = ball[0] + ball_vel[0] * t - qpos[0] - node.spec.ball_target().x();
   const double ey = ball[1] + ball_vel[1] * t - qpos[1] - node.spec.ball_target().y();
-  const double late = t + spec_->cursor().SecondsFromContact(cursor_, cursor_.phase);
+  const double late = t + spec_->cursor().SecondsFromContact(s_.cursor, s_.cursor.phase);
   const config::KickFeedback& f = spec_->env().kick_feedback();
   const bool left = node.spec.pose().leg_swing().side() == config::LEFT;
-  swing_adjust_.hip = f.hip_per_m() * ex;
-  swing_adjust_.knee = f.knee_per_m() * ex;
-  swing_adjust_.abduction = f.abduction_per_m() * ey * (left ? 1 : -1);
-  const double cycle_s = spec_->control_dt() / cursor_.phase_speed;
-  swing_adjust_.phase = -f.timing() * late / cycle_s;
+  s_.swing_adjust.hip = f.hip_per_m() * ex;
+  s_.swing_adjust.knee = f.knee_per_m() * ex;
+  s_.swing_adjust.abduction = f.abduction_per_m() * ey * (left ? 1 : -1);
+  const double cycle_s = spec_->control_dt() / s_.cursor.phase_speed;
+  s_.swing_adjust.phase = -f.timing() * late / cycle_s;
 }
 
 float JuggleEnv::KickReward() {
-  if (touched_this_step_) {
-    kick_touched_ = true;
+  if (s_.touched_this_step) {
+    s_.kick_touched = true;
     return 0;
   }
   const config::RewardConfig& w = spec_->env().reward();
   const double* ball = data_->qpos + spec_->ball_qpos();
   const double* ball_vel = data_->qvel + spec_->ball_dof();
-  if (!kick_touched_ || kick_rewarded_ || ball_vel[2] <= 0 || w.w_kick() == 0) return 0;
-  kick_rewarded_ = true;
+  if (!s_.kick_touched || s_.kick_rewarded || ball_vel[2] <= 0 || w.w_kick() == 0) return 0;
+  s_.kick_rewarded = true;
   // The DOWN node the ball is sent to: the next one after the current node.
-  const CursorState& c = cursor_;
+  const CursorState& c = s_.cursor;
   int target = c.next;
   if (spec_->graph().node(c.current).stage == config::DOWN) target = c.next_next;
   if (spec_->graph().node(target).stage != config::DOWN) return 0;  // stalls: no ballistic target
@@ -437,17 +456,17 @@ float JuggleEnv::KickReward() {
 }
 
 StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
-  events_.clear();
-  touched_this_step_ = false;
-  const double phase0 = cursor_.phase;
+  s_.events.clear();
+  s_.touched_this_step = false;
+  const double phase0 = s_.cursor.phase;
   UpdateSwingAdjust();
-  ComputeReferencePose(*spec_, cursor_.current, phase0, &reference_, swing_adjust_);
-  const BallReference ball_ref = spec_->cursor().DesiredBall(cursor_, phase0);
+  ComputeReferencePose(*spec_, s_.cursor.current, phase0, &s_.reference, s_.swing_adjust);
+  const BallReference ball_ref = spec_->cursor().DesiredBall(s_.cursor, phase0);
 
   double feedforward[kCharacterNv] = {0};
   const double unit = spec_->env().action_torque();
   const bool target_offsets = spec_->env().action_mode() == config::PD_TARGET_OFFSET;
-  target_ = reference_;
+  s_.target = s_.reference;
   for (int j = 0; j < kNumJoints; ++j) {
     const ActuatedJoint& joint = spec_->joint(j);
     double a[3];
@@ -460,9 +479,9 @@ StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
     // The same torque authority through the PD: offset = τ / kp.
     for (int d = 0; d < joint.dofs; ++d) a[d] /= joint.kp;
     if (joint.dofs == 3) {
-      mju_quatIntegrate(target_.data() + joint.qpos_adr, a, 1.0);
+      mju_quatIntegrate(s_.target.data() + joint.qpos_adr, a, 1.0);
     } else {
-      target_[joint.qpos_adr] += a[0];
+      s_.target[joint.qpos_adr] += a[0];
     }
   }
   if (id_data_ != nullptr) AddReferenceFeedforward(phase0, feedforward);
@@ -471,32 +490,32 @@ StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
   StepResult result;
   const int substeps = spec_->env().substeps();
   for (int k = 0; k < substeps && result.outcome == Outcome::kRunning; ++k) {
-    ApplyTorques(feedforward, phase0 + cursor_.phase_speed * k / substeps);
+    ApplyTorques(feedforward, phase0 + s_.cursor.phase_speed * k / substeps);
     for (int w : kWatchedWarnings) data_->warning[w].number = 0;
     mj_step(model_, data_.get());
     if (Diverged()) {
       result.outcome = Outcome::kDiverged;
       break;
     }
-    result.outcome = CheckBallContacts(phase0 + cursor_.phase_speed * (k + 1) / substeps);
+    result.outcome = CheckBallContacts(phase0 + s_.cursor.phase_speed * (k + 1) / substeps);
   }
 
   bool entered_down = false;
   if (result.outcome == Outcome::kRunning) {
-    const int before = cursor_.current;
-    spec_->cursor().Advance(walk, &rng_, &cursor_, &events_);
-    entered_down = cursor_.current != before &&
-                   spec_->graph().node(cursor_.current).stage == config::DOWN;
-    if (entered_down) kick_touched_ = kick_rewarded_ = false;  // a new cycle
+    const int before = s_.cursor.current;
+    spec_->cursor().Advance(walk, &s_.rng, &s_.cursor, &s_.events);
+    entered_down = s_.cursor.current != before &&
+                   spec_->graph().node(s_.cursor.current).stage == config::DOWN;
+    if (entered_down) s_.kick_touched = s_.kick_rewarded = false;  // a new cycle
     result.outcome = CheckTermination(ball_ref);
   }
   result.reward = result.outcome == Outcome::kDiverged ? 0.0f : ComputeReward(ball_ref);
   if (result.outcome == Outcome::kRunning) result.reward += KickReward();
-  ++steps_;
-  if (result.outcome == Outcome::kRunning && steps_ >= spec_->env().max_episode_steps()) {
+  ++s_.steps;
+  if (result.outcome == Outcome::kRunning && s_.steps >= spec_->env().max_episode_steps()) {
     result.outcome = Outcome::kTimeLimit;
   }
-  if (result.terminated()) spec_->cursor().Fail(cursor_, &events_);
+  if (result.terminated()) spec_->cursor().Fail(s_.cursor, &s_.events);
   RecordStartCandidates(entered_down, result);
   return result;
 }
@@ -520,25 +539,25 @@ void JuggleEnv::WriteObservation(float* obs) const {
   mju_rotVecQuat(world, qvel + 3, qpos + 3);  // root angular velocity: local -> world
   for (int c = 0; c < 3; ++c) obs[i++] = world[c];
   for (int v = 6; v < kCharacterNv; ++v) obs[i++] = qvel[v] / 10;
-  obs[i++] = cursor_.apex_height;  // the release's always-zero "speed" slot carries H here
+  obs[i++] = s_.cursor.apex_height;  // the release's always-zero "speed" slot carries H here
   const double* ball = qpos + spec_->ball_qpos();
   const double* ball_vel = qvel + spec_->ball_dof();
   for (int c = 0; c < 3; ++c) obs[i++] = ball[c] - qpos[c];
   for (int c = 0; c < 3; ++c) obs[i++] = ball_vel[c] / 10;
   mju_rotVecQuat(world, ball_vel + 3, ball + 3);
   for (int c = 0; c < 3; ++c) obs[i++] = world[c] / 10;
-  obs[i++] = cursor_.phase_speed * 15;  // = release's phase units (150 per cycle) / 10
-  obs[i++] = std::cos(2 * M_PI * cursor_.phase);
-  obs[i++] = std::sin(2 * M_PI * cursor_.phase);
+  obs[i++] = s_.cursor.phase_speed * 15;  // = release's phase units (150 per cycle) / 10
+  obs[i++] = std::cos(2 * M_PI * s_.cursor.phase);
+  obs[i++] = std::sin(2 * M_PI * s_.cursor.phase);
   const int n = spec_->graph().num_nodes();
   std::fill(obs + i, obs + i + 3 * n, 0.0f);
-  obs[i + cursor_.current] = 1;
-  obs[i + n + cursor_.next] = 1;
-  obs[i + 2 * n + cursor_.next_next] = 1;
+  obs[i + s_.cursor.current] = 1;
+  obs[i + n + s_.cursor.next] = 1;
+  obs[i + 2 * n + s_.cursor.next_next] = 1;
   if (spec_->env().ball_error_observation()) {
     i += 3 * n;
-    const BallReference ref = spec_->cursor().DesiredBall(cursor_, cursor_.phase);
-    const BallReference ref_vel = spec_->cursor().DesiredBallVelocity(cursor_, cursor_.phase);
+    const BallReference ref = spec_->cursor().DesiredBall(s_.cursor, s_.cursor.phase);
+    const BallReference ref_vel = spec_->cursor().DesiredBallVelocity(s_.cursor, s_.cursor.phase);
     obs[i++] = ball[0] - qpos[0] - ref.x;
     obs[i++] = ball[1] - qpos[1] - ref.y;
     obs[i++] = ball[2] - ref.z;
@@ -556,8 +575,8 @@ void JuggleEnv::WriteObservation(float* obs) const {
 }
 
 void JuggleEnv::AppendAnnotations(std::vector<double>* out) const {
-  out->push_back(cursor_.current);
-  out->push_back(cursor_.phase);
+  out->push_back(s_.cursor.current);
+  out->push_back(s_.cursor.phase);
 }
 
 }  // namespace juggle::soccer_juggle

@@ -22,12 +22,37 @@
 #include "envs/soccer_juggle/graph_cursor.h"
 #include "common/rng.h"
 #include "envs/env.h"
+#include "envs/env_snapshot.h"
 #include "envs/mujoco_model.h"
 #include "envs/soccer_juggle/outcomes.h"
 #include "envs/soccer_juggle/reference_pose.h"
 #include "envs/soccer_juggle/spec.h"
 
 namespace juggle::soccer_juggle {
+
+// The env's own variables of an episode (the physics is in its mjData). Copyable: a snapshot
+// is this plus the physics. The recorded-start ring (env.start) is not part of it: it only
+// chooses later episodes' starts.
+struct JuggleEnvState {
+  Rng rng{0};
+  CursorState cursor;
+  CharacterPose reference{};
+  CharacterPose target{};  // the PD target: the reference, moved by PD_TARGET_OFFSET actions
+  SwingAdjust swing_adjust;  // env.kick_feedback's change of the current leg swing
+  std::vector<EdgeEvent> events;
+  int steps = 0;
+  int64_t policy_version = 0;
+  // The current cycle's kick: the ball touched an allowed body, and the kick was rewarded.
+  bool kick_touched = false;
+  bool kick_rewarded = false;
+  bool touched_this_step = false;
+};
+
+class JuggleSnapshot final : public EnvSnapshot {
+ public:
+  std::string family() const override { return "soccer_juggle"; }
+  JuggleEnvState state;
+};
 
 class JuggleEnv : public juggle::Env {
  public:
@@ -49,26 +74,30 @@ class JuggleEnv : public juggle::Env {
   // Observation of the current state. REQUIRES: `obs` holds spec().obs_dim() floats.
   void WriteObservation(float* obs) const override;
 
-  const std::vector<EdgeEvent>& events() const override { return events_; }
-  const CursorState& cursor() const { return cursor_; }
+  const std::vector<EdgeEvent>& events() const override { return s_.events; }
+  const CursorState& cursor() const { return s_.cursor; }
   const JuggleSpec& spec() const { return *spec_; }
-  int steps() const override { return steps_; }
-  int node() const override { return cursor_.current; }
-  int completions() const override { return cursor_.completions; }
+  int steps() const override { return s_.steps; }
+  int node() const override { return s_.cursor.current; }
+  int completions() const override { return s_.cursor.completions; }
   // Completed UP and STALL nodes: touches that sent the ball on to the next node's apex (or held
   // it through a stall step).
-  int juggles() const override { return cursor_.juggles; }
+  int juggles() const override { return s_.cursor.juggles; }
   // Simulator state, for tests and tools (render, record). Mutating it is the caller's risk.
   mjData* data() override { return data_.get(); }
   const mjData* data() const override { return data_.get(); }
   // Anneals env().ball_assist().
-  void SetPolicyVersion(int64_t version) override { policy_version_ = version; }
+  void SetPolicyVersion(int64_t version) override { s_.policy_version = version; }
   // The ball assist's strength now, in [0, 1] (0 without an assist).
   double assist_strength() const;
   // node, phase (JuggleSpec::annotation_channels).
   void AppendAnnotations(std::vector<double>* out) const override;
+  // The episode's exact state; Restore continues it bit for bit (envs/env_snapshot.h).
+  std::unique_ptr<EnvSnapshot> Snapshot() const override;
+  // INVALID_ARGUMENT (nothing changed) for a snapshot of another family, model or config.
+  absl::Status Restore(const EnvSnapshot& snapshot) override;
   // Reference pose the PD tracked during the last step (or set at reset).
-  const CharacterPose& reference_pose() const { return reference_; }
+  const CharacterPose& reference_pose() const { return s_.reference; }
 
  private:
   // PD + feed-forward torques and the external forces on the ball (ball_force, the assist
@@ -78,14 +107,14 @@ class JuggleEnv : public juggle::Env {
   void AddReferenceFeedforward(double phase, double* feedforward);
   // Adds env.stance_balance's torques on the stance leg of a leg-swing node.
   void AddStanceBalance(double* feedforward);
-  // Also notes an allowed touch of the ball in touched_this_step_.
+  // Also notes an allowed touch of the ball in s_.touched_this_step.
   Outcome CheckBallContacts(double substep_phase);
   Outcome CheckTermination(const BallReference& ball_ref) const;
   float ComputeReward(const BallReference& ball_ref) const;
   // reward.w_kick's one-time reward when the ball has just left the foot going up (0 otherwise);
   // tracks the kick of the current cycle.
   float KickReward();
-  // env.kick_feedback: recomputes swing_adjust_ from the ball's free flight while the current
+  // env.kick_feedback: recomputes s_.swing_adjust from the ball's free flight while the current
   // leg-swing DOWN node has not touched the ball; holds it otherwise.
   void UpdateSwingAdjust();
   bool Diverged() const;
@@ -96,13 +125,13 @@ class JuggleEnv : public juggle::Env {
   // Adds env().start()'s noise to the ball and the actuated joints.
   void PerturbStart(const config::StartVariation& start);
   // Recorded starts (env().start().recorded_start_fraction): a state to start from.
-  struct Snapshot {
+  struct RecordedStart {
     std::vector<double> qpos, qvel;
     CursorState cursor;
   };
-  Snapshot TakeSnapshot() const;
+  RecordedStart TakeRecordedStart() const;
   // Starts the episode from `s` (steps, juggles and the kick restart from zero).
-  void StartFrom(const Snapshot& s);
+  void StartFrom(const RecordedStart& s);
   // Keeps a snapshot at the start of each DOWN node (after enough juggles); when the episode
   // fails, its last one joins the recorded starts.
   void RecordStartCandidates(bool entered_down, const StepResult& result);
@@ -111,23 +140,12 @@ class JuggleEnv : public juggle::Env {
   const mjModel* model_;
   MjDataPtr data_;
   MjDataPtr id_data_;  // scratch for AddReferenceFeedforward; null when it is off
-  Rng rng_;
-  CursorState cursor_;
-  CharacterPose reference_{};
-  CharacterPose target_{};  // the PD target: the reference, moved by PD_TARGET_OFFSET actions
-  SwingAdjust swing_adjust_;  // env.kick_feedback's change of the current leg swing
-  std::vector<EdgeEvent> events_;
-  int steps_ = 0;
-  int64_t policy_version_ = 0;
-  // The current cycle's kick: the ball touched an allowed body, and the kick was rewarded.
-  bool kick_touched_ = false;
-  bool kick_rewarded_ = false;
-  bool touched_this_step_ = false;
+  // Everything of the episode beside the physics: what a snapshot copies.
+  JuggleEnvState s_;
   // Recorded starts: the latest candidate of this episode and the ring of failed ones.
-  std::optional<Snapshot> candidate_;
-  std::vector<Snapshot> recorded_starts_;
+  std::optional<RecordedStart> candidate_;
+  std::vector<RecordedStart> recorded_starts_;
   size_t next_recorded_ = 0;
-  int warning_count_ = 0;   // sum of the watched MuJoCo warning counters at the last check
 };
 
 }  // namespace juggle::soccer_juggle

@@ -122,6 +122,7 @@ absl::StatusOr<std::shared_ptr<const JuggleSpec>> JuggleSpec::Build(const Loaded
   RETURN_IF_ERROR(JuggleSpecBuilder::ResolveJoints(spec.get()));
   RETURN_IF_ERROR(JuggleSpecBuilder::ResolveRestPose(spec.get()));
   RETURN_IF_ERROR(JuggleSpecBuilder::ResolveNodes(spec.get()));
+  spec->SetFingerprint(config.run.soccer_juggle().SerializeAsString());
   return std::shared_ptr<const JuggleSpec>(std::move(spec));
 }
 

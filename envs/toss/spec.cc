@@ -43,6 +43,7 @@ absl::StatusOr<std::shared_ptr<const TossSpec>> TossSpec::Build(const LoadedConf
                                                                 MjModelPtr model) {
   std::shared_ptr<TossSpec> spec(new TossSpec(config, std::move(model)));
   RETURN_IF_ERROR(spec->Resolve());
+  spec->SetFingerprint(config.run.toss().SerializeAsString());
   return std::shared_ptr<const TossSpec>(std::move(spec));
 }
 

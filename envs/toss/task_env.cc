@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/status_macros.h"
 #include "envs/toss/outcomes.h"
 #include "envs/toss/reward.h"
 
@@ -10,20 +11,41 @@ namespace juggle::toss {
 
 TossTaskEnv::TossTaskEnv(std::shared_ptr<const TossSpec> spec, Rng rng, Hand hand)
     : spec_(std::move(spec)),
-      world_(spec_),
-      rng_(rng),
-      hand_(hand),
-      mirror_(TossSpec::MirrorSign(hand)) {}
+      world_(spec_) {
+  s_.rng = rng;
+  s_.hand = hand;
+  s_.mirror = TossSpec::MirrorSign(hand);
+}
+
+std::unique_ptr<EnvSnapshot> TossTaskEnv::Snapshot() const {
+  auto snapshot = std::make_unique<TossTaskSnapshot>();
+  snapshot->spec_fingerprint = spec_->fingerprint();
+  world_.Save(&snapshot->world);
+  snapshot->state = s_;
+  return snapshot;
+}
+
+absl::Status TossTaskEnv::Restore(const EnvSnapshot& snapshot) {
+  RETURN_IF_ERROR(CheckSnapshotMatches(snapshot, spec_->family(), spec_->fingerprint()));
+  const auto* task = dynamic_cast<const TossTaskSnapshot*>(&snapshot);
+  if (task == nullptr) {
+    return absl::InvalidArgumentError(
+        "the snapshot is of another kind of toss env than the single-arm task env");
+  }
+  world_.Restore(task->world);
+  s_ = task->state;
+  return absl::OkStatus();
+}
 
 void TossTaskEnv::Reset(const AdaptiveWalk&) {
-  steps_ = 0;
-  completions_ = 0;
-  released_ = false;
+  s_.steps = 0;
+  s_.completions = 0;
+  s_.released = false;
   const config::TossConfig& t = spec_->toss();
-  world_.Reset(&rng_, t.start_noise(),
+  world_.Reset(&s_.rng, t.start_noise(),
                t.has_start_speed_noise() ? t.start_speed_noise() : 10 * t.start_noise());
   // No draw without recorded states: episodes of configs without them stay as they were.
-  if (t.start_state_size() > 0 && rng_.Uniform() < t.recorded_start_fraction()) {
+  if (t.start_state_size() > 0 && s_.rng.Uniform() < t.recorded_start_fraction()) {
     StartFromRecordedState();
   }
   if (t.task() == config::THROW) {
@@ -36,14 +58,14 @@ void TossTaskEnv::Reset(const AdaptiveWalk&) {
 void TossTaskEnv::StartFromRecordedState() {
   const config::TossConfig& t = spec_->toss();
   const config::TossArmState& recorded = t.start_state(
-      static_cast<int>(rng_.UniformInt(static_cast<uint64_t>(t.start_state_size()))));
+      static_cast<int>(s_.rng.UniformInt(static_cast<uint64_t>(t.start_state_size()))));
   const double noise = t.recorded_start_noise();
   TossArmState state;
   for (int j = 0; j < kTossJoints; ++j) {
-    state.angle[j] = recorded.angle(j) + rng_.Uniform(-noise, noise);
-    state.speed[j] = recorded.speed(j) + rng_.Uniform(-10 * noise, 10 * noise);
+    state.angle[j] = recorded.angle(j) + s_.rng.Uniform(-noise, noise);
+    state.speed[j] = recorded.speed(j) + s_.rng.Uniform(-10 * noise, 10 * noise);
   }
-  world_.SetArmState(hand_, state);
+  world_.SetArmState(s_.hand, state);
 }
 
 int TossTaskEnv::SampleThrowValue() {
@@ -53,7 +75,7 @@ int TossTaskEnv::SampleThrowValue() {
   for (int n = t.min_throw(); n <= t.max_throw(); ++n) {
     if (FlightTimeEq1(n, spec_->timing()) > 0) values.push_back(n);
   }
-  const int i = std::min(static_cast<int>(rng_.Uniform() * values.size()),
+  const int i = std::min(static_cast<int>(s_.rng.Uniform() * values.size()),
                          static_cast<int>(values.size()) - 1);
   return values[i];
 }
@@ -64,38 +86,38 @@ void TossTaskEnv::ResetCatch() {
   // Everything in the right arm's frame first, then mirrored into the world.
   const int n = SampleThrowValue();
   const double flight =
-      FlightTimeEq1(n, spec_->timing()) * (1 + rng_.Uniform(-t.flight_jitter(), t.flight_jitter()));
+      FlightTimeEq1(n, spec_->timing()) * (1 + s_.rng.Uniform(-t.flight_jitter(), t.flight_jitter()));
   const double origin_x = n % 2 == 1 ? -t.hand_x() : t.hand_x();  // odd throws cross
-  const double land_x = t.hand_x() + rng_.Uniform(-t.landing_spread(), t.landing_spread());
+  const double land_x = t.hand_x() + s_.rng.Uniform(-t.landing_spread(), t.landing_spread());
   const double vx = (land_x - origin_x) / flight, vz = g * flight / 2;
-  const double arrival = std::min(rng_.Uniform(t.arrival_min_s(), t.arrival_max_s()), flight);
+  const double arrival = std::min(s_.rng.Uniform(t.arrival_min_s(), t.arrival_max_s()), flight);
   const double since_throw = flight - arrival;
   const Vec2 position{origin_x + vx * since_throw,
                       t.hand_z() + vz * since_throw - 0.5 * g * since_throw * since_throw};
   const Vec2 velocity{vx, vz - g * since_throw};
-  world_.SetFree(0, {mirror_ * position.x, position.z}, {mirror_ * velocity.x, velocity.z});
+  world_.SetFree(0, {s_.mirror * position.x, position.z}, {s_.mirror * velocity.x, velocity.z});
 }
 
 void TossTaskEnv::ResetThrow() {
   const config::TossConfig& t = spec_->toss();
-  throw_value_ = SampleThrowValue();
-  const ThrowTiming timing = ComputeThrowTiming(throw_value_, hand_ == Hand::kRight ? 0 : 1,
+  s_.throw_value = SampleThrowValue();
+  const ThrowTiming timing = ComputeThrowTiming(s_.throw_value, s_.hand == Hand::kRight ? 0 : 1,
                                                 spec_->timing());
-  target_velocity_ = {timing.v_x, timing.v_z};  // signed for this hand by the schedule
+  s_.target_velocity = {timing.v_x, timing.v_z};  // signed for this hand by the schedule
   const double t_throw = t.dwell_ratio() * t.hand_period_s() +
-                         rng_.Uniform(-t.catch_timing_jitter_s(), t.catch_timing_jitter_s());
-  release_step_ = std::max(1, static_cast<int>(std::lround(t_throw / spec_->dt())));
-  world_.Hold(0, hand_);
+                         s_.rng.Uniform(-t.catch_timing_jitter_s(), t.catch_timing_jitter_s());
+  s_.release_step = std::max(1, static_cast<int>(std::lround(t_throw / spec_->dt())));
+  world_.Hold(0, s_.hand);
 }
 
 StepResult TossTaskEnv::Step(const float* action, const AdaptiveWalk&) {
-  world_.SetAction(hand_, action);
-  world_.SetHomeTargets(hand_ == Hand::kRight ? Hand::kLeft : Hand::kRight);
+  world_.SetAction(s_.hand, action);
+  world_.SetHomeTargets(s_.hand == Hand::kRight ? Hand::kLeft : Hand::kRight);
   world_.Step();
-  ++steps_;
+  ++s_.steps;
   if (world_.diverged()) return {0.0f, Outcome::kDiverged};
   StepResult r = spec_->toss().task() == config::THROW ? StepThrow() : StepCatch();
-  if (r.outcome == Outcome::kRunning && steps_ >= spec_->toss().max_episode_steps()) {
+  if (r.outcome == Outcome::kRunning && s_.steps >= spec_->toss().max_episode_steps()) {
     r.outcome = Outcome::kTimeLimit;
   }
   return r;
@@ -104,13 +126,13 @@ StepResult TossTaskEnv::Step(const float* action, const AdaptiveWalk&) {
 StepResult TossTaskEnv::StepCatch() {
   const config::TossConfig& t = spec_->toss();
   StepResult r;
-  double reward = EffortReward(t, world_.Effort(hand_));
-  if (world_.CanCatch(0, hand_)) {
+  double reward = EffortReward(t, world_.Effort(s_.hand));
+  if (world_.CanCatch(0, s_.hand)) {
     const double height_error = std::abs(t.hand_z() - world_.ball_position(0).z);
-    world_.Hold(0, hand_);
+    world_.Hold(0, s_.hand);
     reward += CatchReward(t, height_error);
     r.outcome = kCaught;
-    completions_ = 1;
+    s_.completions = 1;
   } else if (world_.ball_position(0).z < t.drop_z()) {
     reward += DropReward(t);
     r.outcome = kDropped;
@@ -122,36 +144,36 @@ StepResult TossTaskEnv::StepCatch() {
 StepResult TossTaskEnv::StepThrow() {
   const config::TossConfig& t = spec_->toss();
   StepResult r;
-  double reward = EffortReward(t, world_.Effort(hand_));
-  if (steps_ >= release_step_) {
-    const Vec2 p = world_.palm_position(hand_);
+  double reward = EffortReward(t, world_.Effort(s_.hand));
+  if (s_.steps >= s_.release_step) {
+    const Vec2 p = world_.palm_position(s_.hand);
     const Vec2 v = world_.Release(0);
-    const Vec2 dp{p.x - spec_->home_x(hand_), p.z - spec_->home_z()};
-    const Vec2 dv{v.x - target_velocity_.x, v.z - target_velocity_.z};
-    release_position_error_ = std::hypot(dp.x, dp.z);
-    release_velocity_error_ = std::hypot(dv.x, dv.z);
+    const Vec2 dp{p.x - spec_->home_x(s_.hand), p.z - spec_->home_z()};
+    const Vec2 dv{v.x - s_.target_velocity.x, v.z - s_.target_velocity.z};
+    s_.release_position_error = std::hypot(dp.x, dp.z);
+    s_.release_velocity_error = std::hypot(dv.x, dv.z);
     reward += ReleaseReward(t, dp, dv);
-    if (IsGoodThrow(*spec_, hand_, throw_value_, p, v)) completions_ = 1;
+    if (IsGoodThrow(*spec_, s_.hand, s_.throw_value, p, v)) s_.completions = 1;
     r.outcome = kReleased;
-    released_ = true;
+    s_.released = true;
   }
   r.reward = static_cast<float>(reward);
   return r;
 }
 
 void TossTaskEnv::WriteObservation(float* obs) const {
-  world_.WriteArmObservation(hand_, 0, obs);
+  world_.WriteArmObservation(s_.hand, 0, obs);
   if (spec_->toss().task() == config::THROW) {
-    obs[kTossCatchObs] = static_cast<float>((release_step_ - steps_) * spec_->dt());
-    obs[kTossCatchObs + 1] = static_cast<float>(mirror_ * target_velocity_.x);
-    obs[kTossCatchObs + 2] = static_cast<float>(target_velocity_.z);
+    obs[kTossCatchObs] = static_cast<float>((s_.release_step - s_.steps) * spec_->dt());
+    obs[kTossCatchObs + 1] = static_cast<float>(s_.mirror * s_.target_velocity.x);
+    obs[kTossCatchObs + 2] = static_cast<float>(s_.target_velocity.z);
   }
 }
 
 void TossTaskEnv::AppendEpisodeMetrics(std::vector<NamedValue>* out) const {
-  if (!released_) return;
-  out->push_back({"release_position_error", release_position_error_});
-  out->push_back({"release_velocity_error", release_velocity_error_});
+  if (!s_.released) return;
+  out->push_back({"release_position_error", s_.release_position_error});
+  out->push_back({"release_velocity_error", s_.release_velocity_error});
 }
 
 }  // namespace juggle::toss

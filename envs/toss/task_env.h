@@ -25,6 +25,28 @@
 
 namespace juggle::toss {
 
+// The task env's own variables of an episode (the world's are in TossWorld::Snapshot).
+struct TossTaskState {
+  Rng rng{0};
+  Hand hand = Hand::kRight;
+  double mirror = 1;
+  int steps = 0;
+  int completions = 0;
+  // THROW task.
+  int throw_value = 0;
+  int release_step = 0;
+  bool released = false;  // this episode ended in a release
+  Vec2 target_velocity;
+  double release_velocity_error = 0, release_position_error = 0;
+};
+
+class TossTaskSnapshot final : public EnvSnapshot {
+ public:
+  std::string family() const override { return "toss"; }
+  TossWorld::Snapshot world;
+  TossTaskState state;
+};
+
 class TossTaskEnv : public juggle::Env {
  public:
   TossTaskEnv(std::shared_ptr<const TossSpec> spec, Rng rng, Hand hand = Hand::kRight);
@@ -32,20 +54,24 @@ class TossTaskEnv : public juggle::Env {
   void Reset(const AdaptiveWalk& walk) override;
   StepResult Step(const float* action, const AdaptiveWalk& walk) override;
   void WriteObservation(float* obs) const override;
-  int steps() const override { return steps_; }
-  int completions() const override { return completions_; }
+  int steps() const override { return s_.steps; }
+  int completions() const override { return s_.completions; }
   mjData* data() override { return world_.data(); }
   const mjData* data() const override { return world_.data(); }
   // THROW: release_position_error and release_velocity_error of the episode's release.
   void AppendEpisodeMetrics(std::vector<NamedValue>* out) const override;
+  // The episode's exact state; Restore continues it bit for bit (envs/env_snapshot.h). A
+  // snapshot of the in-loop env (TossLoopEnv) is refused.
+  std::unique_ptr<EnvSnapshot> Snapshot() const override;
+  absl::Status Restore(const EnvSnapshot& snapshot) override;
 
   const TossWorld& world() const { return world_; }
   // THROW: the throw value asked for, the desired release velocity (world frame) and the last
   // release's velocity error |v̄ − v| and position error |p̄ − p| (m/s, m).
-  int throw_value() const { return throw_value_; }
-  Vec2 target_velocity() const { return target_velocity_; }
-  double release_velocity_error() const { return release_velocity_error_; }
-  double release_position_error() const { return release_position_error_; }
+  int throw_value() const { return s_.throw_value; }
+  Vec2 target_velocity() const { return s_.target_velocity; }
+  double release_velocity_error() const { return s_.release_velocity_error; }
+  double release_position_error() const { return s_.release_position_error; }
 
  private:
   // The acting arm from one of the config's recorded start states, perturbed.
@@ -58,17 +84,7 @@ class TossTaskEnv : public juggle::Env {
 
   std::shared_ptr<const TossSpec> spec_;
   TossWorld world_;
-  Rng rng_;
-  Hand hand_;
-  double mirror_;
-  int steps_ = 0;
-  int completions_ = 0;
-  // THROW task.
-  int throw_value_ = 0;
-  int release_step_ = 0;
-  bool released_ = false;  // this episode ended in a release
-  Vec2 target_velocity_;
-  double release_velocity_error_ = 0, release_position_error_ = 0;
+  TossTaskState s_;
 };
 
 }  // namespace juggle::toss

@@ -240,4 +240,20 @@ bool IsGoodThrow(const TossSpec& spec, Hand thrower, int value, Vec2 position, V
          std::abs(landing.time - FlightTimeEq1(value, spec.timing())) < 0.1;
 }
 
+void TossWorld::Save(Snapshot* out) const {
+  out->physics.Save(model_, data_.get());
+  out->balls = balls_;
+  out->target = target_;
+  out->prev_speed = prev_speed_;
+  out->diverged = diverged_;
+}
+
+void TossWorld::Restore(const Snapshot& s) {
+  s.physics.Restore(data_.get());
+  balls_ = s.balls;
+  target_ = s.target;
+  prev_speed_ = s.prev_speed;
+  diverged_ = s.diverged;
+}
+
 }  // namespace juggle::toss

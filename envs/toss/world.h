@@ -15,6 +15,7 @@
 #include <mujoco/mujoco.h>
 
 #include "common/rng.h"
+#include "envs/env_snapshot.h"
 #include "envs/mujoco_model.h"
 #include "envs/toss/spec.h"
 
@@ -32,7 +33,25 @@ struct TossArmState {
 };
 
 class TossWorld {
+ private:
+  struct BallState {
+    BallMode mode = BallMode::kParked;
+    Hand holder = Hand::kRight;
+  };
+
  public:
+  // Everything of the world that the next Step reads (envs/env_snapshot.h).
+  struct Snapshot {
+    PhysicsSnapshot physics;
+    std::array<BallState, kTossBalls> balls{};
+    std::array<std::array<double, kTossJoints>, 2> target{};
+    std::array<std::array<double, kTossJoints>, 2> prev_speed{};
+    bool diverged = false;
+  };
+  void Save(Snapshot* out) const;
+  // REQUIRES: `s` was saved from a world of an equal spec.
+  void Restore(const Snapshot& s);
+
   explicit TossWorld(std::shared_ptr<const TossSpec> spec);
   TossWorld(const TossWorld&) = delete;
   TossWorld& operator=(const TossWorld&) = delete;
@@ -92,10 +111,6 @@ class TossWorld {
   const mjData* data() const { return data_.get(); }
 
  private:
-  struct BallState {
-    BallMode mode = BallMode::kParked;
-    Hand holder = Hand::kRight;
-  };
   void PlaceBall(int ball, Vec2 position, Vec2 velocity);
   void FollowPalms();
 

@@ -2,7 +2,10 @@
 // zero-action baseline, for a set of seeded episodes side by side, and reports the juggles
 // distribution and how episodes ended, the per-node table, optionally the force sweep
 // (eval/tables.h) and JSON lines. The last line is key=value pairs (eval/summary.h).
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
+#include <functional>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -18,6 +21,7 @@
 #include "eval/episode_runner.h"
 #include "eval/summary.h"
 #include "eval/tables.h"
+#include "planner/planner_controller.h"
 
 namespace juggle {
 namespace {
@@ -30,6 +34,9 @@ struct EvalFlags {
   std::string policy;
   std::string config;
   bool zero_action = false;
+  std::string controller;  // "", "policy", "zero" or "planner"
+  bool planner_trace = false;
+  std::string planner_set;  // text-format PlannerConfig fields over the config's
   int episodes = 50;
   int64_t seed = kHeldOutSeed;
   double max_seconds = 60;
@@ -40,6 +47,45 @@ struct EvalFlags {
   double force_max = 5.0;
   double min_median_juggles = 10;
 };
+
+// A progress line at most every 10 s of wall time: the planner is far slower than real time.
+// With `trace`, a line per re-plan.
+std::function<void(int, const planner::ReplanReport&)> PlannerProgress(
+    std::shared_ptr<const EnvSpec> spec, int episodes,
+    std::chrono::steady_clock::time_point started, bool trace) {
+  auto last = std::make_shared<std::chrono::steady_clock::time_point>(started);
+  return [spec, episodes, started, last, trace](int slot, const planner::ReplanReport& r) {
+    if (trace) {
+      const planner::KickOutcome& k = r.predicted_kick;
+      std::printf("  re-plan slot %d step %d: cost %.4g -> %.4g (%d rollouts)", slot,
+                  r.env_step, r.incumbent_cost, r.best_cost, r.evaluations);
+      if (r.predicts_failure) {
+        std::printf(" ends %s at step %d",
+                    spec->outcome_names()[static_cast<int>(r.predicted_end)].c_str(),
+                    r.predicted_end_step);
+      }
+      if (!r.kick.empty()) {
+        std::printf("  vars %+.0f ms %+.2f %+.2f %+.2f %+.2f", r.kick[0] * 1000, r.kick[1],
+                    r.kick[2], r.kick[3], r.kick[4]);
+      }
+      if (k.valid) {
+        std::printf("  kick: timing %+.0f ms, landing %+.3f %+.3f m, apex %+.3f m",
+                    k.timing * 1000, k.dx, k.dy, k.apex);
+      }
+      std::printf("\n");
+      return;
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (now - *last < std::chrono::seconds(10)) return;
+    *last = now;
+    std::printf("  planner: %.0f s wall, episode slot %d/%d at %.2f s simulated, last re-plan "
+                "cost %.3g -> %.3g%s\n",
+                std::chrono::duration<double>(now - started).count(), slot + 1, episodes,
+                r.env_step * spec->control_dt(), r.incumbent_cost, r.best_cost,
+                r.predicts_failure ? " (predicts a failure)" : "");
+    std::fflush(stdout);
+  };
+}
 
 // Writes `lines` (JSON objects) to `path`, one per line.
 absl::Status WriteJsonLines(const std::string& path, const std::vector<std::string>& lines) {
@@ -54,23 +100,41 @@ absl::Status WriteJsonLines(const std::string& path, const std::vector<std::stri
   return absl::OkStatus();
 }
 
-int Evaluate(const EvalFlags& f) {
-  if (f.policy.empty() == !f.zero_action) {
-    return UsageError("give exactly one of --policy=PATH and --zero-action");
+int Evaluate(EvalFlags f) {
+  if (f.zero_action) {
+    if (!f.controller.empty() && f.controller != "zero") {
+      return UsageError("--zero-action and --controller=" + f.controller + " exclude each other");
+    }
+    f.controller = "zero";
+  }
+  if (f.controller.empty() && !f.policy.empty()) f.controller = "policy";
+  if (f.controller.empty()) {
+    return UsageError("give --policy=PATH, --zero-action or --controller=planner");
+  }
+  if ((f.controller == "policy") == f.policy.empty()) {
+    return UsageError(f.policy.empty() ? "--controller=policy needs --policy=PATH"
+                                       : "--policy needs --controller=policy (or none)");
   }
   std::optional<PolicySource> source;
   LoadedConfig config;
-  if (!f.zero_action) {
+  if (f.controller == "policy") {
     absl::StatusOr<PolicySource> loaded = LoadPolicySource(f.policy, f.config);
     if (!loaded.ok()) return Fail(loaded.status());
     source = std::move(*loaded);
     config = source->config;
     std::printf("policy %s\n", source->path.c_str());
   } else {
-    if (f.config.empty()) return UsageError("--zero-action needs --config");
+    if (f.config.empty()) return UsageError("--controller=" + f.controller + " needs --config");
     absl::StatusOr<LoadedConfig> loaded = LoadRunConfig(f.config);
     if (!loaded.ok()) return Fail(loaded.status());
     config = std::move(*loaded);
+  }
+  if (!f.planner_set.empty()) {
+    config::PlannerConfig changes;
+    absl::StatusOr<SourceLocator> parsed =
+        ParseTextMessage(f.planner_set, "--planner-set", &changes);
+    if (!parsed.ok()) return Fail(parsed.status());
+    config.run.mutable_planner()->MergeFrom(changes);
   }
   absl::StatusOr<const EnvFamily*> family = FamilyOf(config.run);
   if (!family.ok()) return Fail(family.status());
@@ -84,10 +148,24 @@ int Evaluate(const EvalFlags& f) {
   }
   std::unique_ptr<Controller> controller;
   PolicyController* policy_controller = nullptr;
+  planner::PlannerController* planner_controller = nullptr;
+  const auto started = std::chrono::steady_clock::now();
   if (source) {
     auto p = std::make_unique<PolicyController>(source->policy, /*keep_gates=*/true);
     policy_controller = p.get();
     controller = std::move(p);
+  } else if (f.controller == "planner") {
+    absl::StatusOr<std::unique_ptr<planner::PlannerController>> p =
+        planner::PlannerController::Create(*spec, config);
+    if (!p.ok()) return Fail(p.status());
+    planner_controller = p->get();
+    planner_controller->set_on_replan(PlannerProgress(*spec, f.episodes, started, f.planner_trace));
+    controller = std::move(*p);
+    const config::PlannerConfig& pc = config.run.planner();
+    std::printf("planner: %d samples x %d iterations, horizon %d steps, re-plan every %d, "
+                "%d threads\n",
+                pc.samples(), pc.iterations(), pc.horizon_steps(), pc.replan_every(),
+                pc.threads());
   } else {
     controller = std::make_unique<ZeroController>((*spec)->act_dim());
   }
@@ -107,6 +185,17 @@ int Evaluate(const EvalFlags& f) {
       Summarize(report->episodes, (*spec)->control_dt(), (*spec)->outcome_names());
   std::string line = absl::StrCat("policy=", controller->name(), " seed=", f.seed,
                                   " max_seconds=", f.max_seconds, " ", SummaryLine(summary));
+  if (planner_controller != nullptr) {
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    const planner::PlannerTotals t = planner_controller->totals();
+    double sim_seconds = 0;
+    for (const EpisodeResult& e : report->episodes) sim_seconds += e.steps * (*spec)->control_dt();
+    absl::StrAppend(&line, absl::StrFormat(
+        " planner_replans=%d planner_rollouts=%d planner_rollout_steps=%d wall_s=%.1f "
+        "wall_s_per_sim_s=%.3f",
+        t.replans, t.rollouts, t.rollout_steps, wall, wall / std::max(sim_seconds, 1e-9)));
+  }
   if (policy_controller != nullptr && policy_controller->gates().rows() > 0) {
     const GateStatistics g = ComputeGateStatistics(policy_controller->gates());
     absl::StrAppend(&line, absl::StrFormat(" gate_specialization=%.3f gate_utilization=%.3f",
@@ -127,18 +216,27 @@ int Evaluate(const EvalFlags& f) {
     sweep.min_median_juggles = f.min_median_juggles;
     sweep.episodes = options;
     sweep.episodes.record = false;
-    // A controller of its own: the gate statistics above stay those of the plain evaluation.
-    std::unique_ptr<Controller> sweep_controller;
-    if (source) {
-      sweep_controller = std::make_unique<PolicyController>(source->policy);
-    } else {
-      sweep_controller = std::make_unique<ZeroController>((*spec)->act_dim());
-    }
+    // Controllers of their own: the gate statistics above stay those of the plain evaluation.
+    // The planner plans with each swept config, so its model includes the force.
+    const std::string kind = f.controller;
+    const std::shared_ptr<const EigenPolicy> policy = source ? source->policy : nullptr;
+    const ControllerFactory controllers =
+        [kind, policy](std::shared_ptr<const EnvSpec> s,
+                       const LoadedConfig& c) -> absl::StatusOr<std::unique_ptr<Controller>> {
+      if (kind == "policy") return std::make_unique<PolicyController>(policy);
+      if (kind == "planner") {
+        absl::StatusOr<std::unique_ptr<planner::PlannerController>> p =
+            planner::PlannerController::Create(s, c);
+        if (!p.ok()) return p.status();
+        return std::unique_ptr<Controller>(std::move(*p));
+      }
+      return std::make_unique<ZeroController>(s->act_dim());
+    };
     std::printf("force sweep: constant force on the ball, %zu magnitudes per direction, "
                 "%d episodes each, pass: median juggles >= %g\n",
                 sweep.magnitudes.size(), f.episodes, f.min_median_juggles);
     absl::StatusOr<ForceSweepReport> swept =
-        RunForceSweep(config, sweep_controller.get(), sweep, [](const std::string& l) {
+        RunForceSweep(config, controllers, sweep, [](const std::string& l) {
           std::printf("  %s\n", l.c_str());
           std::fflush(stdout);
         });
@@ -178,6 +276,16 @@ CommandBody AddEvalCommand(CLI::App* cmd) {
                   "run config (default: the one recorded with the policy; required with "
                   "--zero-action)");
   cmd->add_flag("--zero-action", f->zero_action, "evaluate the zero-action baseline instead");
+  cmd->add_option("--controller", f->controller,
+                  "what acts: policy (the --policy's mean action), zero (= --zero-action) or "
+                  "planner (model-predictive search with the config's planner settings, "
+                  "docs/planner.md)")
+      ->check(CLI::IsMember({"policy", "zero", "planner"}));
+  cmd->add_option("--planner-set", f->planner_set,
+                  "planner settings over the config's (text format, e.g. 'samples: 64 "
+                  "horizon_steps: 45 cost { kick: 20 }')");
+  cmd->add_flag("--planner-trace", f->planner_trace,
+                "print every re-plan: its cost and the kick it predicts");
   cmd->add_option("--episodes", f->episodes, "episodes, one per env seed")
       ->check(Between(1, 100000))
       ->capture_default_str();

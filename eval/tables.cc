@@ -100,8 +100,8 @@ std::string FormatNodeTable(const std::vector<NodeRow>& rows) {
 }
 
 absl::StatusOr<ForceSweepReport> RunForceSweep(
-    const LoadedConfig& config, Controller* controller, const ForceSweepOptions& o,
-    const std::function<void(const std::string&)>& progress) {
+    const LoadedConfig& config, const ControllerFactory& controllers,
+    const ForceSweepOptions& o, const std::function<void(const std::string&)>& progress) {
   if (o.magnitudes.empty()) return absl::InvalidArgumentError("the force sweep needs magnitudes");
   for (size_t i = 1; i < o.magnitudes.size(); ++i) {
     if (!(o.magnitudes[i] > o.magnitudes[i - 1])) {
@@ -119,7 +119,9 @@ absl::StatusOr<ForceSweepReport> RunForceSweep(
     if (absl::Status s = (*family)->SetConstantBallForce(force, &c.run); !s.ok()) return s;
     absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(c);
     if (!spec.ok()) return spec.status();
-    absl::StatusOr<EpisodeReport> report = RunEpisodes(*spec, controller, o.episodes);
+    absl::StatusOr<std::unique_ptr<Controller>> controller = controllers(*spec, c);
+    if (!controller.ok()) return controller.status();
+    absl::StatusOr<EpisodeReport> report = RunEpisodes(*spec, controller->get(), o.episodes);
     if (!report.ok()) return report.status();
     return Summarize(report->episodes, (*spec)->control_dt(), (*spec)->outcome_names());
   };

@@ -10,6 +10,7 @@
 
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -58,13 +59,18 @@ struct ForceSweepReport {
   std::map<std::string, std::string> unsupported;  // direction -> the family's reason
 };
 
+// Makes the controller that acts in the envs of `spec` (built from `config`, the swept config
+// with its force): a policy ignores both, the planner plans with them.
+using ControllerFactory = std::function<absl::StatusOr<std::unique_ptr<Controller>>(
+    std::shared_ptr<const EnvSpec> spec, const LoadedConfig& config)>;
+
 // Runs the sweep on `config` (already an evaluation config: ConfigureForEvaluation). The
 // zero force is run once and shared by every direction. `progress` (may be empty) receives a
 // line per row. Errors: INVALID_ARGUMENT for no magnitudes or descending ones; a config the
-// family cannot build.
+// family cannot build; the factory's.
 absl::StatusOr<ForceSweepReport> RunForceSweep(
-    const LoadedConfig& config, Controller* controller, const ForceSweepOptions& options,
-    const std::function<void(const std::string&)>& progress);
+    const LoadedConfig& config, const ControllerFactory& controllers,
+    const ForceSweepOptions& options, const std::function<void(const std::string&)>& progress);
 
 // JSON objects (one line each, no trailing newline) for the JSON-lines outputs.
 std::string SummaryJson(const EvalSummary& summary);

@@ -14,6 +14,14 @@
 namespace juggle {
 namespace {
 
+// The zero-action controller for every swept config.
+ControllerFactory ZeroControllers(int act_dim) {
+  return [act_dim](std::shared_ptr<const EnvSpec>, const LoadedConfig&)
+             -> absl::StatusOr<std::unique_ptr<Controller>> {
+    return std::make_unique<ZeroController>(act_dim);
+  };
+}
+
 using ::testing::HasSubstr;
 
 int ActDim(const LoadedConfig& config) {
@@ -100,14 +108,14 @@ TEST(TablesTest, FamiliesWithoutAGraphGetOneEpisodeRow) {
 
 TEST(TablesTest, TossSweepsHorizontalWindOnlyAndFindsTheLargestPassingForce) {
   const LoadedConfig config = EvalConfig("toss_catch", 1);
-  ZeroController zero(ActDim(config));
+  const ControllerFactory zero = ZeroControllers(ActDim(config));
   ForceSweepOptions o;
   o.magnitudes = {0, 0.5};
   o.min_median_juggles = 0;  // every force passes
   o.episodes.episodes = 2;
   std::vector<std::string> lines;
   absl::StatusOr<ForceSweepReport> r =
-      RunForceSweep(config, &zero, o, [&](const std::string& l) { lines.push_back(l); });
+      RunForceSweep(config, zero, o, [&](const std::string& l) { lines.push_back(l); });
   ASSERT_TRUE(r.ok()) << r.status();
   EXPECT_EQ(r->rows.size(), 4u);  // ±x × {0, 0.5}
   EXPECT_EQ(r->directions, (std::vector<std::string>{"+x", "-x"}));
@@ -118,7 +126,7 @@ TEST(TablesTest, TossSweepsHorizontalWindOnlyAndFindsTheLargestPassingForce) {
   EXPECT_EQ(lines.size(), 8u);
 
   o.min_median_juggles = 2;  // a catch episode has at most 1 juggle: nothing passes
-  r = RunForceSweep(config, &zero, o, nullptr);
+  r = RunForceSweep(config, zero, o, nullptr);
   ASSERT_TRUE(r.ok()) << r.status();
   EXPECT_EQ(r->max_force_n.at("+x"), -1);
   EXPECT_THAT(ForceRowJson(r->rows[1]),
@@ -138,10 +146,10 @@ TEST(TablesTest, SoccerForceHookSetsTheBallForce) {
 
 TEST(TablesTest, SweepRefusesDescendingMagnitudes) {
   const LoadedConfig config = EvalConfig("toss_catch", 1);
-  ZeroController zero(ActDim(config));
+  const ControllerFactory zero = ZeroControllers(ActDim(config));
   ForceSweepOptions o;
   o.magnitudes = {1, 0.5};
-  EXPECT_THAT(RunForceSweep(config, &zero, o, nullptr).status().message(),
+  EXPECT_THAT(RunForceSweep(config, zero, o, nullptr).status().message(),
               HasSubstr("ascending"));
 }
 

@@ -30,12 +30,13 @@ declare -A PROJECT=(
   [envs]="record common proto"
   [worker]="envs record common proto"
   [eval]="envs record common proto"
+  [planner]="eval envs record common proto"
   [learner]="eval envs record common proto"
   [render]="eval envs record common proto"
   [export]="envs record common proto"
-  [bench]="worker learner eval envs record common proto"
-  [app]="worker learner render export eval bench envs record common proto"
-  [tests]="worker learner render export eval envs record common proto"
+  [bench]="worker learner planner eval envs record common proto"
+  [app]="worker learner render export planner eval bench envs record common proto"
+  [tests]="worker learner render export planner eval envs record common proto"
 )
 # httplib: cpp-httplib, only common/http_server.cc (the one HTTP implementation; the learner and
 # tests reach HTTP through common/http_server.h, and juggle-worker never links it); grpc, only
@@ -46,6 +47,7 @@ declare -A LIBS=(
   [envs]="mujoco"
   [worker]="mujoco grpc"
   [eval]="mujoco"
+  [planner]="mujoco"
   [learner]="mujoco grpc torch"
   [render]="mujoco gl"
   [export]="mujoco"

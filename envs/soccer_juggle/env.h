@@ -96,6 +96,8 @@ class JuggleEnv : public juggle::Env {
   std::unique_ptr<EnvSnapshot> Snapshot() const override;
   // INVALID_ARGUMENT (nothing changed) for a snapshot of another family, model or config.
   absl::Status Restore(const EnvSnapshot& snapshot) override;
+  // The episode's own variables (cursor, kick flags, the kick feedback's swing change, ...).
+  const JuggleEnvState& state() const { return s_; }
   // Reference pose the PD tracked during the last step (or set at reset).
   const CharacterPose& reference_pose() const { return s_.reference; }
 

@@ -69,8 +69,8 @@ void LegSwingPose(const JuggleSpec& spec, const config::LegSwing& g, const Swing
     SetBallJointAxisRotation(spec, hip, kZ, hip_amplitude * s, pose);
   }
   SetHinge(spec, knee, -(g.knee_amplitude() + adjust.knee) * s, pose);
-  if (g.ankle_amplitude() != 0) {
-    SetBallJointAxisRotation(spec, ankle, kZ, g.ankle_amplitude() * s, pose);
+  if (const double ankle_amplitude = g.ankle_amplitude() + adjust.ankle; ankle_amplitude != 0) {
+    SetBallJointAxisRotation(spec, ankle, kZ, ankle_amplitude * s, pose);
   }
   if (g.stance_roll() != 0) {
     // Tilting the stance leg toward the kicking side moves the pelvis over the stance foot:

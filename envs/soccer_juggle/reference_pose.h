@@ -20,10 +20,11 @@ void SetHinge(const JuggleSpec& spec, JointId j, double angle, CharacterPose* po
 // The standing pose: root at (0, 0, height), upright-forward, every joint at the rest pose.
 CharacterPose StandingPose(const JuggleSpec& spec);
 
-// Ball-dependent changes of a leg swing (env.kick_feedback): added to the swing's hip flexion,
-// knee and hip abduction amplitudes (rad) and to its phase. Zero: the configured swing.
+// Ball-dependent changes of a leg swing (env.kick_feedback, the planner's kick variables):
+// added to the swing's hip flexion, knee, hip abduction and ankle amplitudes (rad) and to its
+// phase. Zero: the configured swing.
 struct SwingAdjust {
-  double hip = 0, knee = 0, abduction = 0, phase = 0;
+  double hip = 0, knee = 0, abduction = 0, phase = 0, ankle = 0;
 };
 
 // Writes the reference pose of `node` at phase φ into `pose` (root x, y relative to the

@@ -1,0 +1,34 @@
+// A ball in free flight under gravity alone (the models have no air drag): where and when it
+// comes down through a height, and its apex. Pure functions, allocation-free.
+#ifndef JUGGLE_ENVS_BALLISTIC_H_
+#define JUGGLE_ENVS_BALLISTIC_H_
+
+#include <algorithm>
+#include <cmath>
+
+namespace juggle {
+
+struct BallisticCrossing {
+  double t = 0;         // s from now (0 if the ball is already below the height)
+  double x = 0, y = 0;  // position at that time
+};
+
+// The descending crossing of height `h` by a ball at (x, y, z) with velocity (vx, vy, vz)
+// under gravity g > 0 (the later root of z + vz·t − g·t²/2 = h). A ball below h gives t = 0
+// at its current position.
+inline BallisticCrossing DescendingCrossing(const double pos[3], const double vel[3], double g,
+                                            double h) {
+  const double drop = pos[2] - h;
+  const double vz = vel[2];
+  const double t = drop <= 0 ? 0.0 : (vz + std::sqrt(vz * vz + 2 * g * drop)) / g;
+  return {t, pos[0] + vel[0] * t, pos[1] + vel[1] * t};
+}
+
+// The highest point of the flight: z + vz²/(2g) going up, z coming down.
+inline double ApexHeight(double z, double vz, double g) {
+  return vz > 0 ? z + vz * vz / (2 * g) : z;
+}
+
+}  // namespace juggle
+
+#endif  // JUGGLE_ENVS_BALLISTIC_H_

@@ -1,0 +1,93 @@
+#include "planner/cem_search.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace juggle {
+namespace {
+
+struct Scored {
+  std::vector<double> x;
+  double cost = 0;
+};
+
+void ClampInto(const SearchSpace& space, double* x) {
+  for (int d = 0; d < space.dim(); ++d) x[d] = std::clamp(x[d], space.lower[d], space.upper[d]);
+}
+
+}  // namespace
+
+CemResult MinimizeCem(const SearchSpace& space, const CemSettings& settings,
+                      const std::vector<std::vector<double>>& seeds, Rng* rng,
+                      const BatchCost& cost) {
+  const int dim = space.dim();
+  std::vector<double> mean = seeds.front();
+  mean.resize(dim, 0.0);
+  ClampInto(space, mean.data());
+  std::vector<double> sigma = space.sigma;
+  CemResult result;
+  std::vector<Scored> carried;
+  std::vector<double> batch;
+  std::vector<double> costs;
+  for (int it = 0; it < settings.iterations; ++it) {
+    // New candidates: the mean first (the incumbent in the first iteration), the other seeds
+    // in the first iteration, then samples.
+    const int fresh = std::max(1, settings.samples - static_cast<int>(carried.size()));
+    batch.assign(static_cast<size_t>(fresh) * dim, 0.0);
+    std::copy(mean.begin(), mean.end(), batch.begin());
+    int given = 1;
+    if (it == 0) {
+      for (size_t s = 1; s < seeds.size() && given < fresh; ++s, ++given) {
+        double* x = batch.data() + static_cast<size_t>(given) * dim;
+        std::copy_n(seeds[s].begin(), dim, x);
+        ClampInto(space, x);
+      }
+    }
+    for (int i = given; i < fresh; ++i) {
+      double* x = batch.data() + static_cast<size_t>(i) * dim;
+      for (int d = 0; d < dim; ++d) x[d] = mean[d] + sigma[d] * rng->Normal();
+      ClampInto(space, x);
+    }
+    costs.assign(fresh, 0.0);
+    cost(batch, fresh, &costs);
+    result.evaluations += fresh;
+    if (it == 0) {
+      result.incumbent_cost = costs[0];
+      result.best.assign(mean.begin(), mean.end());
+      result.best_cost = costs[0];
+    }
+    std::vector<Scored> pool = std::move(carried);
+    for (int i = 0; i < fresh; ++i) {
+      pool.push_back({std::vector<double>(batch.begin() + static_cast<size_t>(i) * dim,
+                                          batch.begin() + static_cast<size_t>(i + 1) * dim),
+                      costs[i]});
+    }
+    // Stable: ties keep the carried elites, then candidate order (determinism).
+    std::stable_sort(pool.begin(), pool.end(),
+                     [](const Scored& a, const Scored& b) { return a.cost < b.cost; });
+    if (pool.front().cost < result.best_cost) {
+      result.best = pool.front().x;
+      result.best_cost = pool.front().cost;
+    }
+    result.iteration_best.push_back(result.best_cost);
+    const int elites = std::clamp(
+        static_cast<int>(std::lround(settings.elite_fraction * static_cast<double>(pool.size()))),
+        std::min<int>(2, static_cast<int>(pool.size())), static_cast<int>(pool.size()));
+    for (int d = 0; d < dim; ++d) {
+      double m = 0;
+      for (int e = 0; e < elites; ++e) m += pool[e].x[d];
+      m /= elites;
+      double v = 0;
+      for (int e = 0; e < elites; ++e) v += (pool[e].x[d] - m) * (pool[e].x[d] - m);
+      mean[d] = m;
+      sigma[d] = std::max(std::sqrt(v / elites), settings.min_sigma_fraction * space.sigma[d]);
+    }
+    const int keep = static_cast<int>(std::lround(settings.keep_elite_fraction * elites));
+    pool.resize(std::min<size_t>(pool.size(), keep));
+    carried = std::move(pool);
+  }
+  return result;
+}
+
+}  // namespace juggle

@@ -1,0 +1,52 @@
+// The cross-entropy method over a box of real variables, in the iCEM form: the incumbent is
+// always a candidate, a share of each iteration's elites is carried into the next one (their
+// costs reused), and the best candidate ever seen is the answer, so the result is never worse
+// than the incumbent. Deterministic for a given random stream. Thread-compatible; the batch
+// cost function may evaluate its candidates in parallel.
+#ifndef JUGGLE_PLANNER_CEM_SEARCH_H_
+#define JUGGLE_PLANNER_CEM_SEARCH_H_
+
+#include <functional>
+#include <vector>
+
+#include "common/rng.h"
+
+namespace juggle {
+
+struct SearchSpace {
+  // Per variable: the box and the initial spread (standard deviation) of samples.
+  std::vector<double> lower, upper, sigma;
+  int dim() const { return static_cast<int>(lower.size()); }
+};
+
+struct CemSettings {
+  int samples = 32;                 // candidates per iteration (carried elites included)
+  int iterations = 5;
+  double elite_fraction = 0.125;    // at least 2 elites
+  double keep_elite_fraction = 0.3; // of the elites, carried into the next iteration
+  double min_sigma_fraction = 0.1;  // spread floor, relative to SearchSpace::sigma
+};
+
+// Writes the costs of `n` candidates (row-major [n, dim] in `candidates`) to costs[0..n).
+using BatchCost =
+    std::function<void(const std::vector<double>& candidates, int n, std::vector<double>* costs)>;
+
+struct CemResult {
+  std::vector<double> best;          // [dim]
+  double best_cost = 0;
+  double incumbent_cost = 0;         // the cost of the incumbent as given
+  int evaluations = 0;               // candidates simulated
+  std::vector<double> iteration_best;  // best cost so far after each iteration
+};
+
+// Minimizes `cost` over `space` starting from `seeds` (each [dim], clamped into the box): the
+// first is the incumbent (the initial mean); every seed is a candidate of the first iteration.
+// REQUIRES: at least one seed, space's vectors have equal sizes, lower <= upper,
+// settings.samples >= seeds.size() and settings.iterations >= 1.
+CemResult MinimizeCem(const SearchSpace& space, const CemSettings& settings,
+                      const std::vector<std::vector<double>>& seeds, Rng* rng,
+                      const BatchCost& cost);
+
+}  // namespace juggle
+
+#endif  // JUGGLE_PLANNER_CEM_SEARCH_H_

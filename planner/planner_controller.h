@@ -1,0 +1,56 @@
+// The planner as an evaluation controller (eval/controller.h): what `--controller=planner`
+// runs in `juggle eval`, `juggle render` and `juggle simulate`. One SoccerPlanner per env slot
+// (its random stream is the slot), all sharing one rollout pool of RunConfig.planner.threads
+// threads. Thread-compatible.
+#ifndef JUGGLE_PLANNER_PLANNER_CONTROLLER_H_
+#define JUGGLE_PLANNER_PLANNER_CONTROLLER_H_
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "common/config_loader.h"
+#include "envs/env.h"
+#include "eval/controller.h"
+#include "planner/rollout_pool.h"
+#include "planner/soccer_planner.h"
+
+namespace juggle::planner {
+
+// OK, or INVALID_ARGUMENT "file:line:col: planner.<field>: ..." for settings the schema's
+// ranges allow but the run does not: a horizon longer than the episode, more body knots than
+// horizon steps, a family the planner cannot drive.
+absl::Status ValidatePlannerConfig(const LoadedConfig& config);
+
+class PlannerController final : public Controller {
+ public:
+  // Validates config.run.planner (ValidatePlannerConfig) for `spec` (made from `config`).
+  static absl::StatusOr<std::unique_ptr<PlannerController>> Create(
+      std::shared_ptr<const EnvSpec> spec, const LoadedConfig& config);
+
+  // REQUIRES: envs of the spec given to Create (a foreign env aborts: programmer error).
+  void Act(const Env* const* envs, const float* obs, int n, float* actions) override;
+  std::string name() const override { return "planner"; }
+
+  // Totals over every slot's planner.
+  PlannerTotals totals() const;
+  const SoccerPlanner& slot(int i) const { return *planners_[i]; }
+  // Called after every re-plan (slot, report): progress lines of long evaluations.
+  void set_on_replan(std::function<void(int, const ReplanReport&)> f) { on_replan_ = std::move(f); }
+
+ private:
+  PlannerController(std::shared_ptr<const soccer_juggle::JuggleSpec> spec,
+                    const config::PlannerConfig& config);
+
+  std::shared_ptr<const soccer_juggle::JuggleSpec> spec_;
+  config::PlannerConfig config_;
+  RolloutPool pool_;
+  std::vector<std::unique_ptr<SoccerPlanner>> planners_;
+  std::function<void(int, const ReplanReport&)> on_replan_;
+};
+
+}  // namespace juggle::planner
+
+#endif  // JUGGLE_PLANNER_PLANNER_CONTROLLER_H_

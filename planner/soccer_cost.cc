@@ -1,0 +1,179 @@
+#include "planner/soccer_cost.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "envs/ballistic.h"
+#include "envs/soccer_juggle/reference_pose.h"
+
+namespace juggle::planner {
+
+using soccer_juggle::CursorState;
+using soccer_juggle::JuggleEnv;
+using soccer_juggle::JuggleSpec;
+using soccer_juggle::kNumActions;
+
+namespace {
+
+double Square(double x) { return x * x; }
+
+// The residuals of a ball crossing `node`'s contact height `seconds_to_contact` from now.
+KickOutcome OutcomeAt(const JuggleEnv& env, int node, double seconds_to_contact) {
+  const JuggleSpec& spec = env.spec();
+  const config::NodeSpec& target = spec.graph().node(node).spec;
+  const mjData* d = env.data();
+  const double* ball = d->qpos + spec.ball_qpos();
+  const double* vel = d->qvel + spec.ball_dof();
+  const double g = spec.env().gravity();
+  const BallisticCrossing c = DescendingCrossing(ball, vel, g, target.contact_height());
+  KickOutcome out;
+  out.valid = true;
+  out.timing = c.t - seconds_to_contact;
+  out.dx = c.x - d->qpos[0] - target.ball_target().x();
+  out.dy = c.y - d->qpos[1] - target.ball_target().y();
+  out.apex = ApexHeight(ball[2], vel[2], g) - NominalApexHeight(target, g);
+  return out;
+}
+
+}  // namespace
+
+KickOutcome PredictKickOutcome(const JuggleEnv& env) {
+  const JuggleSpec& spec = env.spec();
+  const CursorState& c = env.cursor();
+  // The DOWN node the ball is sent to: the next one after the current cycle's contact.
+  const bool down = spec.graph().node(c.current).stage == config::DOWN;
+  const int target = down ? c.next_next : c.next;
+  if (target < 0 || spec.graph().node(target).stage != config::DOWN || c.phase_speed <= 0) {
+    return {};
+  }
+  // The clock's next contact: φ runs to 1 (this cycle) and on to 0.5 of the next.
+  const double seconds = (1.5 - c.phase) / c.phase_speed * spec.control_dt();
+  return OutcomeAt(env, target, seconds);
+}
+
+KickOutcome PredictApproach(const JuggleEnv& env) {
+  const JuggleSpec& spec = env.spec();
+  const CursorState& c = env.cursor();
+  if (spec.graph().node(c.current).stage != config::DOWN || c.phase_speed <= 0) return {};
+  return OutcomeAt(env, c.current, -spec.cursor().SecondsFromContact(c, c.phase));
+}
+
+double BallClearance(const JuggleEnv& env) {
+  const JuggleSpec& spec = env.spec();
+  const mjModel* m = spec.model();
+  const mjData* d = env.data();
+  const std::vector<char>& allowed = spec.node_runtime(env.node()).contact_allowed;
+  const double* ball = d->qpos + spec.ball_qpos();
+  const double ball_radius = m->geom_rbound[spec.ball_geom()];
+  double best = 1e9;
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (!allowed[m->geom_bodyid[g]]) continue;
+    double diff[3];
+    mju_sub3(diff, ball, d->geom_xpos + 3 * g);
+    best = std::min(best, mju_norm3(diff) - m->geom_rbound[g] - ball_radius);
+  }
+  return std::max(best, 0.0);
+}
+
+double BodyCost(const JuggleEnv& env, const config::PlannerCost& w) {
+  const JuggleSpec& spec = env.spec();
+  const mjData* d = env.data();
+  const double* q = d->qpos;
+  // The root's up axis is its local y, forward its local x (y-up joint frames).
+  double up[3], forward[3];
+  const double y_axis[3] = {0, 1, 0}, x_axis[3] = {1, 0, 0};
+  mju_rotVecQuat(up, y_axis, q + 3);
+  mju_rotVecQuat(forward, x_axis, q + 3);
+  const double tilt = std::acos(std::clamp(up[2], -1.0, 1.0));
+  const double yaw = std::atan2(forward[1], forward[0]);
+  // Capture point of the COM (root velocity as the COM's) against the stance foot, or the
+  // feet's middle when no leg swings.
+  const double* com = d->subtree_com + 3 * spec.root_body();
+  const double* v = d->qvel;
+  const double g = spec.env().gravity();
+  const double lead = std::sqrt(std::max(com[2], 0.1) / g);
+  const config::ReferencePose& pose = spec.graph().node(env.node()).spec.pose();
+  const int right = spec.model()->dof_bodyid[spec.joint(soccer_juggle::kRightAnkle).dof_adr];
+  const int left = spec.model()->dof_bodyid[spec.joint(soccer_juggle::kLeftAnkle).dof_adr];
+  double foot[2];
+  if (pose.has_leg_swing()) {
+    const int stance = pose.leg_swing().side() == config::LEFT ? right : left;
+    foot[0] = d->xpos[3 * stance];
+    foot[1] = d->xpos[3 * stance + 1];
+  } else {
+    foot[0] = 0.5 * (d->xpos[3 * right] + d->xpos[3 * left]);
+    foot[1] = 0.5 * (d->xpos[3 * right + 1] + d->xpos[3 * left + 1]);
+  }
+  const double cp = std::hypot(com[0] + lead * v[0] - foot[0], com[1] + lead * v[1] - foot[1]);
+  const double height = q[2] - env.reference_pose()[2];
+  const double speed = std::hypot(v[0], v[1]);
+  return w.tilt() * Square(tilt / w.tilt_scale()) + w.yaw() * Square(yaw / w.yaw_scale()) +
+         w.capture_point() * Square(cp / w.capture_point_scale()) +
+         w.root_height() * Square(height / w.root_height_scale()) +
+         w.com_speed() * Square(speed / w.com_speed_scale());
+}
+
+SoccerRolloutScorer::SoccerRolloutScorer(const config::PlannerCost& cost, int horizon)
+    : cost_(cost), horizon_(std::max(horizon, 1)) {}
+
+void SoccerRolloutScorer::Begin(const JuggleEnv& env) {
+  // A kick whose ball is already on its way was scored by an earlier plan.
+  scored_this_cycle_ = env.state().kick_touched;
+}
+
+void SoccerRolloutScorer::AfterStep(const JuggleEnv& env, const float* action,
+                                    const StepResult& r) {
+  ++steps_;
+  double a2 = 0, change2 = 0;
+  for (int i = 0; i < kNumActions; ++i) {
+    a2 += Square(action[i]);
+    if (has_previous_) change2 += Square(action[i] - previous_action_[i]);
+    previous_action_[i] = action[i];
+  }
+  has_previous_ = true;
+  effort_ += (cost_.action() * a2 + cost_.action_change() * change2) / kNumActions;
+  const soccer_juggle::JuggleEnvState& s = env.state();
+  if (!s.kick_touched && scored_this_cycle_) {
+    scored_this_cycle_ = false;  // a new cycle
+    clearance_ = 1e9;
+  }
+  if (!s.kick_touched) clearance_ = std::min(clearance_, BallClearance(env));
+  if (r.terminated()) {
+    failed_ = true;
+    failure_ = cost_.failure() * (2.0 - static_cast<double>(steps_) / horizon_);
+    if (!s.kick_touched) failure_ += cost_.miss() * Square(clearance_ / cost_.landing_scale());
+    return;
+  }
+  body_ += BodyCost(env, cost_);
+  // The kick is scored at the first step the ball is off the body after a touch (a weak kick
+  // that sends it down scores its early crossing).
+  if (s.kick_touched && !s.touched_this_step && !scored_this_cycle_) {
+    scored_this_cycle_ = true;
+    const KickOutcome k = PredictKickOutcome(env);
+    if (k.valid) {
+      if (kicks_ == 0) first_kick_ = k;
+      ++kicks_;
+      kick_ += cost_.kick() * (Square(k.timing / cost_.timing_scale_s()) +
+                               (Square(k.dx) + Square(k.dy)) / Square(cost_.landing_scale()) +
+                               cost_.apex_weight() * Square(k.apex / cost_.apex_scale()));
+    }
+  }
+}
+
+double SoccerRolloutScorer::Finish(const JuggleEnv& env) {
+  double total = failure_ + kick_ + effort_;
+  if (steps_ > 0) total += body_ / steps_;
+  if (failed_) return total;
+  total += cost_.terminal() * BodyCost(env, cost_);
+  if (!env.state().kick_touched) {
+    const KickOutcome a = PredictApproach(env);
+    if (a.valid) {
+      total += cost_.approach() * (Square(a.timing / cost_.timing_scale_s()) +
+                                   (Square(a.dx) + Square(a.dy)) / Square(cost_.landing_scale()));
+    }
+  }
+  return total;
+}
+
+}  // namespace juggle::planner

@@ -1,0 +1,67 @@
+// The cost of one soccer rollout (config::PlannerCost, docs/planner.md): the episode's end,
+// the kicks' predicted free flights, the ball's approach when the horizon ends before the
+// kick, the body at every step and at the end, and the effort. Lower is better.
+// Thread-compatible: one scorer per rollout thread.
+#ifndef JUGGLE_PLANNER_SOCCER_COST_H_
+#define JUGGLE_PLANNER_SOCCER_COST_H_
+
+#include "envs/env.h"
+#include "envs/soccer_juggle/env.h"
+#include "proto/planner.pb.h"
+
+namespace juggle::planner {
+
+// What a kick sends the ball to: its errors against the next contact (s, m, m).
+struct KickOutcome {
+  bool valid = false;   // false: the ball is not on a flight to a contact node
+  double timing = 0;    // crossing of the contact height minus the nominal contact (s)
+  double dx = 0, dy = 0;  // crossing point minus root + ball target (m, world axes)
+  double apex = 0;      // apex minus the node's apex height (m)
+};
+
+// The free flight of `env`'s ball from now to the contact node it is headed for (the next
+// DOWN node after the current cycle's contact), by the ballistic formula.
+KickOutcome PredictKickOutcome(const soccer_juggle::JuggleEnv& env);
+// The same for a ball still coming down to the current cycle's contact: its crossing of the
+// current node's contact height against the nominal contact and the node's ball target.
+KickOutcome PredictApproach(const soccer_juggle::JuggleEnv& env);
+
+// How far (m) the ball's surface is from the nearest geom of a body the current node allows to
+// touch it (geom centres less their bounding radii: a ranking, not a collision distance).
+double BallClearance(const soccer_juggle::JuggleEnv& env);
+
+// Body terms at one state (each already weight × (value/scale)²).
+double BodyCost(const soccer_juggle::JuggleEnv& env, const config::PlannerCost& cost);
+
+class SoccerRolloutScorer {
+ public:
+  SoccerRolloutScorer(const config::PlannerCost& cost, int horizon);
+  // At the rollout's first state.
+  void Begin(const soccer_juggle::JuggleEnv& env);
+  // After each step with its action ([kNumActions]) and result.
+  void AfterStep(const soccer_juggle::JuggleEnv& env, const float* action, const StepResult& r);
+  // The total, with the terminal and approach terms of the last state.
+  double Finish(const soccer_juggle::JuggleEnv& env);
+  // The kick outcomes scored (the first one), for tests and tools.
+  const KickOutcome& first_kick() const { return first_kick_; }
+  int kicks() const { return kicks_; }
+  bool failed() const { return failed_; }
+
+ private:
+  const config::PlannerCost& cost_;
+  int horizon_;
+  int steps_ = 0;
+  double body_ = 0, effort_ = 0, kick_ = 0, failure_ = 0;
+  bool scored_this_cycle_ = false;
+  // The closest the ball came to an allowed body in the current cycle before a touch.
+  double clearance_ = 1e9;
+  bool failed_ = false;
+  int kicks_ = 0;
+  KickOutcome first_kick_;
+  float previous_action_[soccer_juggle::kNumActions] = {0};
+  bool has_previous_ = false;
+};
+
+}  // namespace juggle::planner
+
+#endif  // JUGGLE_PLANNER_SOCCER_COST_H_

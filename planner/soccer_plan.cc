@@ -1,0 +1,128 @@
+#include "planner/soccer_plan.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "envs/soccer_juggle/reference_pose.h"
+
+namespace juggle::planner {
+
+using soccer_juggle::ActuatedJoint;
+using soccer_juggle::CharacterPose;
+using soccer_juggle::JuggleEnv;
+using soccer_juggle::JuggleSpec;
+using soccer_juggle::kNumActions;
+using soccer_juggle::kNumJoints;
+using soccer_juggle::SwingAdjust;
+
+SoccerPlanLayout MakeSoccerPlanLayout(const config::PlannerConfig& config) {
+  SoccerPlanLayout layout;
+  layout.kick_sets = config.kick().enabled() ? config.kick().cycles() : 0;
+  layout.horizon = config.horizon_steps();
+  layout.knot_steps = config.body_knot_steps();
+  if (layout.knot_steps > 0) {
+    // From an origin up to knot_steps − 1 past knot 0 to the horizon's last step, plus the
+    // knot after it.
+    layout.body_knots = (layout.knot_steps + layout.horizon - 2) / layout.knot_steps + 2;
+  }
+  return layout;
+}
+
+SearchSpace MakeSoccerSearchSpace(const SoccerPlanLayout& layout,
+                                  const config::PlannerConfig& config) {
+  SearchSpace space;
+  auto add = [&space](double limit, double sigma) {
+    space.lower.push_back(-limit);
+    space.upper.push_back(limit);
+    space.sigma.push_back(sigma);
+  };
+  const config::KickVariables& kick = config.kick();
+  for (int s = 0; s < layout.kick_sets; ++s) {
+    add(kick.phase_limit_s(), kick.phase_sigma_s());
+    for (int a = 1; a < kKickVariables; ++a) add(kick.angle_limit(), kick.angle_sigma());
+  }
+  for (int i = 0; i < layout.body_knots * kNumActions; ++i) {
+    add(config.body_limit(), config.body_sigma());
+  }
+  return space;
+}
+
+namespace {
+
+// Value of action `i` of the body spline `step` control steps after knot 0 (the last knot
+// held past the end).
+double SplineValue(const SoccerPlanLayout& layout, const double* theta, int step, int i) {
+  const int knots = layout.body_knots;
+  const int k = std::clamp(step / layout.knot_steps, 0, knots - 1);
+  if (k == knots - 1) return theta[layout.knot(k) + i];
+  const double f = static_cast<double>(step - k * layout.knot_steps) / layout.knot_steps;
+  return (1 - f) * theta[layout.knot(k) + i] + f * theta[layout.knot(k + 1) + i];
+}
+
+// Adds the kick variables' torque (in action units) at `env`'s state to `out`.
+void AddKickAction(const JuggleEnv& env, const double* kick, double* out) {
+  const JuggleSpec& spec = env.spec();
+  const int node = env.node();
+  if (!spec.graph().node(node).spec.pose().has_leg_swing()) return;
+  const soccer_juggle::CursorState& c = env.cursor();
+  if (c.phase_speed <= 0) return;
+  const double cycle_s = spec.control_dt() / c.phase_speed;
+  const SwingAdjust& base = env.state().swing_adjust;
+  SwingAdjust changed = base;
+  changed.phase += kick[0] / cycle_s;
+  changed.hip += kick[1];
+  changed.abduction += kick[2];
+  changed.knee += kick[3];
+  changed.ankle += kick[4];
+  CharacterPose from, to;
+  ComputeReferencePose(spec, node, c.phase, &from, base);
+  ComputeReferencePose(spec, node, c.phase, &to, changed);
+  const double unit = spec.env().action_torque();
+  for (int j = 0; j < kNumJoints; ++j) {
+    const ActuatedJoint& joint = spec.joint(j);
+    const int a = joint.dof_adr - 6;
+    const double scale = joint.kp / (unit * joint.torque_scale);
+    if (joint.dofs == 3) {
+      double d[3];
+      mju_subQuat(d, to.data() + joint.qpos_adr, from.data() + joint.qpos_adr);
+      for (int k = 0; k < 3; ++k) out[a + k] += scale * d[k];
+    } else {
+      out[a] += scale * (to[joint.qpos_adr] - from[joint.qpos_adr]);
+    }
+  }
+}
+
+}  // namespace
+
+void SoccerPlanAction(const JuggleEnv& env, const SoccerPlanLayout& layout, const double* theta,
+                      PlanClock clock, float* action) {
+  double a[kNumActions] = {0};
+  if (layout.kick_sets > 0) {
+    const int set = std::clamp(clock.cycle, 0, layout.kick_sets - 1);
+    AddKickAction(env, theta + layout.kick(set), a);
+  }
+  if (layout.body_knots > 0) {
+    for (int i = 0; i < kNumActions; ++i) a[i] += SplineValue(layout, theta, clock.step, i);
+  }
+  for (int i = 0; i < kNumActions; ++i) action[i] = static_cast<float>(std::clamp(a[i], -1.0, 1.0));
+}
+
+int KnotAtOrBefore(const SoccerPlanLayout& layout, int step) {
+  return layout.knot_steps > 0 ? step / layout.knot_steps * layout.knot_steps : step;
+}
+
+std::vector<double> ShiftSoccerPlan(const SoccerPlanLayout& layout, const std::vector<double>& theta,
+                                    int knots, int cycles) {
+  std::vector<double> out(theta.size());
+  for (int s = 0; s < layout.kick_sets; ++s) {
+    const int from = std::min(s + std::max(cycles, 0), layout.kick_sets - 1);
+    std::copy_n(theta.begin() + layout.kick(from), kKickVariables, out.begin() + layout.kick(s));
+  }
+  for (int k = 0; k < layout.body_knots; ++k) {
+    const int from = std::min(k + std::max(knots, 0), layout.body_knots - 1);
+    std::copy_n(theta.begin() + layout.knot(from), kNumActions, out.begin() + layout.knot(k));
+  }
+  return out;
+}
+
+}  // namespace juggle::planner

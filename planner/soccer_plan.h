@@ -1,0 +1,70 @@
+// The soccer planner's decision variables and the actions they give (docs/planner.md).
+//
+// A plan θ is, in order:
+//   kick variables, one set per juggle cycle (KickVariables.cycles sets; a cycle starts when a
+//   DOWN node is entered): the swing's timing (s earlier), and its hip flexion, hip abduction,
+//   knee and ankle-pitch amplitudes (rad);
+//   whole-body knots: body_knots × 28 actions (policy units), a piecewise-linear spline with a
+//   knot every knot_steps control steps of the episode, on a grid fixed to the episode (knot 0
+//   of a plan is the grid knot at or before its origin), so a re-plan keeps the knots it
+//   shares with the previous plan where they were and the shifted plan acts exactly as before.
+// At a visited state the plan's action is the kick variables' change of the PD target turned
+// into the feed-forward torque it makes (kp × the target's change, per joint and axis, divided
+// by the action's torque unit) plus the spline's value, clamped to [−1, 1]: a plan is an action
+// sequence the learned policy could produce, so its labels are exact. Pure functions;
+// allocation-free.
+#ifndef JUGGLE_PLANNER_SOCCER_PLAN_H_
+#define JUGGLE_PLANNER_SOCCER_PLAN_H_
+
+#include <vector>
+
+#include "envs/soccer_juggle/env.h"
+#include "envs/soccer_juggle/spec.h"
+#include "planner/cem_search.h"
+#include "proto/planner.pb.h"
+
+namespace juggle::planner {
+
+constexpr int kKickVariables = 5;  // timing (s), hip, abduction, knee, ankle (rad)
+
+struct SoccerPlanLayout {
+  int kick_sets = 0;     // 0 when KickVariables.enabled is false
+  int knot_steps = 0;    // 0: no whole-body corrections
+  int body_knots = 0;    // enough to span a horizon from anywhere between two grid knots
+  int horizon = 1;
+  int kick_dim() const { return kick_sets * kKickVariables; }
+  int dim() const { return kick_dim() + body_knots * soccer_juggle::kNumActions; }
+  // Index of the first variable of kick set `set` / body knot `knot`.
+  int kick(int set) const { return set * kKickVariables; }
+  int knot(int k) const { return kick_dim() + k * soccer_juggle::kNumActions; }
+};
+
+SoccerPlanLayout MakeSoccerPlanLayout(const config::PlannerConfig& config);
+// The box and spreads of the variables.
+SearchSpace MakeSoccerSearchSpace(const SoccerPlanLayout& layout,
+                                  const config::PlannerConfig& config);
+
+// Where a visited state is in the plan: control steps since the plan's knot 0 (its grid knot)
+// and juggle cycles since the plan's origin.
+struct PlanClock {
+  int step = 0;
+  int cycle = 0;
+};
+
+// The grid knot at or before episode step `step` (its episode step).
+int KnotAtOrBefore(const SoccerPlanLayout& layout, int step);
+
+// The plan's action in `env`'s current state. REQUIRES: theta holds layout.dim() values,
+// `action` kNumActions floats.
+void SoccerPlanAction(const soccer_juggle::JuggleEnv& env, const SoccerPlanLayout& layout,
+                      const double* theta, PlanClock clock, float* action);
+
+// The plan re-expressed from later: body knots moved down by `knots` grid knots (knots past
+// the old last copy it), kick sets moved down by `cycles` (likewise). The shifted plan gives
+// the same actions at every state the old one reached before its last knot.
+std::vector<double> ShiftSoccerPlan(const SoccerPlanLayout& layout, const std::vector<double>& theta,
+                                    int knots, int cycles);
+
+}  // namespace juggle::planner
+
+#endif  // JUGGLE_PLANNER_SOCCER_PLAN_H_

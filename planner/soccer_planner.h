@@ -1,0 +1,106 @@
+// The receding-horizon planner of one soccer env (docs/planner.md): every `replan_every`
+// control steps it snapshots the env, searches the plan (planner/soccer_plan.h) whose
+// simulated rollout over `horizon_steps` costs least (planner/soccer_cost.h) with the
+// cross-entropy method (planner/cem_search.h), warm-started from the previous plan shifted to
+// now, and then acts with the best plan until the next re-plan. The rollouts run the env's own
+// Step on restored copies, so the executed future equals the predicted one while nothing
+// outside the plan acts. The planner never changes the env it plans for: it only returns
+// actions. Thread-compatible; the pool may be shared by planners used one at a time.
+#ifndef JUGGLE_PLANNER_SOCCER_PLANNER_H_
+#define JUGGLE_PLANNER_SOCCER_PLANNER_H_
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "common/adaptive_walk.h"
+#include "envs/soccer_juggle/env.h"
+#include "planner/cem_search.h"
+#include "planner/rollout_pool.h"
+#include "planner/soccer_cost.h"
+#include "planner/soccer_plan.h"
+#include "proto/planner.pb.h"
+
+namespace juggle::planner {
+
+// What the last re-plan found (tools, tests, the planner's progress lines).
+struct ReplanReport {
+  int env_step = 0;            // the env's step count when it re-planned
+  double incumbent_cost = 0;   // the warm start's cost
+  double best_cost = 0;
+  int evaluations = 0;         // rollouts simulated
+  bool predicts_failure = false;  // the best plan's rollout ends the episode
+  Outcome predicted_end = Outcome::kRunning;  // how, and after how many steps
+  int predicted_end_step = 0;
+  KickOutcome predicted_kick;  // the best plan's first kick inside the horizon, if any
+  std::vector<double> kick;    // the best plan's kick variables of the current cycle
+};
+
+struct PlannerTotals {
+  int64_t replans = 0;
+  int64_t rollouts = 0;
+  int64_t rollout_steps = 0;   // control steps simulated by rollouts
+};
+
+class SoccerPlanner {
+ public:
+  // `pool` simulates copies of envs of `spec` (REQUIRES: the pool's spec equals `spec`, both
+  // outlive the planner). `stream` selects the random stream (e.g. the episode's env index).
+  SoccerPlanner(std::shared_ptr<const soccer_juggle::JuggleSpec> spec,
+                const config::PlannerConfig& config, RolloutPool* pool, uint64_t stream);
+
+  // Writes the action for `env`'s current state (kNumActions floats), re-planning first when
+  // due. A new episode (the env's step count went back) starts a new plan. Errors: the pool's
+  // (a snapshot of another spec).
+  absl::Status Act(const soccer_juggle::JuggleEnv& env, float* action);
+
+  // The cost of `theta` from `env`'s current state, and its first predicted kick (tests,
+  // tools): the rollout the search runs for one candidate.
+  absl::StatusOr<double> Evaluate(const soccer_juggle::JuggleEnv& env,
+                                  const std::vector<double>& theta, KickOutcome* kick = nullptr);
+
+  const ReplanReport& last_replan() const { return last_; }
+  const PlannerTotals& totals() const { return totals_; }
+  const std::vector<double>& plan() const { return theta_; }
+  const SoccerPlanLayout& layout() const { return layout_; }
+
+ private:
+  // Simulates `theta` from the pool env's restored state; returns its cost.
+  struct RolloutResult {
+    double cost = 0;
+    int steps = 0;
+    Outcome end = Outcome::kRunning;
+    KickOutcome first_kick;
+  };
+  // `clock`: where the rollout's first state is in the plan.
+  RolloutResult Rollout(soccer_juggle::JuggleEnv* env, const double* theta, PlanClock clock);
+  absl::Status Replan(const soccer_juggle::JuggleEnv& env);
+
+  std::shared_ptr<const soccer_juggle::JuggleSpec> spec_;
+  const config::PlannerConfig config_;
+  RolloutPool* pool_;
+  uint64_t stream_;
+  AdaptiveWalk walk_;
+  SoccerPlanLayout layout_;
+  SearchSpace space_;
+  CemSettings settings_;
+
+  // The plan and where it started.
+  std::vector<double> theta_;
+  bool has_plan_ = false;
+  int origin_step_ = 0;
+  int knot0_step_ = 0;  // the episode step of the plan's knot 0
+  int origin_cycle_ = 0;
+  // The env as last seen: its step count, node and the cycles (DOWN entries) since the reset.
+  int last_step_ = -1;
+  int last_node_ = -1;
+  int cycle_ = 0;
+  int64_t replan_count_ = 0;
+  ReplanReport last_;
+  PlannerTotals totals_;
+};
+
+}  // namespace juggle::planner
+
+#endif  // JUGGLE_PLANNER_SOCCER_PLANNER_H_

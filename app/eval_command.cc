@@ -13,6 +13,7 @@
 #include "absl/strings/str_format.h"
 #include "app/commands.h"
 #include "app/policy_source.h"
+#include "common/file_io.h"
 #include "envs/registry.h"
 #include "eval/controller.h"
 #include "eval/episode_runner.h"
@@ -43,15 +44,9 @@ struct EvalFlags {
 
 // Writes `lines` (JSON objects) to `path`, one per line.
 absl::Status WriteJsonLines(const std::string& path, const std::vector<std::string>& lines) {
-  std::FILE* f = std::fopen(path.c_str(), "w");
-  if (f == nullptr) {
-    return absl::NotFoundError(absl::StrCat("cannot write ", path, ": ", std::strerror(errno)));
-  }
-  for (const std::string& line : lines) std::fprintf(f, "%s\n", line.c_str());
-  if (std::fclose(f) != 0) {
-    return absl::InternalError(absl::StrCat("cannot write ", path, ": ", std::strerror(errno)));
-  }
-  return absl::OkStatus();
+  std::string text;
+  for (const std::string& line : lines) absl::StrAppend(&text, line, "\n");
+  return WriteFile(path, text);
 }
 
 int Evaluate(const EvalFlags& f) {

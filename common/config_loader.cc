@@ -2,9 +2,6 @@
 
 #include <sys/stat.h>
 
-#include <fstream>
-#include <sstream>
-
 #include "absl/strings/str_cat.h"
 #include "common/config_ranges.h"
 #include "common/status_macros.h"
@@ -58,27 +55,6 @@ absl::StatusOr<SourceLocator> ParseTextMessage(const std::string& text, const st
   SourceLocator where(path, message->GetDescriptor(), std::move(tree));
   RETURN_IF_ERROR(CheckFieldRanges(*message, where));
   return where;
-}
-
-absl::StatusOr<std::string> ReadFile(const std::string& path) {
-  // Only regular files of bounded size: a config naming /dev/zero or a FIFO must not hang.
-  constexpr int64_t kMaxBytes = int64_t{1} << 30;
-  struct stat st;
-  if (::stat(path.c_str(), &st) == 0) {
-    if (S_ISDIR(st.st_mode)) return absl::InvalidArgumentError(absl::StrCat(path, ": is a directory"));
-    if (!S_ISREG(st.st_mode)) {
-      return absl::InvalidArgumentError(absl::StrCat(path, ": is not a regular file"));
-    }
-    if (st.st_size > kMaxBytes) {
-      return absl::InvalidArgumentError(absl::StrCat(path, ": is ", st.st_size >> 20,
-                                                     " MiB, above the 1024 MiB limit"));
-    }
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return absl::NotFoundError(absl::StrCat(path, ": cannot open file"));
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
 }
 
 absl::StatusOr<std::string> ReadConfigFile(const std::string& path) {

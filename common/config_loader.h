@@ -10,6 +10,7 @@
 
 #include "absl/status/statusor.h"
 #include "common/control_graph.h"
+#include "common/file_io.h"  // ReadFile, for the config readers
 #include "common/source_locator.h"
 #include "google/protobuf/message.h"
 #include "proto/run_config.pb.h"
@@ -37,9 +38,7 @@ absl::StatusOr<LoadedConfig> ParseSharedRunConfig(const std::string& text, const
 absl::StatusOr<SourceLocator> ParseTextMessage(const std::string& text, const std::string& path,
                                                google::protobuf::Message* message);
 
-// Reads a whole file. NOT_FOUND if it cannot be opened.
-absl::StatusOr<std::string> ReadFile(const std::string& path);
-// Reads a config file: as ReadFile, and INVALID_ARGUMENT for a directory ("<path> is a
+// Reads a config file: as ReadFile (common/file_io.h), and INVALID_ARGUMENT for a directory ("<path> is a
 // directory, not a config file").
 absl::StatusOr<std::string> ReadConfigFile(const std::string& path);
 

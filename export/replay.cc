@@ -3,15 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <memory>
 #include <set>
-#include <sstream>
 #include <tuple>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_replace.h"
+#include "common/file_io.h"
 #include "export/trajectory_model.h"
 #include "export/web_assets.h"
 
@@ -81,14 +80,13 @@ std::string Array(const std::vector<T>& items, F format) {
 }
 
 absl::StatusOr<std::string> ReadWhole(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    return absl::NotFoundError(absl::StrCat(
-        "cannot read ", path, " (the replay page embeds three.js: apt-get install libjs-three)"));
+  absl::StatusOr<std::string> bytes = ReadFile(path);
+  if (!bytes.ok()) {
+    return absl::Status(bytes.status().code(),
+                        absl::StrCat(bytes.status().message(),
+                                     " (the replay page embeds three.js: apt-get install libjs-three)"));
   }
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  return bytes;
 }
 
 }  // namespace

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "common/file_io.h"
 #include "common/status_macros.h"
 #include "envs/toss/dims.h"
 #include "google/protobuf/text_format.h"
@@ -44,13 +44,10 @@ absl::Status WriteArmStates(const std::vector<TossArmState>& states, const std::
   if (!google::protobuf::TextFormat::PrintToString(message, &text)) {
     return absl::InternalError("cannot print the arm states");
   }
-  std::ofstream out(path);
-  out << "# proto-file: proto/envs/toss.proto\n# proto-message: juggle.config.TossArmStates\n"
-      << "# " << states.size() << " arm states (right arm's frame: neck, shoulder, elbow, wrist; "
-      << "rad, rad/s) " << what << ", written by `juggle toss --record-states`.\n"
-      << text;
-  out.close();
-  return out ? absl::OkStatus() : absl::DataLossError(absl::StrCat("error writing ", path));
+  return WriteFile(path, absl::StrCat(
+      "# proto-file: proto/envs/toss.proto\n# proto-message: juggle.config.TossArmStates\n# ",
+      states.size(), " arm states (right arm's frame: neck, shoulder, elbow, wrist; rad, rad/s) ",
+      what, ", written by `juggle toss --record-states`.\n", text));
 }
 
 }  // namespace

@@ -1,0 +1,128 @@
+#!/usr/bin/env python3
+"""Plots the ablation study's learning curves as one SVG (standard library only).
+
+usage: scripts/analysis/plot_ablation.py OUT_DIR OUT.svg
+
+Reads OUT_DIR/<config>_s<seed>/metrics.jsonl (scripts/experiments/ablation.sh's runs). Panels over
+training samples: juggles per episode and node completions per episode (training episodes,
+moving average over 20 iterations), and the in-run evaluation's median juggles. Each config is
+one colour: the mean over its seeds as a line, the range over seeds as a band.
+"""
+import glob
+import json
+import os
+import re
+import sys
+
+from svg_axes import axes
+
+COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"]
+
+
+def moving_average(values, window):
+    out, acc = [], 0.0
+    for i, v in enumerate(values):
+        acc += v
+        if i >= window:
+            acc -= values[i - window]
+        out.append(acc / min(i + 1, window))
+    return out
+
+
+def load_runs(out_dir):
+    """{config: [(samples, juggles, completions, eval_samples, eval_median), ...] per seed}."""
+    runs = {}
+    for path in sorted(glob.glob(os.path.join(out_dir, "*_s*", "metrics.jsonl"))):
+        match = re.match(r"(.+)_s(\d+)$", os.path.basename(os.path.dirname(path)))
+        if not match:
+            continue
+        it, ev = [], []
+        for line in open(path):
+            if not line.strip():
+                continue
+            row = json.loads(line)
+            if row.get("event") == "eval":
+                ev.append((row["samples"], row["median_juggles"]))
+            elif "event" not in row:
+                it.append((row["samples"], row.get("juggles_per_episode", 0.0),
+                           row.get("completions_per_episode", 0.0)))
+        if it:
+            runs.setdefault(match.group(1), []).append((it, ev))
+    return runs
+
+
+def mean_curve(series):
+    """Mean and range over seeds at the shortest run's points: [(x, mean, lo, hi)]."""
+    n = min(len(s) for s in series)
+    out = []
+    for i in range(n):
+        ys = [s[i][1] for s in series]
+        out.append((series[0][i][0], sum(ys) / len(ys), min(ys), max(ys)))
+    return out
+
+
+def main(argv):
+    if len(argv) < 3:
+        print(__doc__)
+        return 2
+    runs = load_runs(argv[1])
+    if not runs:
+        print("no runs with metrics.jsonl in", argv[1])
+        return 1
+    width, height = 780, 680
+    svg = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}">',
+           '<rect width="100%" height="100%" fill="white"/>',
+           f'<text x="{width/2}" y="22" font-size="15" text-anchor="middle" '
+           f'font-family="sans-serif">Ablations: {os.path.basename(os.path.normpath(argv[1]))}'
+           '</text>']
+    panels = [("juggles per episode (training)", lambda it, ev: [(s, j) for s, j, _ in it], 20),
+              ("node completions per episode (training)",
+               lambda it, ev: [(s, c) for s, _, c in it], 20),
+              ("median juggles (in-run evaluation)", lambda it, ev: ev, 1)]
+    curves = {}
+    for title, pick, window in panels:
+        for config, seeds in runs.items():
+            series = []
+            for it, ev in seeds:
+                points = pick(it, ev)
+                if not points:
+                    continue
+                smooth = moving_average([y for _, y in points], window)
+                series.append([(x, y) for (x, _), y in zip(points, smooth)])
+            if series:
+                curves[(title, config)] = mean_curve(series)
+    x_max = max((c[-1][0] for c in curves.values() if c), default=1)
+    for p, (title, _, window) in enumerate(panels):
+        values = [v for (t, _), c in curves.items() if t == title for point in c for v in point[1:]]
+        lo, hi = (min(values), max(values)) if values else (0, 1)
+        top = 60 + p * 190
+        parts, px, py = axes(70, width - 170, top, 140, x_max, lo, hi, title)
+        svg += parts
+        for k, config in enumerate(sorted(runs)):
+            c = curves.get((title, config))
+            if not c:
+                continue
+            colour = COLOURS[k % len(COLOURS)]
+            band = [f"{px(x):.1f},{py(h):.1f}" for x, _, _, h in c]
+            band += [f"{px(x):.1f},{py(l):.1f}" for x, _, l, _ in reversed(c)]
+            svg.append(f'<polygon points="{" ".join(band)}" fill="{colour}" fill-opacity="0.15"/>')
+            line = " ".join(f"{px(x):.1f},{py(m):.1f}" for x, m, _, _ in c)
+            svg.append(f'<polyline points="{line}" fill="none" stroke="{colour}" stroke-width="2"/>')
+            if window == 1:  # evaluations are sparse: mark each one
+                svg += [f'<circle cx="{px(x):.1f}" cy="{py(m):.1f}" r="3" fill="{colour}"/>'
+                        for x, m, _, _ in c]
+            if p == 0:
+                svg.append(f'<text x="{width-160}" y="{top+16+16*k}" font-size="12" fill="{colour}" '
+                           f'font-family="sans-serif">{config} ({len(runs[config])} seeds)</text>')
+    for frac in (0, 0.5, 1):
+        svg.append(f'<text x="{70 + (width-240)*frac:.1f}" y="{height-14}" font-size="11" '
+                   f'text-anchor="middle" font-family="sans-serif">{x_max*frac/1e6:.2f} M samples</text>')
+    svg.append("</svg>")
+    with open(argv[2], "w") as out:
+        out.write("\n".join(svg))
+    print(f"wrote {argv[2]} ({len(runs)} configs, {sum(len(s) for s in runs.values())} runs)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

@@ -1,0 +1,25 @@
+"""A framed SVG plot panel shared by the plotting scripts (standard library only)."""
+
+
+def axes(left, right, top, height, x_max, lo, hi, title):
+    """Frame, title and three y labels of a panel spanning x in [0, x_max] and y in [lo, hi].
+
+    Returns (svg parts, px, py): px and py map data coordinates to pixels.
+    """
+    if hi - lo < 1e-9:
+        hi = lo + 1
+    x_max = x_max if x_max > 0 else 1
+
+    def px(v):
+        return left + (right - left) * v / x_max
+
+    def py(v):
+        return top + height - height * (v - lo) / (hi - lo)
+
+    parts = [f'<rect x="{left}" y="{top}" width="{right-left}" height="{height}" fill="none" stroke="#999"/>',
+             f'<text x="{left}" y="{top-6}" font-size="13" font-family="sans-serif">{title}</text>']
+    for frac in (0, 0.5, 1):
+        v = lo + (hi - lo) * frac
+        parts.append(f'<text x="{left-6}" y="{py(v)+4:.1f}" font-size="11" text-anchor="end" '
+                     f'font-family="sans-serif">{v:.2f}</text>')
+    return parts, px, py

@@ -2,7 +2,12 @@
 
 #include <sys/stat.h>
 
+#include <filesystem>
+#include <vector>
+
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "common/config_merge.h"
 #include "common/config_ranges.h"
 #include "common/status_macros.h"
 #include "google/protobuf/io/tokenizer.h"
@@ -35,6 +40,52 @@ class ErrorCollector : public google::protobuf::io::ErrorCollector {
 std::string DirName(const std::string& path) {
   const size_t slash = path.rfind('/');
   return slash == std::string::npos ? "." : path.substr(0, slash);
+}
+
+std::string CanonicalName(const std::string& path) {
+  std::error_code ignored;
+  const std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ignored);
+  return canonical.empty() ? path : canonical.string();
+}
+
+// Parses `text` (from `path`) into `run` and, when it names a base_config, loads that first
+// (recursively) and lays this file's fields over it; `where` locates each field in the file
+// that set it. `chain`: the files being composed, outermost first (a cycle is an error).
+absl::Status ParseComposed(const std::string& text, const std::string& path,
+                           std::vector<std::string>* chain, config::RunConfig* run,
+                           SourceLocator* where) {
+  config::RunConfig own;
+  ASSIGN_OR_RETURN(SourceLocator own_where, ParseTextMessage(text, path, &own));
+  if (!own.has_base_config()) {
+    *run = std::move(own);
+    *where = std::move(own_where);
+    return absl::OkStatus();
+  }
+  chain->push_back(path);
+  const std::string base_path = ResolvePath(DirName(path), own.base_config());
+  const std::string at = own_where.Where({{"base_config"}});
+  for (const std::string& seen : *chain) {
+    if (CanonicalName(seen) == CanonicalName(base_path)) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          at, ": a cycle of bases: ", absl::StrJoin(*chain, " -> "), " -> ", base_path));
+    }
+  }
+  absl::StatusOr<std::string> base_text = ReadConfigFile(base_path);
+  if (!base_text.ok()) {
+    return absl::Status(base_text.status().code(),
+                        absl::StrCat(at, ": ", base_text.status().message()));
+  }
+  config::RunConfig base;
+  SourceLocator base_where("");
+  RETURN_IF_ERROR(ParseComposed(*base_text, base_path, chain, &base, &base_where));
+  chain->pop_back();
+  // The base's file names keep naming its files from this file's folder.
+  RebaseFileNames(DirName(base_path), DirName(path), &base);
+  own.clear_base_config();
+  MergeOver(own, &base);
+  *run = std::move(base);
+  *where = own_where.Over(base_where);
+  return absl::OkStatus();
 }
 
 }  // namespace
@@ -76,7 +127,8 @@ absl::StatusOr<LoadedConfig> ParseSharedRunConfig(const std::string& text,
   LoadedConfig loaded;
   loaded.config_path = path;
   loaded.config_dir = DirName(path);
-  ASSIGN_OR_RETURN(loaded.root, ParseTextMessage(text, path, &loaded.run));
+  std::vector<std::string> chain;
+  RETURN_IF_ERROR(ParseComposed(text, path, &chain, &loaded.run, &loaded.root));
   const config::RunConfig& run = loaded.run;
   if (run.sampling().num_envs() < 1 || run.sampling().num_threads() < 1) {
     return absl::InvalidArgumentError(

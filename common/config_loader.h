@@ -29,8 +29,11 @@ struct LoadedConfig {
 };
 
 // Parses `text` (from `path`) into a RunConfig and checks the sections every family shares.
-// The family's own section is left unchecked. INVALID_ARGUMENT "file:line:col: ..." for syntax
-// errors, unknown fields and out-of-range shared fields.
+// A `base_config` is loaded first (relative to `path`'s folder, recursively) and this file's
+// fields laid over it (common/config_merge.h); errors name the file that set the field, and a
+// cycle of bases is refused naming the chain. The family's own section is left unchecked.
+// INVALID_ARGUMENT "file:line:col: ..." for syntax errors, unknown fields and out-of-range
+// shared fields; NOT_FOUND for a base that cannot be read.
 absl::StatusOr<LoadedConfig> ParseSharedRunConfig(const std::string& text, const std::string& path);
 
 // Parses text-format `text` into `message`, returning a locator over it. INVALID_ARGUMENT with

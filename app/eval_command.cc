@@ -145,9 +145,7 @@ int Evaluate(const EvalFlags& f) {
       std::printf("%-9s %12s\n", direction.c_str(),
                   force < 0 ? "none" : absl::StrFormat("%.3f", force).c_str());
       absl::StrAppend(&line, absl::StrFormat(" max_force_%s=%g", direction, force));
-      json.push_back(absl::StrCat("{\"table\":\"force_limit\",\"direction\":",
-                                  JsonQuote(direction), ",\"max_force_n\":", force,
-                                  ",\"min_median_juggles\":", f.min_median_juggles, "}"));
+      json.push_back(ForceLimitJson(direction, force, f.min_median_juggles));
     }
     for (const auto& [direction, why] : swept->unsupported) {
       std::printf("%-9s %12s  (%s)\n", direction.c_str(), "-", why.c_str());

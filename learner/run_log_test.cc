@@ -21,6 +21,7 @@
 #include "learner/dashboard_json.h"
 #include "learner/dashboard_report.h"
 #include "learner/dashboard_state.h"
+#include "learner/testing/two_node_run.h"
 #include "nlohmann/json.hpp"
 
 namespace juggle {
@@ -29,20 +30,6 @@ namespace {
 using ::google::protobuf::util::MessageDifferencer;
 using ::testing::HasSubstr;
 using Json = nlohmann::json;
-
-// Two nodes a (initial) and b, edges a->b and b->a.
-DashboardRunInfo TwoNodeRun() {
-  DashboardRunInfo info;
-  info.config_name = "test_run";
-  info.family = "soccer_juggle";
-  info.seed = 7;
-  info.min_workers = 2;
-  info.queue_capacity = 64;
-  info.outcome_names = {"running", "time_limit", "diverged", "ball_lost"};
-  info.nodes = {{"a", "DOWN", true}, {"b", "UP", false}};
-  info.edges = {{0, 1, 1.0}, {1, 0, 2.0}};
-  return info;
-}
 
 runlog::IterationRecord Iteration(int i) {
   runlog::IterationRecord r;

@@ -23,22 +23,10 @@ struct TrainedRun {
 // Trains `iterations` iterations (counted from the run's start) in `dir` (fresh: a new temp
 // dir, removed afterwards).
 TrainedRun Train(bool evaluate, int iterations, std::string dir = "", bool resume = false) {
-  absl::StatusOr<LoadedConfig> config = LoadRunConfig("tests/data/tiny_right_foot.textproto");
-  EXPECT_TRUE(config.ok()) << config.status();
-  config::EvaluationConfig* e = config->run.mutable_evaluation();
-  e->set_every_minutes(0);
-  e->set_every_iterations(evaluate ? 1 : 0);
-  e->set_episodes(3);
-  e->set_max_seconds(2);
   const bool keep = !dir.empty();
   if (!keep) dir = MakeTempDir("juggle_in_run_eval_");
-  LearnerOptions o;
+  LearnerOptions o = TinyRunOptions(dir, iterations, /*evaluate_every=*/evaluate ? 1 : 0);
   o.resume = resume;
-  o.config = *config;
-  o.run_dir = dir;
-  o.port = 0;
-  o.listen_all_interfaces = false;
-  o.max_iterations = iterations;
   RecordingObserver recorded;
   o.observers.push_back(&recorded);
   auto server = LearnerServer::Start(std::move(o));

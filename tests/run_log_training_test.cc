@@ -8,7 +8,6 @@
 #include <string>
 
 #include "common/testing/temp_dir.h"
-#include "envs/registry.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "learner/checkpoint.h"
@@ -23,26 +22,9 @@ namespace {
 
 using ::testing::HasSubstr;
 
-LearnerOptions TinyRun(const std::string& run_dir, int iterations) {
-  absl::StatusOr<LoadedConfig> config = LoadRunConfig("tests/data/tiny_right_foot.textproto");
-  EXPECT_TRUE(config.ok()) << config.status();
-  config::EvaluationConfig* e = config->run.mutable_evaluation();
-  e->set_every_minutes(0);
-  e->set_every_iterations(1);
-  e->set_episodes(2);
-  e->set_max_seconds(1);
-  LearnerOptions o;
-  o.config = *config;
-  o.run_dir = run_dir;
-  o.port = 0;
-  o.listen_all_interfaces = false;
-  o.max_iterations = iterations;
-  return o;
-}
-
 TEST(RunLogTrainingTest, ATrainedRunLogsEveryRecordTypeAndRendersAsTheDashboard) {
   const std::string dir = MakeTempDir("juggle_run_log_training_");
-  auto server = LearnerServer::Start(TinyRun(dir, 2));
+  auto server = LearnerServer::Start(TinyRunOptions(dir, 2, /*evaluate_every=*/1, /*episodes=*/2));
   ASSERT_TRUE(server.ok()) << server.status();
   ASSERT_TRUE(TrainWithOneWorker(**server).ok());
   absl::StatusOr<RunLog> log = ReadRunLog(RunLogPath(dir));
@@ -64,7 +46,7 @@ TEST(RunLogTrainingTest, ATrainedRunLogsEveryRecordTypeAndRendersAsTheDashboard)
 TEST(RunLogTrainingTest, ALearnerWhoseRunLogIsOnAFullDiskDoesNotStart) {
   const std::string dir = MakeTempDir("juggle_run_log_training_");
   ASSERT_EQ(::symlink("/dev/full", RunLogPath(dir).c_str()), 0);
-  auto server = LearnerServer::Start(TinyRun(dir, 1));
+  auto server = LearnerServer::Start(TinyRunOptions(dir, 1, 0));
   ASSERT_EQ(server.status().code(), absl::StatusCode::kResourceExhausted);
   EXPECT_EQ(server.status().message(),
             "cannot write " + dir + "/metrics.jsonl: No space left on device");
@@ -84,7 +66,7 @@ class FailsAtIterationTwo : public TrainingObserver {
 
 TEST(RunLogTrainingTest, AnObserversErrorStopsTrainingWhichStillCheckpoints) {
   const std::string dir = MakeTempDir("juggle_run_log_training_");
-  LearnerOptions o = TinyRun(dir, 5);
+  LearnerOptions o = TinyRunOptions(dir, 5, 0);
   FailsAtIterationTwo failing;
   o.observers.push_back(&failing);
   auto server = LearnerServer::Start(std::move(o));

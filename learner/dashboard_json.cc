@@ -21,11 +21,6 @@ std::string Dump(const Json& j) {
   return j.dump(-1, ' ', false, Json::error_handler_t::replace);
 }
 
-double UnixNow() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
 Json Optional(const std::optional<double>& v) { return v ? Json(*v) : Json(nullptr); }
 
 // completed / (completed + failed), or null when neither happened.

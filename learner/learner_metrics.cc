@@ -107,15 +107,6 @@ void DeclareLearnerMetrics(Metrics* m) {
   m->Declare("juggle_evaluations_total", "counter", "In-run evaluations run.");
 }
 
-namespace {
-
-double UnixNow() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
-}  // namespace
-
 void RecordEvaluation(const runlog::EvaluationRecord& r, Metrics* m) {
   m->Set("juggle_eval_median_juggles", r.median_juggles());
   m->Set("juggle_eval_juggles_ge_10_ratio", r.frac_juggles_ge_10());

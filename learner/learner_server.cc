@@ -102,11 +102,6 @@ absl::Status BuildEnv(const LoadedConfig& config,
   return absl::OkStatus();
 }
 
-double UnixNow() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
 }  // namespace
 
 LearnerServer::LearnerServer(std::unique_ptr<State> state) : state_(std::move(state)) {}

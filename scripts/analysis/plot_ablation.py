@@ -14,7 +14,7 @@ import os
 import re
 import sys
 
-from svg_axes import axes
+from svg_axes import axes, write_svg
 
 COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"]
 
@@ -114,12 +114,9 @@ def main(argv):
             if p == 0:
                 svg.append(f'<text x="{width-160}" y="{top+16+16*k}" font-size="12" fill="{colour}" '
                            f'font-family="sans-serif">{config} ({len(runs[config])} seeds)</text>')
-    for frac in (0, 0.5, 1):
-        svg.append(f'<text x="{70 + (width-240)*frac:.1f}" y="{height-14}" font-size="11" '
-                   f'text-anchor="middle" font-family="sans-serif">{x_max*frac/1e6:.2f} M samples</text>')
-    svg.append("</svg>")
-    with open(argv[2], "w") as out:
-        out.write("\n".join(svg))
+    write_svg(argv[2], svg,
+              [(70 + (width - 240) * f, f"{x_max*f/1e6:.2f} M samples") for f in (0, 0.5, 1)],
+              height - 14)
     print(f"wrote {argv[2]} ({len(runs)} configs, {sum(len(s) for s in runs.values())} runs)")
     return 0
 

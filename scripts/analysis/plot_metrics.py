@@ -9,7 +9,7 @@ mean episode return. Each panel shows the raw per-iteration values and a moving 
 import json
 import sys
 
-from svg_axes import axes
+from svg_axes import axes, write_svg
 
 
 def moving_average(values, window):
@@ -60,12 +60,8 @@ def main(argv):
         parts, px = panel(minutes, y, 50 + i * 185, 140, width, label, colour)
         svg += parts
     xmax = max(minutes)
-    for frac in (0, 0.25, 0.5, 0.75, 1):
-        svg.append(f'<text x="{px(xmax*frac):.1f}" y="{height-12}" font-size="11" '
-                   f'text-anchor="middle" font-family="sans-serif">{xmax*frac:.0f} min</text>')
-    svg.append("</svg>")
-    with open(argv[2], "w") as out:
-        out.write("\n".join(svg))
+    write_svg(argv[2], svg, [(px(xmax * f), f"{xmax*f:.0f} min") for f in (0, 0.25, 0.5, 0.75, 1)],
+              height - 12)
     print(f"wrote {argv[2]} ({len(rows)} iterations, {xmax:.1f} min)")
     return 0
 

@@ -14,19 +14,9 @@ import os
 import re
 import sys
 
-from svg_axes import axes, write_svg
+from svg_axes import axes, moving_average, write_svg
 
 COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"]
-
-
-def moving_average(values, window):
-    out, acc = [], 0.0
-    for i, v in enumerate(values):
-        acc += v
-        if i >= window:
-            acc -= values[i - window]
-        out.append(acc / min(i + 1, window))
-    return out
 
 
 def load_runs(out_dir):

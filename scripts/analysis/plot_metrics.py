@@ -9,17 +9,7 @@ mean episode return. Each panel shows the raw per-iteration values and a moving 
 import json
 import sys
 
-from svg_axes import axes, write_svg
-
-
-def moving_average(values, window):
-    out, acc = [], 0.0
-    for i, v in enumerate(values):
-        acc += v
-        if i >= window:
-            acc -= values[i - window]
-        out.append(acc / min(i + 1, window))
-    return out
+from svg_axes import axes, moving_average, write_svg
 
 
 def panel(x, y, top, height, width, title, colour):

@@ -1,4 +1,15 @@
-"""A framed SVG plot panel shared by the plotting scripts (standard library only)."""
+"""A framed SVG plot panel and helpers shared by the plotting scripts (standard library only)."""
+
+
+def moving_average(values, window):
+    """Mean of each value and up to window - 1 before it."""
+    out, acc = [], 0.0
+    for i, v in enumerate(values):
+        acc += v
+        if i >= window:
+            acc -= values[i - window]
+        out.append(acc / min(i + 1, window))
+    return out
 
 
 def axes(left, right, top, height, x_max, lo, hi, title):

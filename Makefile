@@ -9,7 +9,7 @@ JOBS      ?= $(shell nproc)
 .PHONY: deps configure build train train-toss test test-deploy test-sanitize fuzz bench clean
 
 deps:
-	@bash scripts/install_deps.sh
+	@bash scripts/dev/install_deps.sh
 
 configure: deps
 	@cmake --preset $(PRESET) >/dev/null
@@ -27,28 +27,28 @@ train: build
 # stops at a fixed iteration; independent stages run side by side. About 2 h on 2 cores.
 # The pair it produced is shipped in policies/toss/ (docs/results.md).
 train-toss: build
-	JUGGLE=$(BUILD_DIR)/juggle scripts/train_toss.sh runs
+	JUGGLE=$(BUILD_DIR)/juggle scripts/experiments/train_toss.sh runs
 
 # Every test: each libFuzzer harness briefly (FUZZ_BRIEF seconds; 0 skips), then ctest.
 FUZZ_BRIEF ?= 10
 test: build
-	@if [ "$(FUZZ_BRIEF)" != 0 ]; then scripts/fuzz.sh $(FUZZ_BRIEF); fi
+	@if [ "$(FUZZ_BRIEF)" != 0 ]; then scripts/dev/fuzz.sh $(FUZZ_BRIEF); fi
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) -LE deploy
 
 # The deployment tests on real engines (docs/cluster.md): images built with podman, the k8s
 # manifests under `podman kube play`, the Slurm job on a single-node Slurm. Needs root.
 test-deploy: build
-	@bash scripts/install_deps.sh --deploy
+	@bash scripts/dev/install_deps.sh --deploy
 	cd $(BUILD_DIR) && ctest --output-on-failure -L deploy
 
 # The service's tests under ASan+UBSan and TSan (docs/reliability.md).
 test-sanitize: deps
-	scripts/test_sanitize.sh
+	scripts/dev/test_sanitize.sh
 
 # Fuzzing: every harness for FUZZ_SECONDS (docs/reliability.md).
 FUZZ_SECONDS ?= 300
 fuzz: deps
-	scripts/fuzz.sh $(FUZZ_SECONDS)
+	scripts/dev/fuzz.sh $(FUZZ_SECONDS)
 
 bench: build
 	$(BUILD_DIR)/juggle bench sim --config=$(BENCH_CONFIG)

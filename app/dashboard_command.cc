@@ -2,9 +2,9 @@
 // learner's dashboard page in one self-contained HTML file, to open in a browser or attach to a
 // report (docs/dashboard.md).
 #include <cstdio>
-#include <fstream>
 
 #include "app/commands.h"
+#include "common/file_io.h"
 #include "learner/dashboard_report.h"
 
 namespace juggle {
@@ -21,10 +21,7 @@ CommandBody AddDashboardCommand(CLI::App* cmd) {
     absl::StatusOr<DashboardReport> report = RenderRunDashboard(f->run_dir);
     if (!report.ok()) return Fail(report.status());
     const std::string out = f->out.empty() ? f->run_dir + "/dashboard.html" : f->out;
-    std::ofstream file(out, std::ios::binary | std::ios::trunc);
-    if (!file || !(file << report->html) || !file.flush()) {
-      return Fail(absl::PermissionDeniedError("cannot write " + out));
-    }
+    if (absl::Status s = WriteFile(out, report->html); !s.ok()) return Fail(s);
     for (const std::string& note : report->notes) std::printf("note: %s\n", note.c_str());
     std::printf("wrote %s (%d iterations, %d evaluations, %zu bytes)\n", out.c_str(),
                 report->iterations, report->evaluations, report->html.size());

@@ -16,6 +16,7 @@
 #include "absl/strings/str_format.h"
 #include "app/commands.h"
 #include "app/policy_source.h"
+#include "common/file_io.h"
 #include "envs/registry.h"
 #include "eval/controller.h"
 #include "eval/episode_runner.h"
@@ -89,15 +90,9 @@ std::function<void(int, const planner::ReplanReport&)> PlannerProgress(
 
 // Writes `lines` (JSON objects) to `path`, one per line.
 absl::Status WriteJsonLines(const std::string& path, const std::vector<std::string>& lines) {
-  std::FILE* f = std::fopen(path.c_str(), "w");
-  if (f == nullptr) {
-    return absl::NotFoundError(absl::StrCat("cannot write ", path, ": ", std::strerror(errno)));
-  }
-  for (const std::string& line : lines) std::fprintf(f, "%s\n", line.c_str());
-  if (std::fclose(f) != 0) {
-    return absl::InternalError(absl::StrCat("cannot write ", path, ": ", std::strerror(errno)));
-  }
-  return absl::OkStatus();
+  std::string text;
+  for (const std::string& line : lines) absl::StrAppend(&text, line, "\n");
+  return WriteFile(path, text);
 }
 
 int Evaluate(EvalFlags f) {
@@ -248,9 +243,7 @@ int Evaluate(EvalFlags f) {
       std::printf("%-9s %12s\n", direction.c_str(),
                   force < 0 ? "none" : absl::StrFormat("%.3f", force).c_str());
       absl::StrAppend(&line, absl::StrFormat(" max_force_%s=%g", direction, force));
-      json.push_back(absl::StrCat("{\"table\":\"force_limit\",\"direction\":",
-                                  JsonQuote(direction), ",\"max_force_n\":", force,
-                                  ",\"min_median_juggles\":", f.min_median_juggles, "}"));
+      json.push_back(ForceLimitJson(direction, force, f.min_median_juggles));
     }
     for (const auto& [direction, why] : swept->unsupported) {
       std::printf("%-9s %12s  (%s)\n", direction.c_str(), "-", why.c_str());

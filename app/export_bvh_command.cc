@@ -9,7 +9,7 @@
 #include "app/commands.h"
 #include "export/bvh.h"
 #include "export/trajectory_model.h"
-#include "render/image.h"
+#include "common/file_io.h"
 
 namespace juggle {
 namespace {
@@ -47,9 +47,9 @@ int ExportBvhCommand(const ExportBvhFlags& f) {
     return Fail(absl::Status(bvh.status().code(),
                              absl::StrCat(f.trajectory, ": ", bvh.status().message())));
   }
-  if (absl::Status s = WriteFileBytes(f.out, bvh->bvh); !s.ok()) return Fail(s);
+  if (absl::Status s = WriteFile(f.out, bvh->bvh); !s.ok()) return Fail(s);
   if (!bvh->balls_csv.empty()) {
-    if (absl::Status s = WriteFileBytes(balls, bvh->balls_csv); !s.ok()) return Fail(s);
+    if (absl::Status s = WriteFile(balls, bvh->balls_csv); !s.ok()) return Fail(s);
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -4,11 +4,12 @@
 // eval`, `render` and `toss` run these files; toss in-loop training reads them as its frozen
 // partners (TossLoopConfig.catch_policy_file / throw_policy_file).
 #include <cstdio>
-#include <fstream>
+
 #include <string>
 
 #include "app/commands.h"
 #include "app/policy_source.h"
+#include "common/file_io.h"
 
 namespace juggle {
 
@@ -27,9 +28,8 @@ CommandBody AddExportPolicyCommand(CLI::App* cmd) {
   return [f] {
     absl::StatusOr<PolicySource> source = LoadPolicySource(f->checkpoint, f->config);
     if (!source.ok()) return Fail(source.status());
-    std::ofstream file(f->out, std::ios::binary | std::ios::trunc);
-    if (!file || !source->exported.SerializeToOstream(&file) || !file.flush()) {
-      return Fail(absl::PermissionDeniedError("cannot write " + f->out));
+    if (absl::Status s = WriteFile(f->out, source->exported.SerializeAsString()); !s.ok()) {
+      return Fail(s);
     }
     std::printf("exported %s (obs %d, actions %d, %zu bytes of parameters) to %s\n",
                 source->path.c_str(), source->exported.obs_dim(), source->exported.act_dim(),

@@ -6,6 +6,7 @@
 #include "app/learner_flags.h"
 #include "app/security_flags.h"
 #include "app/signals.h"
+#include "learner/console_reporter.h"
 
 namespace juggle {
 
@@ -38,6 +39,8 @@ CommandBody AddLearnerCommand(CLI::App* cmd) {
                    "gRPC port can register and send training data (docs/reliability.md)\n");
     }
     const std::string run_dir = options->run_dir;
+    ConsoleReporter console;  // a line per iteration and per evaluation
+    options->observers.push_back(&console);
     absl::StatusOr<std::unique_ptr<LearnerServer>> server = LearnerServer::Start(std::move(*options));
     if (!server.ok()) return Fail(server.status());
     std::printf("learner: gRPC on port %d, metrics on port %d, run dir %s\n", (*server)->port(),

@@ -2,8 +2,6 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <memory>
 
 #include "absl/strings/str_cat.h"
 #include "envs/registry.h"
@@ -15,17 +13,6 @@ namespace {
 
 std::string DefaultRunDir(const config::RunConfig& run) {
   return absl::StrCat("runs/", run.name().empty() ? "run" : run.name());
-}
-
-// Prints one progress line per iteration and appends it to metrics.jsonl.
-std::function<void(const IterationReport&)> ProgressReporter(
-    std::shared_ptr<std::ofstream> metrics) {
-  return [metrics](const IterationReport& r) {
-    *metrics << r.ToJson() << "\n";
-    metrics->flush();
-    std::printf("%s\n", r.ToLine().c_str());
-    std::fflush(stdout);
-  };
 }
 
 // --init_from: a new run that starts from another run's checkpoint (fine-tuning under another
@@ -123,18 +110,6 @@ absl::StatusOr<LearnerOptions> MakeLearnerOptions(const LearnerFlags& flags) {
     if (absl::Status s = SeedRunFromCheckpoint(flags.init_from, o.run_dir); !s.ok()) return s;
     o.resume = true;  // from the copied checkpoint
   }
-  auto metrics = std::make_shared<std::ofstream>(o.run_dir + "/metrics.jsonl", std::ios::app);
-  o.on_record = [metrics](const std::string& record) {
-    *metrics << record << "\n";
-    metrics->flush();
-  };
-  o.on_iteration = ProgressReporter(metrics);
-  o.on_eval = [metrics](const InRunEvaluation& e) {
-    *metrics << e.ToJson() << "\n";
-    metrics->flush();
-    std::printf("%s: %s\n", e.ToShort().c_str(), SummaryLine(e.summary).c_str());
-    std::fflush(stdout);
-  };
   return o;
 }
 

@@ -26,9 +26,8 @@ struct LearnerFlags {
 
 void AddLearnerFlags(CLI::App* cmd, LearnerFlags* flags);
 
-// Loads the config, prepares the run directory (copying --init_from's checkpoint into it) and
-// installs a progress reporter that prints a line per iteration and appends it to
-// <run_dir>/metrics.jsonl.
+// Loads the config and prepares the run directory (copying --init_from's checkpoint into it).
+// The learner writes the run log, <run_dir>/metrics.jsonl, itself (learner/run_log.h).
 absl::StatusOr<LearnerOptions> MakeLearnerOptions(const LearnerFlags& flags);
 
 }  // namespace juggle

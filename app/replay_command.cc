@@ -12,7 +12,7 @@
 #include "common/http_server.h"
 #include "export/replay.h"
 #include "export/trajectory_model.h"
-#include "render/image.h"
+#include "common/file_io.h"
 
 namespace juggle {
 namespace {
@@ -58,7 +58,7 @@ int Replay(const ReplayFlags& f) {
       " events=", data->events.size(), " duration_s=", data->time.back(), " bytes=", html.size(),
       " build_s=", absl::StrFormat("%.3f", seconds));
   if (!f.serve) {
-    if (absl::Status s = WriteFileBytes(f.out, html); !s.ok()) return Fail(s);
+    if (absl::Status s = WriteFile(f.out, html); !s.ok()) return Fail(s);
     std::printf("out=%s %s\n", f.out.c_str(), summary.c_str());
     return 0;
   }

@@ -1,5 +1,5 @@
 // `juggle siteswap`: analyse a vanilla siteswap (validity, balls, state, the physical throw
-// schedule of seed 001's Eq. 1-3), find the shortest transition between two patterns, or
+// schedule of Chemin & Lee's Eq. 1-3, docs/siteswap.md), find the shortest transition between two patterns, or
 // enumerate patterns. The last line of every report is key=value pairs for scripts.
 // Exit status: 0 ok, 1 invalid pattern (or patterns without a transition), 2 usage error.
 #include <cstdio>

@@ -13,7 +13,7 @@
 #include "app/policy_source.h"
 #include "envs/registry.h"
 #include "envs/toss/eval.h"
-#include "render/image.h"
+#include "common/file_io.h"
 
 namespace juggle {
 namespace {
@@ -103,7 +103,7 @@ int Evaluate(const LoadedConfig& base, TossPolicies policies, const TossFlags& f
   if (!f.json.empty()) {
     std::string text;
     for (const std::string& line : toss::TossEvalJsonLines(*report, o)) text += line + "\n";
-    if (absl::Status s = WriteFileBytes(f.json, text); !s.ok()) return Fail(s);
+    if (absl::Status s = WriteFile(f.json, text); !s.ok()) return Fail(s);
     std::printf("wrote the evaluation as JSON lines to %s\n", f.json.c_str());
   }
   std::string summary;

@@ -9,6 +9,7 @@
 #include "app/commands.h"
 #include "app/learner_flags.h"
 #include "app/signals.h"
+#include "learner/console_reporter.h"
 #include "worker/worker_client.h"
 
 namespace juggle {
@@ -43,6 +44,8 @@ CommandBody AddTrainCommand(CLI::App* cmd) {
     const int envs = f->envs > 0 ? f->envs : run.sampling().num_envs();
     const int threads = f->threads > 0 ? f->threads : run.sampling().num_threads();
     const std::string run_dir = options->run_dir;
+    ConsoleReporter console;  // a line per iteration and per evaluation
+    options->observers.push_back(&console);
     absl::StatusOr<std::unique_ptr<LearnerServer>> server =
         LearnerServer::Start(std::move(*options));
     if (!server.ok()) return Fail(server.status());

@@ -24,6 +24,7 @@
 #include "learner/dashboard_json.h"
 #include "learner/dashboard_state.h"
 #include "learner/learner_server.h"
+#include "learner/testing/recording_observer.h"
 #include "nlohmann/json.hpp"
 #include "worker/worker_client.h"
 
@@ -82,13 +83,14 @@ absl::Status RunDashboardBench(const DashboardBenchOptions& o) {
   std::atomic<int> phase{-1};
   std::mutex mu;
   std::vector<double> phase_samples(2, 0), phase_seconds(2, 0);
-  options.on_iteration = [&](const IterationReport& r) {
+  IterationCallback credit([&](const runlog::IterationRecord& r) {
     const int p = phase.load();
     if (p < 0) return;
     std::lock_guard<std::mutex> lock(mu);
-    phase_samples[p % 2] += static_cast<double>(r.samples);
-    phase_seconds[p % 2] += r.iteration_s;
-  };
+    phase_samples[p % 2] += static_cast<double>(r.iteration_samples());
+    phase_seconds[p % 2] += r.iteration_s();
+  });
+  options.observers.push_back(&credit);
   absl::StatusOr<std::unique_ptr<LearnerServer>> server = LearnerServer::Start(std::move(options));
   if (!server.ok()) return server.status();
   LearnerServer& learner = **server;
@@ -160,11 +162,14 @@ absl::Status RunDashboardBench(const DashboardBenchOptions& o) {
 
   // The largest history the page can load: DashboardState's full capacity.
   DashboardState full(DashboardRunInfo{}, DashboardState::kDefaultCapacity);
-  IterationReport report;
-  report.outcomes = {{"ball_lost", 80}, {"time_limit", 3}};
+  runlog::IterationRecord report;
+  (*report.mutable_outcomes())["ball_lost"] = 80;
+  (*report.mutable_outcomes())["time_limit"] = 3;
+  const WalkEventTotals no_events;
+  const std::vector<double> no_counts;
   for (int i = 1; i <= DashboardState::kDefaultCapacity; ++i) {
-    report.iteration = i;
-    full.RecordIteration(report, {}, {}, i);
+    report.set_iteration(i);
+    full.OnIteration({report, no_events, no_counts}).IgnoreError();
   }
   const auto h0 = Clock::now();
   const std::string full_history = HistoryJson(full.HistorySince(0, 0));

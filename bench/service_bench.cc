@@ -18,6 +18,7 @@
 #include "envs/registry.h"
 #include "common/testing/temp_dir.h"
 #include "learner/learner_server.h"
+#include "learner/testing/recording_observer.h"
 #include "learner/ppo_trainer.h"
 #include "proto/rollout.grpc.pb.h"
 #include "worker/env_pool.h"
@@ -38,7 +39,7 @@ double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 
 absl::StatusOr<std::unique_ptr<LearnerServer>> StartLearner(const LoadedConfig& config,
                                                             bool discard,
-                                                            std::function<void(const IterationReport&)> cb = nullptr) {
+                                                            TrainingObserver* observer = nullptr) {
   LearnerOptions o;
   o.config = config;
   // Every synthetic worker registers from this one host.
@@ -48,7 +49,7 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> StartLearner(const LoadedConfig& 
   o.metrics_port = -1;
   o.listen_all_interfaces = false;
   o.discard_data = discard;
-  o.on_iteration = std::move(cb);
+  if (observer != nullptr) o.observers.push_back(observer);
   return LearnerServer::Start(std::move(o));
 }
 
@@ -141,9 +142,10 @@ absl::Status RunBroadcastBench(const BroadcastBenchOptions& o) {
   config->run.mutable_ppo()->set_unroll_length(2);
   config->run.mutable_ppo()->set_epochs(1);
   std::atomic<int64_t> published_ns{0};
-  auto server = StartLearner(*config, false, [&](const IterationReport&) {
+  IterationCallback published([&](const runlog::IterationRecord&) {
     published_ns = Clock::now().time_since_epoch().count();
   });
+  auto server = StartLearner(*config, false, &published);
   if (!server.ok()) return server.status();
   std::atomic<bool> stop{false};
   std::thread trainer([&] { (*server)->Train(&stop).IgnoreError(); });
@@ -234,9 +236,10 @@ absl::Status RunLocalBench(const LocalBenchOptions& o) {
 
   // (c): local mode — the learner service and one worker over loopback gRPC.
   std::vector<double> iteration_s;
-  auto server = StartLearner(*config, false, [&](const IterationReport& r) {
-    if (r.iteration > 1) iteration_s.push_back(r.iteration_s);  // skip warm-up
+  IterationCallback timed([&](const runlog::IterationRecord& r) {
+    if (r.iteration() > 1) iteration_s.push_back(r.iteration_s());  // skip warm-up
   });
+  auto server = StartLearner(*config, false, &timed);
   if (!server.ok()) return server.status();
   std::atomic<bool> stop{false}, worker_stop{false};
   std::thread worker([&] {

@@ -69,4 +69,33 @@ double AdaptiveWalk::Probability(int edge) const {
   return counts_[edge] / total;
 }
 
+void WalkEventTotals::Resize(int num_edges) {
+  chosen.assign(num_edges, 0);
+  completed.assign(num_edges, 0);
+  failed.assign(num_edges, 0);
+}
+
+void WalkEventTotals::Add(const EdgeEvent& e) {
+  if (e.edge < 0 || e.edge >= static_cast<int>(chosen.size())) return;
+  switch (e.type) {
+    case EdgeEventType::kChosen: ++chosen[e.edge]; break;
+    case EdgeEventType::kCompleted: ++completed[e.edge]; break;
+    case EdgeEventType::kFailed: ++failed[e.edge]; break;
+  }
+}
+
+void WalkEventTotals::Add(const WalkEventTotals& o) {
+  for (size_t i = 0; i < chosen.size() && i < o.chosen.size(); ++i) {
+    chosen[i] += o.chosen[i];
+    completed[i] += o.completed[i];
+    failed[i] += o.failed[i];
+  }
+}
+
+int64_t WalkEventTotals::events() const {
+  int64_t n = 0;
+  for (size_t i = 0; i < chosen.size(); ++i) n += chosen[i] + completed[i] + failed[i];
+  return n;
+}
+
 }  // namespace juggle

@@ -26,6 +26,16 @@ struct EdgeEvent {
   bool operator==(const EdgeEvent& o) const { return edge == o.edge && type == o.type; }
 };
 
+// Workers' edge events per edge (paper §5.2: chosen = the walk entered the edge's target,
+// completed = the target node was completed, failed = the episode ended in it).
+struct WalkEventTotals {
+  std::vector<int64_t> chosen, completed, failed;  // [num_edges]
+  void Resize(int num_edges);
+  void Add(const EdgeEvent& event);                // events of unknown edges are ignored
+  void Add(const WalkEventTotals& other);
+  int64_t events() const;
+};
+
 class AdaptiveWalk {
  public:
   static constexpr double kMaxCountFactor = 100.0;

@@ -2,10 +2,12 @@
 
 #include <sys/stat.h>
 
-#include <fstream>
-#include <sstream>
+#include <filesystem>
+#include <vector>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "common/config_merge.h"
 #include "common/config_ranges.h"
 #include "common/status_macros.h"
 #include "google/protobuf/io/tokenizer.h"
@@ -40,6 +42,52 @@ std::string DirName(const std::string& path) {
   return slash == std::string::npos ? "." : path.substr(0, slash);
 }
 
+std::string CanonicalName(const std::string& path) {
+  std::error_code ignored;
+  const std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ignored);
+  return canonical.empty() ? path : canonical.string();
+}
+
+// Parses `text` (from `path`) into `run` and, when it names a base_config, loads that first
+// (recursively) and lays this file's fields over it; `where` locates each field in the file
+// that set it. `chain`: the files being composed, outermost first (a cycle is an error).
+absl::Status ParseComposed(const std::string& text, const std::string& path,
+                           std::vector<std::string>* chain, config::RunConfig* run,
+                           SourceLocator* where) {
+  config::RunConfig own;
+  ASSIGN_OR_RETURN(SourceLocator own_where, ParseTextMessage(text, path, &own));
+  if (!own.has_base_config()) {
+    *run = std::move(own);
+    *where = std::move(own_where);
+    return absl::OkStatus();
+  }
+  chain->push_back(path);
+  const std::string base_path = ResolvePath(DirName(path), own.base_config());
+  const std::string at = own_where.Where({{"base_config"}});
+  for (const std::string& seen : *chain) {
+    if (CanonicalName(seen) == CanonicalName(base_path)) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          at, ": a cycle of bases: ", absl::StrJoin(*chain, " -> "), " -> ", base_path));
+    }
+  }
+  absl::StatusOr<std::string> base_text = ReadConfigFile(base_path);
+  if (!base_text.ok()) {
+    return absl::Status(base_text.status().code(),
+                        absl::StrCat(at, ": ", base_text.status().message()));
+  }
+  config::RunConfig base;
+  SourceLocator base_where("");
+  RETURN_IF_ERROR(ParseComposed(*base_text, base_path, chain, &base, &base_where));
+  chain->pop_back();
+  // The base's file names keep naming its files from this file's folder.
+  RebaseFileNames(DirName(base_path), DirName(path), &base);
+  own.clear_base_config();
+  MergeOver(own, &base);
+  *run = std::move(base);
+  *where = own_where.Over(base_where);
+  return absl::OkStatus();
+}
+
 }  // namespace
 
 absl::StatusOr<SourceLocator> ParseTextMessage(const std::string& text, const std::string& path,
@@ -58,27 +106,6 @@ absl::StatusOr<SourceLocator> ParseTextMessage(const std::string& text, const st
   SourceLocator where(path, message->GetDescriptor(), std::move(tree));
   RETURN_IF_ERROR(CheckFieldRanges(*message, where));
   return where;
-}
-
-absl::StatusOr<std::string> ReadFile(const std::string& path) {
-  // Only regular files of bounded size: a config naming /dev/zero or a FIFO must not hang.
-  constexpr int64_t kMaxBytes = int64_t{1} << 30;
-  struct stat st;
-  if (::stat(path.c_str(), &st) == 0) {
-    if (S_ISDIR(st.st_mode)) return absl::InvalidArgumentError(absl::StrCat(path, ": is a directory"));
-    if (!S_ISREG(st.st_mode)) {
-      return absl::InvalidArgumentError(absl::StrCat(path, ": is not a regular file"));
-    }
-    if (st.st_size > kMaxBytes) {
-      return absl::InvalidArgumentError(absl::StrCat(path, ": is ", st.st_size >> 20,
-                                                     " MiB, above the 1024 MiB limit"));
-    }
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return absl::NotFoundError(absl::StrCat(path, ": cannot open file"));
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
 }
 
 absl::StatusOr<std::string> ReadConfigFile(const std::string& path) {
@@ -100,7 +127,8 @@ absl::StatusOr<LoadedConfig> ParseSharedRunConfig(const std::string& text,
   LoadedConfig loaded;
   loaded.config_path = path;
   loaded.config_dir = DirName(path);
-  ASSIGN_OR_RETURN(loaded.root, ParseTextMessage(text, path, &loaded.run));
+  std::vector<std::string> chain;
+  RETURN_IF_ERROR(ParseComposed(text, path, &chain, &loaded.run, &loaded.root));
   const config::RunConfig& run = loaded.run;
   if (run.sampling().num_envs() < 1 || run.sampling().num_threads() < 1) {
     return absl::InvalidArgumentError(

@@ -10,6 +10,7 @@
 
 #include "absl/status/statusor.h"
 #include "common/control_graph.h"
+#include "common/file_io.h"  // ReadFile, for the config readers
 #include "common/source_locator.h"
 #include "google/protobuf/message.h"
 #include "proto/run_config.pb.h"
@@ -28,8 +29,11 @@ struct LoadedConfig {
 };
 
 // Parses `text` (from `path`) into a RunConfig and checks the sections every family shares.
-// The family's own section is left unchecked. INVALID_ARGUMENT "file:line:col: ..." for syntax
-// errors, unknown fields and out-of-range shared fields.
+// A `base_config` is loaded first (relative to `path`'s folder, recursively) and this file's
+// fields laid over it (common/config_merge.h); errors name the file that set the field, and a
+// cycle of bases is refused naming the chain. The family's own section is left unchecked.
+// INVALID_ARGUMENT "file:line:col: ..." for syntax errors, unknown fields and out-of-range
+// shared fields; NOT_FOUND for a base that cannot be read.
 absl::StatusOr<LoadedConfig> ParseSharedRunConfig(const std::string& text, const std::string& path);
 
 // Parses text-format `text` into `message`, returning a locator over it. INVALID_ARGUMENT with
@@ -37,9 +41,7 @@ absl::StatusOr<LoadedConfig> ParseSharedRunConfig(const std::string& text, const
 absl::StatusOr<SourceLocator> ParseTextMessage(const std::string& text, const std::string& path,
                                                google::protobuf::Message* message);
 
-// Reads a whole file. NOT_FOUND if it cannot be opened.
-absl::StatusOr<std::string> ReadFile(const std::string& path);
-// Reads a config file: as ReadFile, and INVALID_ARGUMENT for a directory ("<path> is a
+// Reads a config file: as ReadFile (common/file_io.h), and INVALID_ARGUMENT for a directory ("<path> is a
 // directory, not a config file").
 absl::StatusOr<std::string> ReadConfigFile(const std::string& path);
 

@@ -1,11 +1,17 @@
 #include "common/metrics.h"
 
+#include <chrono>
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 
 namespace juggle {
+
+double UnixNow() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
 namespace {
 
 // A sample value as the exposition format spells it: NaN, +Inf, -Inf, else 17 digits.

@@ -11,6 +11,9 @@
 
 namespace juggle {
 
+// Seconds since the Unix epoch (the wall clock of timestamps in metrics and records).
+double UnixNow();
+
 class Metrics {
  public:
   // Declares a metric (type "counter", "gauge" or "histogram") with its help text.

@@ -1,5 +1,7 @@
 // Maps a field path inside a parsed text-format message to "file:line:column", so validation
-// errors name the file, line and field. Immutable after construction; thread-safe to read.
+// errors name the file, line and field. A config composed from a base (RunConfig.base_config)
+// has one layer per file: a field is located in the file that set it. Immutable after
+// construction; thread-safe to read.
 #ifndef JUGGLE_COMMON_SOURCE_LOCATOR_H_
 #define JUGGLE_COMMON_SOURCE_LOCATOR_H_
 
@@ -34,16 +36,24 @@ class SourceLocator {
   // A locator for a sub-message: paths given to it are relative to `prefix`.
   SourceLocator Nested(const FieldPath& prefix) const;
 
-  // "file:line:col: path" for the deepest part of `path` that the file mentions; for a field
-  // absent from the file, the location of its parent (or just the file).
+  // This file's locator over `base`'s, for a config laid over its base: a field this file
+  // mentions is located here, any other in the base (the deepest mention wins; this file on a
+  // tie). REQUIRES: no prefix on either (root locators).
+  SourceLocator Over(const SourceLocator& base) const;
+
+  // "file:line:col: path" for the deepest part of `path` that a file mentions; for a field
+  // absent from every file, the location of its parent (or just the first file).
   std::string Where(const FieldPath& path) const;
 
-  const std::string& file() const { return file_; }
+  const std::string& file() const { return layers_.front().file; }
 
  private:
-  std::string file_;
-  const google::protobuf::Descriptor* root_ = nullptr;
-  std::shared_ptr<google::protobuf::TextFormat::ParseInfoTree> tree_;
+  struct Layer {
+    std::string file;
+    const google::protobuf::Descriptor* root = nullptr;
+    std::shared_ptr<google::protobuf::TextFormat::ParseInfoTree> tree;
+  };
+  std::vector<Layer> layers_;  // this file first, then its bases
   FieldPath prefix_;
 };
 

@@ -14,7 +14,8 @@ using ::testing::HasSubstr;
 TEST(LoadConfigTest, MissingConfigFileIsNotFound) {
   const absl::StatusOr<LoadedConfig> loaded = LoadRunConfig("no/such/config.textproto");
   ASSERT_EQ(loaded.status().code(), absl::StatusCode::kNotFound);
-  EXPECT_EQ(loaded.status().message(), "no/such/config.textproto: cannot open file");
+  EXPECT_EQ(loaded.status().message(),
+            "no/such/config.textproto: cannot open file (No such file or directory)");
 }
 
 TEST(LoadConfigTest, ConfigWithoutAFamilyNamesEveryFamily) {

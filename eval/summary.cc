@@ -52,6 +52,24 @@ EvalSummary Summarize(const std::vector<EpisodeResult>& episodes, double control
   return s;
 }
 
+nlohmann::ordered_json SummaryToJson(const EvalSummary& s) {
+  nlohmann::ordered_json j = {
+      {"episodes", s.episodes},
+      {"median_juggles", s.median_juggles},
+      {"p10_juggles", s.p10_juggles},
+      {"p90_juggles", s.p90_juggles},
+      {"mean_juggles", s.mean_juggles},
+      {"frac_juggles_ge_10", s.frac_juggles_ge_10},
+      {"frac_juggles_ge_20", s.frac_juggles_ge_20},
+      {"mean_return", s.mean_return},
+      {"mean_completions", s.mean_completions},
+      {"mean_episode_s", s.mean_episode_s},
+      {"outcomes", s.outcomes},
+  };
+  for (const auto& [name, mean] : s.mean_metrics) j["mean_" + name] = mean;
+  return j;
+}
+
 std::string SummaryLine(const EvalSummary& s) {
   std::string line = absl::StrFormat(
       "episodes=%d median_juggles=%g p10_juggles=%g p90_juggles=%g mean_juggles=%.3f "

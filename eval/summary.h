@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "nlohmann/json.hpp"
+
 #include "eval/episode_runner.h"
 
 namespace juggle {
@@ -33,6 +35,11 @@ double Percentile(std::vector<double> values, double q);
 
 EvalSummary Summarize(const std::vector<EpisodeResult>& episodes, double control_dt,
                       const std::vector<std::string>& outcome_names);
+
+// The summary as JSON members: every field by name, `outcomes` as an object, each mean
+// metric as "mean_<name>" (the evaluation tables' JSON lines; the run log's eval record is
+// proto/run_log.proto's EvaluationRecord, filled by learner/in_run_eval.h's SetSummary).
+nlohmann::ordered_json SummaryToJson(const EvalSummary& summary);
 
 // "episodes=50 median_juggles=12 p10_juggles=4 ... mean_episode_s=9.870 ball_lost=31 ..."
 std::string SummaryLine(const EvalSummary& summary);

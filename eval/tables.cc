@@ -8,49 +8,17 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "envs/registry.h"
+#include "nlohmann/json.hpp"
 
 namespace juggle {
 namespace {
 
-std::string Num(double v) { return std::isfinite(v) ? absl::StrFormat("%.6g", v) : "null"; }
+using Json = nlohmann::ordered_json;
 
-// The fields of `s` as JSON members (no braces).
-std::string SummaryMembers(const EvalSummary& s) {
-  std::string out = absl::StrCat(
-      "\"episodes\":", s.episodes, ",\"median_juggles\":", Num(s.median_juggles),
-      ",\"p10_juggles\":", Num(s.p10_juggles), ",\"p90_juggles\":", Num(s.p90_juggles),
-      ",\"mean_juggles\":", Num(s.mean_juggles), ",\"frac_juggles_ge_10\":",
-      Num(s.frac_juggles_ge_10), ",\"frac_juggles_ge_20\":", Num(s.frac_juggles_ge_20),
-      ",\"mean_return\":", Num(s.mean_return), ",\"mean_completions\":", Num(s.mean_completions),
-      ",\"mean_episode_s\":", Num(s.mean_episode_s), ",\"outcomes\":{");
-  bool first = true;
-  for (const auto& [name, count] : s.outcomes) {
-    absl::StrAppend(&out, first ? "" : ",", JsonQuote(name), ":", count);
-    first = false;
-  }
-  out += "}";
-  for (const auto& [name, mean] : s.mean_metrics) {
-    absl::StrAppend(&out, ",", JsonQuote("mean_" + name), ":", Num(mean));
-  }
-  return out;
-}
+// One JSON line; non-finite numbers become null, invalid UTF-8 is replaced.
+std::string Line(const Json& j) { return j.dump(-1, ' ', false, Json::error_handler_t::replace); }
 
 }  // namespace
-
-std::string JsonQuote(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      out += absl::StrFormat("\\u%04x", c);
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
 
 std::vector<NodeRow> NodeTable(const std::vector<EpisodeResult>& episodes,
                                const ControlGraph& graph,
@@ -168,24 +136,32 @@ absl::StatusOr<ForceSweepReport> RunForceSweep(
 }
 
 std::string SummaryJson(const EvalSummary& s) {
-  return absl::StrCat("{\"table\":\"summary\",", SummaryMembers(s), "}");
+  Json j = {{"table", "summary"}};
+  j.update(SummaryToJson(s));
+  return Line(j);
 }
 
 std::string NodeRowJson(const NodeRow& r) {
-  std::string out = absl::StrCat("{\"table\":\"node\",\"node\":", JsonQuote(r.node),
-                                 ",\"visits\":", r.visits, ",\"completions\":", r.completions,
-                                 ",\"success_rate\":", Num(r.success_rate), ",\"endings\":{");
-  bool first = true;
-  for (const auto& [name, count] : r.endings) {
-    absl::StrAppend(&out, first ? "" : ",", JsonQuote(name), ":", count);
-    first = false;
-  }
-  return out + "}}";
+  return Line({{"table", "node"},
+               {"node", r.node},
+               {"visits", r.visits},
+               {"completions", r.completions},
+               {"success_rate", r.success_rate},
+               {"endings", r.endings}});
 }
 
 std::string ForceRowJson(const ForceSweepRow& r) {
-  return absl::StrCat("{\"table\":\"force_sweep\",\"direction\":", JsonQuote(r.direction),
-                      ",\"force_n\":", Num(r.force_n), ",", SummaryMembers(r.summary), "}");
+  Json j = {{"table", "force_sweep"}, {"direction", r.direction}, {"force_n", r.force_n}};
+  j.update(SummaryToJson(r.summary));
+  return Line(j);
+}
+
+std::string ForceLimitJson(const std::string& direction, double max_force_n,
+                           double min_median_juggles) {
+  return Line({{"table", "force_limit"},
+               {"direction", direction},
+               {"max_force_n", max_force_n},
+               {"min_median_juggles", min_median_juggles}});
 }
 
 }  // namespace juggle

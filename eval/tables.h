@@ -76,8 +76,9 @@ absl::StatusOr<ForceSweepReport> RunForceSweep(
 std::string SummaryJson(const EvalSummary& summary);
 std::string NodeRowJson(const NodeRow& row);
 std::string ForceRowJson(const ForceSweepRow& row);
-// A JSON string literal.
-std::string JsonQuote(const std::string& s);
+// A direction's result: the largest force that still passed.
+std::string ForceLimitJson(const std::string& direction, double max_force_n,
+                           double min_median_juggles);
 
 }  // namespace juggle
 

@@ -3,17 +3,17 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <memory>
 #include <set>
-#include <sstream>
 #include <tuple>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_replace.h"
+#include "common/file_io.h"
 #include "export/trajectory_model.h"
 #include "export/web_assets.h"
+#include "nlohmann/json.hpp"
 
 namespace juggle {
 namespace {
@@ -41,54 +41,31 @@ std::string Name(const mjModel* m, mjtObj type, int id) {
   return name != nullptr ? name : "";
 }
 
-// A JSON string literal; '<' is escaped so no "</script" can appear in the page.
-std::string Quote(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '<': out += "\\u003c"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          out += absl::StrFormat("\\u%04x", c);
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
-}
-
 // Fixed-point integer of v (in units of 1/kScale).
 int64_t Fixed(double v) { return static_cast<int64_t>(std::llround(v * kScale)); }
 
-// A plain number for JSON (finite; NaN/inf become 0).
-std::string Number(double v) {
-  if (!std::isfinite(v)) return "0";
-  return absl::StrFormat("%.6g", v);
+// v to 6 significant digits, as the page needs them (finite; NaN/inf become 0): keeps the
+// page small.
+double Short(double v) {
+  if (!std::isfinite(v)) return 0;
+  return std::strtod(absl::StrFormat("%.6g", v).c_str(), nullptr);
 }
 
 template <typename T, typename F>
-std::string Array(const std::vector<T>& items, F format) {
-  std::string out = "[";
-  for (size_t i = 0; i < items.size(); ++i) {
-    if (i) out += ",";
-    out += format(items[i]);
-  }
-  return out + "]";
+nlohmann::json Array(const std::vector<T>& items, F format) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const T& item : items) out.push_back(format(item));
+  return out;
 }
 
 absl::StatusOr<std::string> ReadWhole(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    return absl::NotFoundError(absl::StrCat(
-        "cannot read ", path, " (the replay page embeds three.js: apt-get install libjs-three)"));
+  absl::StatusOr<std::string> bytes = ReadFile(path);
+  if (!bytes.ok()) {
+    return absl::Status(bytes.status().code(),
+                        absl::StrCat(bytes.status().message(),
+                                     " (the replay page embeds three.js: apt-get install libjs-three)"));
   }
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  return bytes;
 }
 
 }  // namespace
@@ -198,35 +175,45 @@ absl::StatusOr<ReplayData> BuildReplayData(const mjModel* m, const Trajectory& t
 }
 
 std::string ReplayJson(const ReplayData& r) {
-  std::string j = "{";
-  absl::StrAppend(&j, "\"version\":1,\"scale\":", static_cast<int>(kScale),
-                  ",\"family\":", Quote(r.family), ",\"config\":", Quote(r.config_path),
-                  ",\"control_dt\":", Number(r.control_dt), ",\"follow\":", r.follow);
-  absl::StrAppend(&j, ",\"bodies\":", Array(r.body_names, Quote));
-  absl::StrAppend(&j, ",\"geoms\":", Array(r.geoms, [](const ReplayGeom& g) {
-    return absl::StrCat(
-        "{\"name\":", Quote(g.name), ",\"body\":", g.body, ",\"type\":", Quote(g.type),
-        ",\"size\":[", Number(g.size[0]), ",", Number(g.size[1]), ",", Number(g.size[2]),
-        "],\"pos\":[", Number(g.pos[0]), ",", Number(g.pos[1]), ",", Number(g.pos[2]),
-        "],\"quat\":[", Number(g.quat[0]), ",", Number(g.quat[1]), ",", Number(g.quat[2]), ",",
-        Number(g.quat[3]), "],\"rgba\":[", Number(g.rgba[0]), ",", Number(g.rgba[1]), ",",
-        Number(g.rgba[2]), ",", Number(g.rgba[3]), "]}");
-  }));
-  absl::StrAppend(&j, ",\"channels\":", Array(r.channels, [](const AnnotationChannel& c) {
-    return absl::StrCat("{\"name\":", Quote(c.name), ",\"labels\":", Array(c.labels, Quote), "}");
-  }));
-  auto fixed = [](double v) { return absl::StrCat(Fixed(v)); };
-  absl::StrAppend(&j, ",\"time\":", Array(r.time, fixed));
-  absl::StrAppend(&j, ",\"values\":", Array(r.values, Number));
-  absl::StrAppend(&j, ",\"xpos\":", Array(r.xpos, fixed));
-  absl::StrAppend(&j, ",\"xquat\":", Array(r.xquat, fixed));
-  absl::StrAppend(&j, ",\"contacts\":", Array(r.contacts, [](const ReplayContact& c) {
-    return absl::StrCat("[", c.frame, ",", Quote(c.ball), ",", Quote(c.other), "]");
-  }));
-  absl::StrAppend(&j, ",\"events\":", Array(r.events, [](const ReplayEvent& e) {
-    return absl::StrCat("[", e.frame, ",", Quote(e.channel), ",", Quote(e.label), "]");
-  }));
-  return j + "}";
+  using Json = nlohmann::ordered_json;
+  auto shorts = [](const auto& v) {
+    Json a = Json::array();
+    for (double x : v) a.push_back(Short(x));
+    return a;
+  };
+  auto fixed = [](double v) { return Fixed(v); };
+  Json geoms = Json::array(), channels = Json::array(), contacts = Json::array(),
+       events = Json::array();
+  for (const ReplayGeom& g : r.geoms) {
+    geoms.push_back({{"name", g.name}, {"body", g.body}, {"type", g.type},
+                     {"size", shorts(g.size)}, {"pos", shorts(g.pos)},
+                     {"quat", shorts(g.quat)}, {"rgba", shorts(g.rgba)}});
+  }
+  for (const AnnotationChannel& c : r.channels) {
+    channels.push_back({{"name", c.name}, {"labels", c.labels}});
+  }
+  for (const ReplayContact& c : r.contacts) contacts.push_back({c.frame, c.ball, c.other});
+  for (const ReplayEvent& e : r.events) events.push_back({e.frame, e.channel, e.label});
+  const Json j = {
+      {"version", 1},
+      {"scale", static_cast<int>(kScale)},
+      {"family", r.family},
+      {"config", r.config_path},
+      {"control_dt", Short(r.control_dt)},
+      {"follow", r.follow},
+      {"bodies", r.body_names},
+      {"geoms", std::move(geoms)},
+      {"channels", std::move(channels)},
+      {"time", Array(r.time, fixed)},
+      {"values", shorts(r.values)},
+      {"xpos", Array(r.xpos, fixed)},
+      {"xquat", Array(r.xquat, fixed)},
+      {"contacts", std::move(contacts)},
+      {"events", std::move(events)},
+  };
+  // '<' escaped: no "</script" can appear in the page the JSON is embedded in.
+  return absl::StrReplaceAll(j.dump(-1, ' ', false, Json::error_handler_t::replace),
+                             {{"<", "\\u003c"}});
 }
 
 absl::StatusOr<ReplayLibraries> LoadReplayLibraries(const std::string& dir) {

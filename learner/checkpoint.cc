@@ -11,7 +11,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "common/config_loader.h"
+#include "common/file_io.h"
 
 namespace juggle {
 namespace {
@@ -29,23 +29,6 @@ bool Get(const std::string& in, size_t* pos, T* v) {
   std::memcpy(v, in.data() + *pos, sizeof(T));
   *pos += sizeof(T);
   return true;
-}
-
-absl::Status ErrnoError(const std::string& what, const std::string& path) {
-  return absl::InternalError(absl::StrCat(what, " ", path, ": ", std::strerror(errno)));
-}
-
-absl::Status WriteAll(int fd, const std::string& bytes, const std::string& path) {
-  size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      return ErrnoError("cannot write", path);
-    }
-    done += n;
-  }
-  return absl::OkStatus();
 }
 
 }  // namespace
@@ -73,26 +56,7 @@ absl::Status WriteCheckpointFile(const std::string& path, const Sections& sectio
   Put<uint64_t>(&file, Fnv1a64(payload));
   file += payload;
 
-  const std::string tmp = path + ".tmp";
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  if (fd < 0) return ErrnoError("cannot create", tmp);
-  absl::Status s = WriteAll(fd, file, tmp);
-  if (s.ok() && ::fsync(fd) != 0) s = ErrnoError("cannot fsync", tmp);
-  ::close(fd);
-  if (!s.ok()) {
-    ::unlink(tmp.c_str());
-    return s;
-  }
-  if (::rename(tmp.c_str(), path.c_str()) != 0) return ErrnoError("cannot rename to", path);
-  // Make the rename durable.
-  const size_t slash = path.rfind('/');
-  const std::string dir = slash == std::string::npos ? "." : path.substr(0, slash);
-  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
-  if (dfd >= 0) {
-    ::fsync(dfd);
-    ::close(dfd);
-  }
-  return absl::OkStatus();
+  return WriteFileAtomically(path, file);
 }
 
 absl::StatusOr<Sections> ReadCheckpointFile(const std::string& path) {

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "learner/run_log.h"
 #include "nlohmann/json.hpp"
 
 namespace juggle {
@@ -21,11 +21,6 @@ std::string Dump(const Json& j) {
   return j.dump(-1, ' ', false, Json::error_handler_t::replace);
 }
 
-double UnixNow() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
 Json Optional(const std::optional<double>& v) { return v ? Json(*v) : Json(nullptr); }
 
 // completed / (completed + failed), or null when neither happened.
@@ -34,12 +29,8 @@ Json SuccessRate(int64_t completed, int64_t failed) {
                                 : Json(nullptr);
 }
 
-Json IterationJson(const IterationReport& r) {
-  Json j = Json::parse(r.ToJson());
-  return j;
-}
-
-Json EvaluationJson(const InRunEvaluation& e) { return Json::parse(e.ToJson()); }
+// Iteration and evaluation records as in the run log (proto/run_log.proto).
+Json RecordToJson(const google::protobuf::Message& record) { return Json::parse(RecordJson(record)); }
 
 Json RunJson(const DashboardRunInfo& info) {
   return {
@@ -164,106 +155,6 @@ Json WorkersJson(const std::vector<WorkerView>& workers, int needed) {
   return {{"live", workers.size()}, {"needed", needed}, {"rows", std::move(rows)}};
 }
 
-template <typename T>
-T Get(const Json& j, const char* key, T fallback) {
-  auto it = j.find(key);
-  if (it == j.end() || it->is_null()) return fallback;
-  try {
-    return it->get<T>();
-  } catch (const Json::exception&) {
-    return fallback;
-  }
-}
-
-IterationReport IterationFromJson(const Json& j) {
-  IterationReport r;
-  r.iteration = Get<int64_t>(j, "iteration", 0);
-  r.total_samples = Get<int64_t>(j, "samples", 0);
-  r.train_seconds = Get<double>(j, "train_s", 0);
-  r.samples_per_s = Get<double>(j, "samples_per_s", 0);
-  r.sim_s_per_s = Get<double>(j, "sim_s_per_s", 0);
-  r.mean_return = Get<double>(j, "mean_return", 0);
-  r.mean_episode_len = Get<double>(j, "mean_episode_len", 0);
-  r.completions_per_episode = Get<double>(j, "completions_per_episode", 0);
-  r.juggles_per_episode = Get<double>(j, "juggles_per_episode", 0);
-  r.episodes = Get<int64_t>(j, "episodes", 0);
-  r.mean_policy_lag = Get<double>(j, "policy_lag", 0);
-  r.iteration_s = Get<double>(j, "iteration_s", 0);
-  r.wait_s = Get<double>(j, "wait_s", 0);
-  r.update_s = Get<double>(j, "update_s", 0);
-  r.workers = Get<int>(j, "workers", 0);
-  r.value_loss = Get<double>(j, "value_loss", std::nan(""));
-  r.approx_kl = Get<double>(j, "approx_kl", std::nan(""));
-  r.actor_lr = Get<double>(j, "actor_lr", 0);
-  r.policy_version = Get<int64_t>(j, "policy_version", r.iteration);
-  r.queue_depth = Get<int>(j, "queue_depth", 0);
-  r.gate_specialization = Get<double>(j, "gate_specialization", -1);
-  r.gate_utilization = Get<double>(j, "gate_utilization", -1);
-  if (auto o = j.find("outcomes"); o != j.end() && o->is_object()) {
-    for (const auto& [name, count] : o->items()) {
-      if (count.is_number()) r.outcomes.emplace_back(name, count.get<int64_t>());
-    }
-  }
-  return r;
-}
-
-InRunEvaluation EvaluationFromJson(const Json& j) {
-  InRunEvaluation e;
-  e.iteration = Get<int64_t>(j, "iteration", 0);
-  e.samples = Get<int64_t>(j, "samples", 0);
-  e.train_seconds = Get<double>(j, "train_s", 0);
-  e.eval_seconds = Get<double>(j, "eval_s", 0);
-  EvalSummary& s = e.summary;
-  s.episodes = Get<int>(j, "episodes", 0);
-  s.median_juggles = Get<double>(j, "median_juggles", 0);
-  s.p10_juggles = Get<double>(j, "p10_juggles", 0);
-  s.p90_juggles = Get<double>(j, "p90_juggles", 0);
-  s.mean_juggles = Get<double>(j, "mean_juggles", 0);
-  s.frac_juggles_ge_10 = Get<double>(j, "frac_juggles_ge_10", 0);
-  s.frac_juggles_ge_20 = Get<double>(j, "frac_juggles_ge_20", 0);
-  s.mean_return = Get<double>(j, "mean_return", 0);
-  s.mean_episode_s = Get<double>(j, "mean_episode_s", 0);
-  if (auto o = j.find("outcomes"); o != j.end() && o->is_object()) {
-    for (const auto& [name, count] : o->items()) {
-      if (count.is_number()) s.outcomes[name] = count.get<int>();
-    }
-  }
-  e.juggles = Get<std::vector<int>>(j, "juggles", {});
-  return e;
-}
-
-DashboardRunInfo RunInfoFromJson(const Json& j) {
-  DashboardRunInfo info;
-  info.config_name = Get<std::string>(j, "config", "");
-  info.config_path = Get<std::string>(j, "config_path", "");
-  info.family = Get<std::string>(j, "family", "");
-  info.seed = Get<uint64_t>(j, "seed", 0);
-  info.synchronous = Get<std::string>(j, "mode", "synchronous") == "synchronous";
-  info.min_workers = Get<int>(j, "min_workers", 1);
-  info.max_policy_lag = Get<int>(j, "max_policy_lag", 0);
-  info.queue_capacity = Get<int>(j, "queue_capacity", 0);
-  info.checkpoint_every = Get<int>(j, "checkpoint_every", 0);
-  info.worker_timeout_s = Get<double>(j, "worker_timeout_s", 10);
-  info.control_dt = Get<double>(j, "control_dt", 0);
-  info.outcome_names = Get<std::vector<std::string>>(j, "outcome_names", {});
-  if (auto nodes = j.find("nodes"); nodes != j.end() && nodes->is_array()) {
-    for (const Json& n : *nodes) {
-      info.nodes.push_back({Get<std::string>(n, "name", ""), Get<std::string>(n, "stage", ""),
-                            Get<bool>(n, "initial", false)});
-    }
-  }
-  if (auto edges = j.find("edges"); edges != j.end() && edges->is_array()) {
-    const int num_nodes = static_cast<int>(info.nodes.size());
-    for (const Json& e : *edges) {
-      DashboardRunInfo::Edge edge{Get<int>(e, "from", -1), Get<int>(e, "to", -1),
-                                  Get<double>(e, "w0", 1)};
-      if (edge.from < 0 || edge.to < 0 || edge.from >= num_nodes || edge.to >= num_nodes) continue;
-      info.edges.push_back(edge);
-    }
-  }
-  return info;
-}
-
 }  // namespace
 
 std::vector<WorkerView> DescribeWorkers(const std::vector<WorkerInfo>& live,
@@ -350,7 +241,7 @@ std::string StatusJson(const StatusView& v) {
                  {"reason", v.state.reason},
                  {"phase", PhaseName(s.phase)},
                  {"phase_s", s.phase_seconds}}},
-      {"progress", {{"iteration", s.latest ? s.latest->iteration : 0},
+      {"progress", {{"iteration", s.latest ? s.latest->iteration() : 0},
                     {"policy_version", s.version},
                     {"samples", s.total_samples},
                     {"train_s", s.train_seconds},
@@ -358,11 +249,11 @@ std::string StatusJson(const StatusView& v) {
                     {"checkpoint_age_s", Optional(s.checkpoint_age_s)},
                     {"iteration_age_s", Optional(s.iteration_age_s)},
                     {"typical_iteration_s", s.typical_iteration_s}}},
-      {"latest", s.latest ? IterationJson(*s.latest) : Json(nullptr)},
+      {"latest", s.latest ? RecordToJson(*s.latest) : Json(nullptr)},
       {"throughput", ThroughputJson(v.throughput)},
       {"workers", WorkersJson(v.workers, v.needed_workers)},
       {"graph", GraphJson(v.run, s)},
-      {"latest_eval", s.latest_evaluation ? EvaluationJson(*s.latest_evaluation) : Json(nullptr)},
+      {"latest_eval", s.latest_evaluation ? RecordToJson(*s.latest_evaluation) : Json(nullptr)},
   };
   return Dump(j);
 }
@@ -370,139 +261,38 @@ std::string StatusJson(const StatusView& v) {
 std::string HistoryJson(const DashboardState::History& h) {
   Json points = Json::array();
   for (size_t i = 0; i < h.points.size(); ++i) {
-    Json p = IterationJson(h.points[i]);
+    Json p = RecordToJson(h.points[i]);
     p["seq"] = h.sequences[i];
     points.push_back(std::move(p));
   }
   return Dump({{"stride", h.stride}, {"last", h.last_sequence}, {"points", std::move(points)}});
 }
 
-std::string EvaluationsJson(const std::vector<InRunEvaluation>& evaluations) {
+std::string EvaluationsJson(const std::vector<runlog::EvaluationRecord>& evaluations) {
   Json list = Json::array();
-  for (const InRunEvaluation& e : evaluations) list.push_back(EvaluationJson(e));
+  for (const runlog::EvaluationRecord& e : evaluations) list.push_back(RecordToJson(e));
   return Dump({{"evaluations", std::move(list)}});
 }
 
-std::string RunRecordJson(const DashboardRunInfo& info) {
-  Json j = {{"event", "run"}};
-  const Json run = RunJson(info);  // named: items() refers into it
-  for (const auto& [key, value] : run.items()) j[key] = value;
-  Json nodes = Json::array(), edges = Json::array();
-  for (const DashboardRunInfo::Node& n : info.nodes) {
-    nodes.push_back({{"name", n.name}, {"stage", n.stage}, {"initial", n.initial}});
-  }
-  for (const DashboardRunInfo::Edge& e : info.edges) {
-    edges.push_back({{"from", e.from}, {"to", e.to}, {"w0", e.base_weight}});
-  }
-  j["nodes"] = std::move(nodes);
-  j["edges"] = std::move(edges);
-  j["started_unix"] = UnixNow();
-  return Dump(j);
-}
-
-std::string WalkRecordJson(int64_t iteration, const std::vector<double>& edge_counts,
-                           const WalkEventTotals& totals) {
-  return Dump({{"event", "walk"},
-               {"iteration", iteration},
-               {"weights", edge_counts},
-               {"chosen", totals.chosen},
-               {"completed", totals.completed},
-               {"failed", totals.failed}});
-}
-
-absl::StatusOr<MetricsFile> ParseMetricsFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return absl::NotFoundError(absl::StrCat("cannot read ", path));
-  MetricsFile file;
-  std::string line;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    if (line.find_first_not_of(" \t\r") == std::string::npos) {
-      ++file.skipped_lines;
-      continue;
-    }
-    Json j = Json::parse(line, nullptr, /*allow_exceptions=*/false);
-    if (j.is_discarded() || !j.is_object()) {
-      // A run still being written may end in a partial line: tolerate it only at the end.
-      if (in.peek() == std::char_traits<char>::eof()) {
-        ++file.skipped_lines;
-        break;
-      }
-      return absl::InvalidArgumentError(absl::StrCat(path, ":", number, ": not a JSON object"));
-    }
-    const std::string event = Get<std::string>(j, "event", "");
-    if (event.empty()) {
-      file.iterations.push_back(IterationFromJson(j));
-    } else if (event == "eval") {
-      file.evaluations.push_back(EvaluationFromJson(j));
-    } else if (event == "run") {
-      file.run = RunInfoFromJson(j);
-      // A resumed run appends a second "run" record; the walk totals restart with it.
-      file.walk_iteration.reset();
-    } else if (event == "walk") {
-      file.walk_iteration = Get<int64_t>(j, "iteration", 0);
-      file.edge_counts = Get<std::vector<double>>(j, "weights", {});
-      file.walk_totals.chosen = Get<std::vector<int64_t>>(j, "chosen", {});
-      file.walk_totals.completed = Get<std::vector<int64_t>>(j, "completed", {});
-      file.walk_totals.failed = Get<std::vector<int64_t>>(j, "failed", {});
-    } else {
-      ++file.skipped_lines;
-    }
-  }
-  return file;
-}
-
-RecordedDashboard DashboardFromMetrics(const MetricsFile& file, const std::string& source,
-                                       const std::optional<DashboardRunInfo>& info) {
+RecordedDashboard RecordedDashboardOf(const DashboardState& state, const std::string& source,
+                                      const std::string& summary) {
   StatusView v;
   v.live = false;
   v.source = source;
-  if (file.run) {
-    v.run = *file.run;
-  } else if (info) {
-    v.run = *info;
-  }
-  DashboardState::Snapshot& s = v.snapshot;
-  s.phase = LoopPhase::kFinished;
-  if (!file.iterations.empty()) {
-    const IterationReport& last = file.iterations.back();
-    s.latest = last;
-    s.version = last.policy_version;
-    s.total_samples = last.total_samples;
-    s.train_seconds = last.train_seconds;
-  }
-  if (!file.evaluations.empty()) s.latest_evaluation = file.evaluations.back();
-  const int num_edges = static_cast<int>(v.run.edges.size());
-  s.edge_counts = file.edge_counts;
-  if (static_cast<int>(s.edge_counts.size()) != num_edges) {
-    s.edge_counts.clear();
-    for (const DashboardRunInfo::Edge& e : v.run.edges) s.edge_counts.push_back(e.base_weight);
-  }
-  s.totals = file.walk_totals;
-  if (static_cast<int>(s.totals.chosen.size()) != num_edges) s.totals.Resize(num_edges);
-  s.recent.Resize(num_edges);
-  v.state = {"recorded",
-             absl::StrCat("rendered from ", source, " (", file.iterations.size(),
-                          " iterations, ", file.evaluations.size(), " evaluations)")};
+  v.run = state.info();
+  v.snapshot = state.Take();
+  // Ages and waits are of the replay, not of the run.
+  v.snapshot.phase = LoopPhase::kFinished;
+  v.snapshot.checkpoint_age_s.reset();
+  v.snapshot.iteration_age_s.reset();
+  v.snapshot.recent.Resize(static_cast<int>(v.run.edges.size()));
+  v.state = {"recorded", absl::StrCat("rendered from ", source, " (", summary, ")")};
   v.needed_workers = 0;
   v.throughput.queue_capacity = v.run.queue_capacity;
-
-  // The whole history, thinned like the live one to at most kDefaultCapacity points.
-  DashboardState::History h;
-  const int64_t n = static_cast<int64_t>(file.iterations.size());
-  h.stride = 1;
-  while (n / h.stride > DashboardState::kDefaultCapacity) h.stride *= 2;
-  for (int64_t i = 0; i < n; ++i) {
-    if ((i + 1) % h.stride != 0 && i + 1 != n) continue;
-    h.sequences.push_back(i + 1);
-    h.points.push_back(file.iterations[i]);
-  }
-  h.last_sequence = n;
   RecordedDashboard out;
   out.status = StatusJson(v);
-  out.history = HistoryJson(h);
-  out.evals = EvaluationsJson(file.evaluations);
+  out.history = HistoryJson(state.HistorySince(0, 0));
+  out.evals = EvaluationsJson(state.Evaluations());
   return out;
 }
 

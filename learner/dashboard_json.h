@@ -4,14 +4,12 @@
 //   /api/history  the iteration reports (bounded, thinned over the whole run);
 //   /api/evals    the in-run evaluations.
 // The live learner builds them from DashboardState, WorkerRegistry and Metrics; `juggle
-// dashboard` builds the same documents from a run's metrics.jsonl (ParseMetricsFile), so one
-// page renders both. Also the metrics.jsonl records this adds: "event": "run" (the run and its
-// graph, once at start) and "event": "walk" (edge weights and event totals, every checkpoint).
-// Pure functions; thread-safe.
+// dashboard` from a DashboardState its run log was replayed into (dashboard_report.h), so one
+// page renders both. Iteration and evaluation entries are the run log's records
+// (proto/run_log.proto). Pure functions; thread-safe.
 #ifndef JUGGLE_LEARNER_DASHBOARD_JSON_H_
 #define JUGGLE_LEARNER_DASHBOARD_JSON_H_
 
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -68,35 +66,15 @@ StatusView LiveStatus(const DashboardState& state, const WorkerRegistry& registr
 std::string StatusJson(const StatusView& view);
 // `since`/`stride` as the client last saw them (0/0: everything).
 std::string HistoryJson(const DashboardState::History& history);
-std::string EvaluationsJson(const std::vector<InRunEvaluation>& evaluations);
+std::string EvaluationsJson(const std::vector<runlog::EvaluationRecord>& evaluations);
 
-// metrics.jsonl records.
-std::string RunRecordJson(const DashboardRunInfo& info);
-std::string WalkRecordJson(int64_t iteration, const std::vector<double>& edge_counts,
-                           const WalkEventTotals& totals);
-
-// A run's metrics.jsonl read back: iteration lines, "eval", "run" and "walk" records (later
-// "run"/"walk" records replace earlier ones; unknown events are skipped). NOT_FOUND when the
-// file cannot be read; INVALID_ARGUMENT naming the line for a line that is not JSON.
-struct MetricsFile {
-  std::optional<DashboardRunInfo> run;
-  std::vector<IterationReport> iterations;
-  std::vector<InRunEvaluation> evaluations;
-  std::optional<int64_t> walk_iteration;
-  std::vector<double> edge_counts;
-  WalkEventTotals walk_totals;
-  int skipped_lines = 0;  // blank or unknown records
-};
-absl::StatusOr<MetricsFile> ParseMetricsFile(const std::string& path);
-
-// The status, history and evaluations of a recorded run, as the live API would give them
-// (state "recorded"; no workers). `info` describes the run when the file has no "run" record
-// (metrics files from before it): name and graph from the run's checkpoint.
+// The documents of a recorded run: `state` holds its replayed run log; `summary` ends the
+// state's reason ("rendered from <source> (<summary>)"). No workers, no ages.
 struct RecordedDashboard {
   std::string status, history, evals;  // JSON documents
 };
-RecordedDashboard DashboardFromMetrics(const MetricsFile& file, const std::string& source,
-                                       const std::optional<DashboardRunInfo>& info);
+RecordedDashboard RecordedDashboardOf(const DashboardState& state, const std::string& source,
+                                      const std::string& summary);
 
 }  // namespace juggle
 

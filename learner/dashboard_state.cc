@@ -63,45 +63,61 @@ DashboardRunInfo DescribeRun(const LoadedConfig& config, const EnvSpec& spec) {
   return info;
 }
 
-void WalkEventTotals::Resize(int num_edges) {
-  chosen.assign(num_edges, 0);
-  completed.assign(num_edges, 0);
-  failed.assign(num_edges, 0);
-}
-
-void WalkEventTotals::Add(const EdgeEvent& e) {
-  if (e.edge < 0 || e.edge >= static_cast<int>(chosen.size())) return;
-  switch (e.type) {
-    case EdgeEventType::kChosen: ++chosen[e.edge]; break;
-    case EdgeEventType::kCompleted: ++completed[e.edge]; break;
-    case EdgeEventType::kFailed: ++failed[e.edge]; break;
+runlog::RunRecord RunRecordOf(const DashboardRunInfo& info, double started_unix) {
+  runlog::RunRecord r;
+  r.set_event("run");
+  r.set_config(info.config_name);
+  r.set_config_path(info.config_path);
+  r.set_family(info.family);
+  r.set_seed(info.seed);
+  r.set_mode(info.synchronous ? "synchronous" : "asynchronous");
+  r.set_min_workers(info.min_workers);
+  r.set_max_policy_lag(info.max_policy_lag);
+  r.set_queue_capacity(info.queue_capacity);
+  r.set_checkpoint_every(info.checkpoint_every);
+  r.set_worker_timeout_s(info.worker_timeout_s);
+  r.set_control_dt(info.control_dt);
+  for (const std::string& name : info.outcome_names) r.add_outcome_names(name);
+  for (const DashboardRunInfo::Node& n : info.nodes) {
+    runlog::RunRecord::Node* node = r.add_nodes();
+    node->set_name(n.name);
+    node->set_stage(n.stage);
+    node->set_initial(n.initial);
   }
-}
-
-void WalkEventTotals::Add(const WalkEventTotals& o) {
-  for (size_t i = 0; i < chosen.size() && i < o.chosen.size(); ++i) {
-    chosen[i] += o.chosen[i];
-    completed[i] += o.completed[i];
-    failed[i] += o.failed[i];
+  for (const DashboardRunInfo::Edge& e : info.edges) {
+    runlog::RunRecord::Edge* edge = r.add_edges();
+    edge->set_from(e.from);
+    edge->set_to(e.to);
+    edge->set_w0(e.base_weight);
   }
+  r.set_started_unix(started_unix);
+  return r;
 }
 
-int64_t WalkEventTotals::events() const {
-  int64_t n = 0;
-  for (size_t i = 0; i < chosen.size(); ++i) n += chosen[i] + completed[i] + failed[i];
-  return n;
-}
-
-const char* PhaseName(LoopPhase phase) {
-  switch (phase) {
-    case LoopPhase::kStarting: return "starting";
-    case LoopPhase::kWaitingForData: return "waiting for data";
-    case LoopPhase::kUpdating: return "updating";
-    case LoopPhase::kEvaluating: return "evaluating";
-    case LoopPhase::kCheckpointing: return "checkpointing";
-    case LoopPhase::kFinished: return "finished";
+DashboardRunInfo RunInfoOf(const runlog::RunRecord& r) {
+  DashboardRunInfo info;
+  info.config_name = r.config();
+  info.config_path = r.config_path();
+  info.family = r.family();
+  info.seed = r.seed();
+  info.synchronous = r.mode() != "asynchronous";
+  info.min_workers = r.min_workers();
+  info.max_policy_lag = r.max_policy_lag();
+  info.queue_capacity = r.queue_capacity();
+  info.checkpoint_every = r.checkpoint_every();
+  info.worker_timeout_s = r.worker_timeout_s();
+  info.control_dt = r.control_dt();
+  info.outcome_names.assign(r.outcome_names().begin(), r.outcome_names().end());
+  for (const runlog::RunRecord::Node& n : r.nodes()) {
+    info.nodes.push_back({n.name(), n.stage(), n.initial()});
   }
-  return "unknown";
+  const int num_nodes = static_cast<int>(info.nodes.size());
+  for (const runlog::RunRecord::Edge& e : r.edges()) {
+    // Edges between unknown nodes (a damaged record) are left out.
+    if (e.from() < 0 || e.to() < 0 || e.from() >= num_nodes || e.to() >= num_nodes) continue;
+    info.edges.push_back({e.from(), e.to(), e.w0()});
+  }
+  return info;
 }
 
 RunState DecideRunState(const RunStateInputs& in) {
@@ -152,18 +168,16 @@ DashboardState::DashboardState(DashboardRunInfo info, int capacity)
   totals_.Resize(static_cast<int>(info_.edges.size()));
 }
 
-void DashboardState::SetPhase(LoopPhase phase) {
+void DashboardState::OnPhase(const PhaseEvent& event) {
   std::lock_guard<std::mutex> lock(mu_);
-  if (phase == phase_) return;
+  if (event.phase == LoopPhase::kWaitingForData) {
+    waiting_for_ = event.waiting_for_slots;
+    queue_depth_ = event.queue_depth;
+  }
+  if (event.phase == phase_) return;
   if (phase_ == LoopPhase::kStarting) last_progress_ = Clock::now();
-  phase_ = phase;
+  phase_ = event.phase;
   phase_since_ = Clock::now();
-}
-
-void DashboardState::SetWaitingFor(std::vector<int> slots, int queue_depth) {
-  std::lock_guard<std::mutex> lock(mu_);
-  waiting_for_ = std::move(slots);
-  queue_depth_ = queue_depth;
 }
 
 void DashboardState::SetInitial(const std::vector<double>& edge_counts, int64_t version,
@@ -175,20 +189,19 @@ void DashboardState::SetInitial(const std::vector<double>& edge_counts, int64_t 
   train_seconds_ = train_seconds;
 }
 
-void DashboardState::RecordIteration(const IterationReport& report,
-                                     const std::vector<EdgeEvent>& events,
-                                     const std::vector<double>& edge_counts, int64_t version) {
+absl::Status DashboardState::OnIteration(const IterationEvent& event) {
+  const runlog::IterationRecord& report = event.record;
   WalkEventTotals delta;
   delta.Resize(static_cast<int>(info_.edges.size()));
-  for (const EdgeEvent& e : events) delta.Add(e);
+  delta.Add(event.walk_events);
   std::lock_guard<std::mutex> lock(mu_);
   last_iteration_ = Clock::now();
   last_progress_ = *last_iteration_;
-  version_ = version;
-  total_samples_ = report.total_samples;
-  train_seconds_ = report.train_seconds;
+  version_ = report.policy_version();
+  total_samples_ = static_cast<int64_t>(report.samples());
+  train_seconds_ = report.train_s();
   latest_ = report;
-  recent_iteration_s_.push_back(report.iteration_s);
+  recent_iteration_s_.push_back(report.iteration_s());
   if (recent_iteration_s_.size() > 10) recent_iteration_s_.pop_front();
   ++sequence_;
   if (sequence_ % stride_ == 0) points_.emplace_back(sequence_, report);
@@ -196,13 +209,14 @@ void DashboardState::RecordIteration(const IterationReport& report,
     stride_ *= 2;
     Thin(&points_, stride_);
   }
-  edge_counts_ = edge_counts;
+  if (event.edge_counts.size() == info_.edges.size()) edge_counts_ = event.edge_counts;
   totals_.Add(delta);
   recent_.push_back(std::move(delta));
   if (static_cast<int>(recent_.size()) > kRecentIterations) recent_.pop_front();
+  return absl::OkStatus();
 }
 
-void DashboardState::RecordEvaluation(const InRunEvaluation& evaluation) {
+absl::Status DashboardState::OnEvaluation(const runlog::EvaluationRecord& evaluation) {
   std::lock_guard<std::mutex> lock(mu_);
   latest_evaluation_ = evaluation;
   ++evaluation_sequence_;
@@ -213,11 +227,25 @@ void DashboardState::RecordEvaluation(const InRunEvaluation& evaluation) {
     evaluation_stride_ *= 2;
     Thin(&evaluations_, evaluation_stride_);
   }
+  return absl::OkStatus();
 }
 
-void DashboardState::RecordCheckpoint() {
+absl::Status DashboardState::OnCheckpoint(const runlog::CheckpointRecord& record) {
+  const size_t n = info_.edges.size();
   std::lock_guard<std::mutex> lock(mu_);
   last_checkpoint_ = Clock::now();
+  if (record.weights_size() == static_cast<int>(n)) {
+    edge_counts_.assign(record.weights().begin(), record.weights().end());
+  }
+  if (record.chosen_size() == static_cast<int>(n) && record.completed_size() == static_cast<int>(n) &&
+      record.failed_size() == static_cast<int>(n)) {
+    for (size_t e = 0; e < n; ++e) {
+      totals_.chosen[e] = static_cast<int64_t>(record.chosen(e));
+      totals_.completed[e] = static_cast<int64_t>(record.completed(e));
+      totals_.failed[e] = static_cast<int64_t>(record.failed(e));
+    }
+  }
+  return absl::OkStatus();
 }
 
 DashboardState::History DashboardState::HistorySince(int64_t since, int64_t stride) const {
@@ -234,9 +262,9 @@ DashboardState::History DashboardState::HistorySince(int64_t since, int64_t stri
   return h;
 }
 
-std::vector<InRunEvaluation> DashboardState::Evaluations() const {
+std::vector<runlog::EvaluationRecord> DashboardState::Evaluations() const {
   std::lock_guard<std::mutex> lock(mu_);
-  std::vector<InRunEvaluation> out;
+  std::vector<runlog::EvaluationRecord> out;
   out.reserve(evaluations_.size() + 1);
   for (const auto& [sequence, e] : evaluations_) out.push_back(e);
   // The newest evaluation is always shown, even between thinned entries.

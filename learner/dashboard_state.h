@@ -1,9 +1,11 @@
 // What the learner's dashboard shows that /metrics cannot: a bounded history of iteration
-// reports and in-run evaluations for the charts, the adaptive walk's counts and the workers'
+// records and in-run evaluations for the charts, the adaptive walk's counts and the workers'
 // edge events per edge (cumulative and over the last iterations), the training loop's phase
 // and the run's state (training / waiting for workers / stalled, with the reason).
 //
-// The training thread records into it; HTTP threads take snapshots. Memory is bounded: the
+// Live, the training loop tells it what happens (a TrainingObserver); offline, `juggle
+// dashboard` replays a run log into it (dashboard_report.h) — one state, one page. HTTP threads
+// take snapshots. Memory is bounded: the
 // history keeps at most `capacity` points spread over the whole run (when full, every second
 // point goes and the stride doubles), evaluations likewise, the recent edge events a fixed
 // window. Thread-safe (one mutex; recording is a few copies per iteration).
@@ -22,8 +24,8 @@
 #include "common/config_loader.h"
 #include "common/control_graph.h"
 #include "envs/env.h"
-#include "learner/in_run_eval.h"
-#include "learner/learner_metrics.h"
+#include "learner/training_observer.h"
+#include "proto/run_log.pb.h"
 
 namespace juggle {
 
@@ -58,19 +60,9 @@ struct DashboardRunInfo {
 void DescribeGraph(const ControlGraph& graph, DashboardRunInfo* info);
 // The whole DashboardRunInfo of a loaded config and its env spec.
 DashboardRunInfo DescribeRun(const LoadedConfig& config, const EnvSpec& spec);
-
-// Workers' edge events per edge (paper §5.2: chosen = the walk entered the edge's target,
-// completed = the target node was completed, failed = the episode ended in it).
-struct WalkEventTotals {
-  std::vector<int64_t> chosen, completed, failed;  // [num_edges]
-  void Resize(int num_edges);
-  void Add(const EdgeEvent& event);
-  void Add(const WalkEventTotals& other);
-  int64_t events() const;
-};
-
-// What the training loop is doing.
-enum class LoopPhase { kStarting, kWaitingForData, kUpdating, kEvaluating, kCheckpointing, kFinished };
+// The run log's "run" record of a run, and back (started_unix: when the learner started).
+runlog::RunRecord RunRecordOf(const DashboardRunInfo& info, double started_unix);
+DashboardRunInfo RunInfoOf(const runlog::RunRecord& record);
 
 // The run's state as shown: `state` is one of "starting", "training", "waiting for workers",
 // "stalled", "evaluating", "checkpointing", "finished"; `reason` says why when it is not
@@ -97,7 +89,7 @@ struct RunStateInputs {
 constexpr double kStallFloorSeconds = 60;
 RunState DecideRunState(const RunStateInputs& in);
 
-class DashboardState {
+class DashboardState : public TrainingObserver {
  public:
   using Clock = std::chrono::steady_clock;
   static constexpr int kDefaultCapacity = 1000;     // history points
@@ -108,29 +100,27 @@ class DashboardState {
 
   const DashboardRunInfo& info() const { return info_; }
 
-  // Training thread.
-  void SetPhase(LoopPhase phase);
-  // Synchronous mode: the live slots whose contribution of the current version is missing.
-  void SetWaitingFor(std::vector<int> slots, int queue_depth);
-  // One iteration: its report, the edge events it applied, the walk's counts after them.
-  void RecordIteration(const IterationReport& report, const std::vector<EdgeEvent>& events,
-                       const std::vector<double>& edge_counts, int64_t version);
-  void RecordEvaluation(const InRunEvaluation& evaluation);
-  void RecordCheckpoint();
+  // The training loop's events (training thread) or a run log's records (a replay).
+  absl::Status OnIteration(const IterationEvent& event) override;
+  absl::Status OnEvaluation(const runlog::EvaluationRecord& record) override;
+  // Also takes the record's walk weights and event totals (when they match the graph).
+  absl::Status OnCheckpoint(const runlog::CheckpointRecord& record) override;
+  // The phase; while waiting for data, the slots waited for and the queue's depth.
+  void OnPhase(const PhaseEvent& event) override;
   // The walk's counts and the policy version before the first iteration (after a resume).
   void SetInitial(const std::vector<double>& edge_counts, int64_t version,
                   int64_t total_samples, double train_seconds);
 
   // Any thread.
   struct History {
-    std::vector<IterationReport> points;  // oldest first, every `stride`-th iteration
+    std::vector<runlog::IterationRecord> points;  // oldest first, every `stride`-th iteration
     std::vector<int64_t> sequences;       // each point's sequence number (1 = first recorded)
     int64_t stride = 1;
     int64_t last_sequence = 0;            // sequence number of the newest point (iterations recorded)
   };
   // Points with sequence > `since` when `stride` matches the current stride, else all of them.
   History HistorySince(int64_t since, int64_t stride) const;
-  std::vector<InRunEvaluation> Evaluations() const;
+  std::vector<runlog::EvaluationRecord> Evaluations() const;
 
   struct Snapshot {
     LoopPhase phase = LoopPhase::kStarting;
@@ -143,8 +133,8 @@ class DashboardState {
     int64_t version = 0;
     int64_t total_samples = 0;
     double train_seconds = 0;
-    std::optional<IterationReport> latest;
-    std::optional<InRunEvaluation> latest_evaluation;
+    std::optional<runlog::IterationRecord> latest;
+    std::optional<runlog::EvaluationRecord> latest_evaluation;
     std::vector<double> edge_counts;
     WalkEventTotals totals;   // since the learner started
     WalkEventTotals recent;   // over the last kRecentIterations iterations
@@ -164,23 +154,20 @@ class DashboardState {
   Clock::time_point last_progress_;  // the last iteration, or when training began
   int64_t version_ = 0, total_samples_ = 0;
   double train_seconds_ = 0;
-  std::vector<std::pair<int64_t, IterationReport>> points_;  // (sequence, report)
+  std::vector<std::pair<int64_t, runlog::IterationRecord>> points_;  // (sequence, record)
   int64_t stride_ = 1;
   int64_t sequence_ = 0;
-  std::optional<IterationReport> latest_;
+  std::optional<runlog::IterationRecord> latest_;
   std::deque<double> recent_iteration_s_;
-  std::vector<std::pair<int64_t, InRunEvaluation>> evaluations_;
+  std::vector<std::pair<int64_t, runlog::EvaluationRecord>> evaluations_;
   int64_t evaluation_stride_ = 1, evaluation_sequence_ = 0;
-  std::optional<InRunEvaluation> latest_evaluation_;
+  std::optional<runlog::EvaluationRecord> latest_evaluation_;
   std::vector<double> edge_counts_;
   WalkEventTotals totals_;
   std::deque<WalkEventTotals> recent_;
   std::vector<int> waiting_for_;
   int queue_depth_ = 0;
 };
-
-// Short name of a loop phase ("waiting for data", ...).
-const char* PhaseName(LoopPhase phase);
 
 }  // namespace juggle
 

@@ -1,6 +1,7 @@
 // The dashboard's state and JSON: bounded history thinned over the whole run, incremental
 // history requests, per-edge and per-node walk statistics, the run-state decision, worker
-// rows, metrics.jsonl records read back, and the routes serving page, files and API.
+// rows, and the routes serving page, files and API. The run log read back and replayed into
+// the same state: learner/run_log_test.cc.
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -14,7 +15,9 @@
 #include "learner/dashboard_assets.h"
 #include "learner/dashboard_json.h"
 #include "learner/dashboard_state.h"
+#include "learner/testing/two_node_run.h"
 #include "learner/http_routes.h"
+#include "learner/learner_metrics.h"
 #include "nlohmann/json.hpp"
 
 namespace juggle {
@@ -23,55 +26,50 @@ namespace {
 using ::testing::HasSubstr;
 using Json = nlohmann::json;
 
-// Two nodes a (initial) and b, edges a->b and b->a.
-DashboardRunInfo TwoNodeRun() {
-  DashboardRunInfo info;
-  info.config_name = "test_run";
-  info.family = "soccer_juggle";
-  info.seed = 7;
-  info.min_workers = 2;
-  info.queue_capacity = 64;
-  info.outcome_names = {"running", "time_limit", "diverged", "ball_lost"};
-  info.nodes = {{"a", "DOWN", true}, {"b", "UP", false}};
-  info.edges = {{0, 1, 1.0}, {1, 0, 2.0}};
-  return info;
+runlog::IterationRecord Report(int iteration) {
+  runlog::IterationRecord r;
+  r.set_iteration(iteration);
+  r.set_samples(iteration * 100);
+  r.set_iteration_samples(100);
+  r.set_iteration_s(0.5);
+  r.set_mean_return(0.1 * iteration);
+  r.set_policy_version(iteration);
+  (*r.mutable_outcomes())["ball_lost"] = 3;
+  return r;
 }
 
-IterationReport Report(int64_t iteration) {
-  IterationReport r;
-  r.iteration = iteration;
-  r.total_samples = iteration * 100;
-  r.samples = 100;
-  r.iteration_s = 0.5;
-  r.mean_return = 0.1 * iteration;
-  r.policy_version = iteration;
-  r.outcomes = {{"ball_lost", 3}};
-  return r;
+// Tells `state` of one iteration with these edge events and walk counts after them.
+void Tell(DashboardState* state, const runlog::IterationRecord& record,
+          const std::vector<EdgeEvent>& events, const std::vector<double>& edge_counts) {
+  WalkEventTotals walk;
+  walk.Resize(2);
+  for (const EdgeEvent& e : events) walk.Add(e);
+  ASSERT_TRUE(state->OnIteration({record, walk, edge_counts}).ok());
 }
 
 TEST(DashboardStateTest, HistoryStaysBoundedAndSpansTheWholeRun) {
   DashboardState state(TwoNodeRun(), /*capacity=*/10);
-  for (int i = 1; i <= 100; ++i) state.RecordIteration(Report(i), {}, {1.0, 2.0}, i);
+  for (int i = 1; i <= 100; ++i) Tell(&state, Report(i), {}, {1.0, 2.0});
   const DashboardState::History h = state.HistorySince(0, 0);
   EXPECT_LE(h.points.size(), 10u);
   EXPECT_GE(h.points.size(), 5u);
   EXPECT_EQ(h.stride, 16);
   EXPECT_EQ(h.last_sequence, 100);
   // Evenly spread from the start to the end of the run.
-  EXPECT_EQ(h.points.front().iteration, 16);
-  EXPECT_EQ(h.points.back().iteration, 96);
+  EXPECT_EQ(h.points.front().iteration(), 16);
+  EXPECT_EQ(h.points.back().iteration(), 96);
   for (size_t i = 0; i < h.points.size(); ++i) EXPECT_EQ(h.sequences[i] % 16, 0);
 }
 
 TEST(DashboardStateTest, HistorySinceReturnsOnlyNewPointsWhileTheStrideIsUnchanged) {
   DashboardState state(TwoNodeRun(), 100);
-  for (int i = 1; i <= 5; ++i) state.RecordIteration(Report(i), {}, {1.0, 2.0}, i);
+  for (int i = 1; i <= 5; ++i) Tell(&state, Report(i), {}, {1.0, 2.0});
   const DashboardState::History first = state.HistorySince(0, 0);
   ASSERT_EQ(first.points.size(), 5u);
-  state.RecordIteration(Report(6), {}, {1.0, 2.0}, 6);
+  Tell(&state, Report(6), {}, {1.0, 2.0});
   const DashboardState::History next = state.HistorySince(first.last_sequence, first.stride);
   ASSERT_EQ(next.points.size(), 1u);
-  EXPECT_EQ(next.points[0].iteration, 6);
+  EXPECT_EQ(next.points[0].iteration(), 6);
   // A client with another stride gets everything again.
   EXPECT_EQ(state.HistorySince(first.last_sequence, 4).points.size(), 6u);
 }
@@ -83,9 +81,9 @@ TEST(DashboardStateTest, CountsEdgeEventsInTotalAndOverTheRecentWindow) {
                                          {0, EdgeEventType::kChosen},
                                          {0, EdgeEventType::kFailed},
                                          {1, EdgeEventType::kChosen}};
-  state.RecordIteration(Report(1), events, {1.5, 2.0}, 1);
+  Tell(&state, Report(1), events, {1.5, 2.0});
   for (int i = 2; i <= DashboardState::kRecentIterations + 1; ++i) {
-    state.RecordIteration(Report(i), {{1, EdgeEventType::kFailed}}, {1.5, 2.0}, i);
+    Tell(&state, Report(i), {{1, EdgeEventType::kFailed}}, {1.5, 2.0});
   }
   const DashboardState::Snapshot s = state.Take();
   EXPECT_EQ(s.totals.chosen, (std::vector<int64_t>{2, 1}));
@@ -99,14 +97,14 @@ TEST(DashboardStateTest, CountsEdgeEventsInTotalAndOverTheRecentWindow) {
 
 TEST(DashboardJsonTest, GraphShowsWeightsProbabilitiesAndPerNodeSuccess) {
   DashboardState state(TwoNodeRun(), 100);
-  state.RecordIteration(Report(1),
-                        {{0, EdgeEventType::kChosen},
-                         {0, EdgeEventType::kCompleted},
-                         {0, EdgeEventType::kChosen},
-                         {0, EdgeEventType::kCompleted},
-                         {0, EdgeEventType::kChosen},
-                         {0, EdgeEventType::kFailed}},
-                        {3.0, 2.0}, 1);
+  Tell(&state, Report(1),
+       {{0, EdgeEventType::kChosen},
+        {0, EdgeEventType::kCompleted},
+        {0, EdgeEventType::kChosen},
+        {0, EdgeEventType::kCompleted},
+        {0, EdgeEventType::kChosen},
+        {0, EdgeEventType::kFailed}},
+       {3.0, 2.0});
   WorkerRegistry registry(1);
   Metrics metrics;
   DeclareLearnerMetrics(&metrics);
@@ -188,65 +186,6 @@ TEST(RunStateTest, EvaluatingAndFinishedAreShownAsSuch) {
   EXPECT_EQ(DecideRunState(in).state, "evaluating");
   in.phase = LoopPhase::kFinished;
   EXPECT_EQ(DecideRunState(in).state, "finished");
-}
-
-TEST(DashboardJsonTest, MetricsFileRecordsReadBackIntoTheSameDocuments) {
-  const std::string dir = MakeTempDir("juggle_dashboard_");
-  const std::string path = dir + "/metrics.jsonl";
-  {
-    std::ofstream out(path);
-    out << RunRecordJson(TwoNodeRun()) << "\n";
-    IterationReport r = Report(1);
-    r.value_loss = std::nan("");  // a diverged loss is written as null
-    out << r.ToJson() << "\n" << Report(2).ToJson() << "\n";
-    InRunEvaluation e;
-    e.iteration = 2;
-    e.summary.episodes = 3;
-    e.summary.median_juggles = 4;
-    e.juggles = {3, 4, 9};
-    out << e.ToJson() << "\n";
-    WalkEventTotals totals;
-    totals.Resize(2);
-    totals.Add({0, EdgeEventType::kChosen});
-    totals.Add({0, EdgeEventType::kFailed});
-    out << WalkRecordJson(2, {1.0, 2.0}, totals) << "\n";
-    out << "{\"iteration\": 3, \"sampl";  // a partial last line (run still writing)
-  }
-  absl::StatusOr<MetricsFile> file = ParseMetricsFile(path);
-  ASSERT_TRUE(file.ok()) << file.status();
-  ASSERT_TRUE(file->run.has_value());
-  EXPECT_EQ(file->run->nodes.size(), 2u);
-  ASSERT_EQ(file->iterations.size(), 2u);
-  EXPECT_TRUE(std::isnan(file->iterations[0].value_loss));
-  EXPECT_EQ(file->iterations[1].outcomes[0].second, 3);
-  ASSERT_EQ(file->evaluations.size(), 1u);
-  EXPECT_EQ(file->evaluations[0].juggles, (std::vector<int>{3, 4, 9}));
-  EXPECT_EQ(file->walk_totals.failed, (std::vector<int64_t>{1, 0}));
-  EXPECT_EQ(file->skipped_lines, 1);
-
-  const RecordedDashboard d = DashboardFromMetrics(*file, path, std::nullopt);
-  const Json status = Json::parse(d.status);
-  EXPECT_EQ(status["live"], false);
-  EXPECT_EQ(status["state"]["state"], "recorded");
-  EXPECT_EQ(status["progress"]["iteration"], 2);
-  EXPECT_EQ(status["graph"]["nodes"][1]["failed"], 1);
-  EXPECT_EQ(Json::parse(d.history)["points"].size(), 2u);
-  EXPECT_EQ(Json::parse(d.evals)["evaluations"][0]["juggles"].size(), 3u);
-  std::system(("rm -rf " + dir).c_str());
-}
-
-TEST(DashboardJsonTest, AMalformedLineInTheMiddleIsAnErrorNamingTheLine) {
-  const std::string dir = MakeTempDir("juggle_dashboard_");
-  const std::string path = dir + "/metrics.jsonl";
-  {
-    std::ofstream out(path);
-    out << Report(1).ToJson() << "\nnot json\n" << Report(2).ToJson() << "\n";
-  }
-  absl::StatusOr<MetricsFile> file = ParseMetricsFile(path);
-  EXPECT_EQ(file.status().code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_THAT(std::string(file.status().message()), HasSubstr("metrics.jsonl:2:"));
-  EXPECT_EQ(ParseMetricsFile(dir + "/none.jsonl").status().code(), absl::StatusCode::kNotFound);
-  std::system(("rm -rf " + dir).c_str());
 }
 
 TEST(DashboardRoutesTest, ServesThePageItsFilesTheApiAndMetrics) {

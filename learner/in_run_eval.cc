@@ -4,7 +4,6 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "nlohmann/json.hpp"
 #include "common/status_macros.h"
 #include "envs/registry.h"
 #include "eval/controller.h"
@@ -12,34 +11,44 @@
 
 namespace juggle {
 
-std::string InRunEvaluation::ToJson() const {
-  nlohmann::ordered_json j = {
-      {"event", "eval"},
-      {"iteration", iteration},
-      {"samples", samples},
-      {"train_s", train_seconds},
-      {"eval_s", eval_seconds},
-      {"episodes", summary.episodes},
-      {"median_juggles", summary.median_juggles},
-      {"p10_juggles", summary.p10_juggles},
-      {"p90_juggles", summary.p90_juggles},
-      {"mean_juggles", summary.mean_juggles},
-      {"frac_juggles_ge_10", summary.frac_juggles_ge_10},
-      {"frac_juggles_ge_20", summary.frac_juggles_ge_20},
-      {"mean_return", summary.mean_return},
-      {"mean_episode_s", summary.mean_episode_s},
-  };
-  nlohmann::ordered_json outcomes = nlohmann::ordered_json::object();
-  for (const auto& [name, count] : summary.outcomes) outcomes[name] = count;
-  j["outcomes"] = std::move(outcomes);
-  j["juggles"] = juggles;
-  return j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+void SetSummary(const EvalSummary& s, runlog::EvaluationRecord* r) {
+  r->set_episodes(s.episodes);
+  r->set_median_juggles(s.median_juggles);
+  r->set_p10_juggles(s.p10_juggles);
+  r->set_p90_juggles(s.p90_juggles);
+  r->set_mean_juggles(s.mean_juggles);
+  r->set_frac_juggles_ge_10(s.frac_juggles_ge_10);
+  r->set_frac_juggles_ge_20(s.frac_juggles_ge_20);
+  r->set_mean_return(s.mean_return);
+  r->set_mean_episode_s(s.mean_episode_s);
+  r->set_mean_completions(s.mean_completions);
+  r->mutable_outcomes()->clear();
+  for (const auto& [name, count] : s.outcomes) (*r->mutable_outcomes())[name] = count;
+  r->mutable_mean_metrics()->clear();
+  for (const auto& [name, mean] : s.mean_metrics) (*r->mutable_mean_metrics())[name] = mean;
 }
 
-std::string InRunEvaluation::ToShort() const {
+EvalSummary SummaryOf(const runlog::EvaluationRecord& r) {
+  EvalSummary s;
+  s.episodes = r.episodes();
+  s.median_juggles = r.median_juggles();
+  s.p10_juggles = r.p10_juggles();
+  s.p90_juggles = r.p90_juggles();
+  s.mean_juggles = r.mean_juggles();
+  s.frac_juggles_ge_10 = r.frac_juggles_ge_10();
+  s.frac_juggles_ge_20 = r.frac_juggles_ge_20();
+  s.mean_return = r.mean_return();
+  s.mean_episode_s = r.mean_episode_s();
+  s.mean_completions = r.mean_completions();
+  s.outcomes.insert(r.outcomes().begin(), r.outcomes().end());
+  s.mean_metrics.insert(r.mean_metrics().begin(), r.mean_metrics().end());
+  return s;
+}
+
+std::string EvaluationShort(const runlog::EvaluationRecord& r) {
   return absl::StrFormat("eval @%.1f min: median %g juggles (p90 %g, >=10: %.0f%%)",
-                         train_seconds / 60, summary.median_juggles, summary.p90_juggles,
-                         100 * summary.frac_juggles_ge_10);
+                         r.train_s() / 60, r.median_juggles(), r.p90_juggles(),
+                         100 * r.frac_juggles_ge_10());
 }
 
 absl::StatusOr<std::unique_ptr<InRunEvaluator>> InRunEvaluator::Create(const LoadedConfig& base) {
@@ -60,24 +69,25 @@ bool InRunEvaluator::Due(int64_t iteration, double train_seconds) const {
   return every_minutes_ > 0 && train_seconds - last_seconds_ >= every_minutes_ * 60;
 }
 
-InRunEvaluation InRunEvaluator::Run(const EigenPolicy& policy, int64_t iteration,
-                                    int64_t samples, double train_seconds) {
+runlog::EvaluationRecord InRunEvaluator::Run(const EigenPolicy& policy, int64_t iteration,
+                                             int64_t samples, double train_seconds) {
   const auto start = std::chrono::steady_clock::now();
   PolicyController controller(std::shared_ptr<const EigenPolicy>(&policy, [](const EigenPolicy*) {}));
   EpisodeOptions options;
   options.episodes = config_.episodes();
   options.seed = config_.seed();
-  InRunEvaluation result;
-  result.iteration = iteration;
-  result.samples = samples;
-  result.train_seconds = train_seconds;
+  runlog::EvaluationRecord result;
+  result.set_event("eval");
+  result.set_iteration(static_cast<int32_t>(iteration));
+  result.set_samples(static_cast<double>(samples));
+  result.set_train_s(train_seconds);
   absl::StatusOr<EpisodeReport> report = RunEpisodes(spec_, &controller, options);
   if (report.ok()) {
-    result.summary = Summarize(report->episodes, spec_->control_dt(), spec_->outcome_names());
-    for (const EpisodeResult& episode : report->episodes) result.juggles.push_back(episode.juggles);
+    SetSummary(Summarize(report->episodes, spec_->control_dt(), spec_->outcome_names()), &result);
+    for (const EpisodeResult& episode : report->episodes) result.add_juggles(episode.juggles);
   }
-  result.eval_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.set_eval_s(
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   last_iteration_ = iteration;
   last_seconds_ = train_seconds;
   return result;

@@ -14,20 +14,16 @@
 #include "common/eigen_policy.h"
 #include "envs/env.h"
 #include "eval/summary.h"
+#include "proto/run_log.pb.h"
 
 namespace juggle {
 
-// One evaluation: where the run was and what the policy did.
-struct InRunEvaluation {
-  int64_t iteration = 0;
-  int64_t samples = 0;        // trained on so far
-  double train_seconds = 0;   // wall time of training so far (evaluations included)
-  double eval_seconds = 0;    // wall time this evaluation took
-  EvalSummary summary;
-  std::vector<int> juggles;   // per episode, in seed order (the distribution's raw values)
-  std::string ToJson() const;    // one metrics.jsonl line, "event": "eval"
-  std::string ToShort() const;   // "12.3 min: median 4 juggles (p90 9)"
-};
+// The evaluation's record (the run log's "eval" line, proto/run_log.proto) from a summary,
+// and back.
+void SetSummary(const EvalSummary& summary, runlog::EvaluationRecord* record);
+EvalSummary SummaryOf(const runlog::EvaluationRecord& record);
+// "eval @12.3 min: median 4 juggles (p90 9, >=10: 20%)".
+std::string EvaluationShort(const runlog::EvaluationRecord& record);
 
 class InRunEvaluator {
  public:
@@ -38,8 +34,9 @@ class InRunEvaluator {
   bool enabled() const { return every_minutes_ > 0 || every_iterations_ > 0; }
   // Due after `iteration` at `train_seconds` (the first is due one period in).
   bool Due(int64_t iteration, double train_seconds) const;
-  // Evaluates `policy`; marks the period done.
-  InRunEvaluation Run(const EigenPolicy& policy, int64_t iteration, int64_t samples,
+  // Evaluates `policy`; marks the period done. The record's iteration, samples and train_s are
+  // the arguments (the caller adds the evaluation's own time to train_s afterwards).
+  runlog::EvaluationRecord Run(const EigenPolicy& policy, int64_t iteration, int64_t samples,
                       double train_seconds);
 
  private:

@@ -4,55 +4,8 @@
 #include <chrono>
 
 #include "absl/strings/str_cat.h"
-#include "absl/strings/str_format.h"
-#include "nlohmann/json.hpp"
 
 namespace juggle {
-
-std::string IterationReport::ToJson() const {
-  // ordered_json keeps the keys in this order in the file.
-  nlohmann::ordered_json j = {
-      {"iteration", iteration},
-      {"samples", total_samples},
-      {"train_s", train_seconds},
-      {"samples_per_s", samples_per_s},
-      {"sim_s_per_s", sim_s_per_s},
-      {"mean_return", mean_return},
-      {"mean_episode_len", mean_episode_len},
-      {"completions_per_episode", completions_per_episode},
-      {"juggles_per_episode", juggles_per_episode},
-      {"episodes", episodes},
-      {"policy_lag", mean_policy_lag},
-      {"iteration_s", iteration_s},
-      {"wait_s", wait_s},
-      {"update_s", update_s},
-      {"workers", workers},
-      {"value_loss", value_loss},
-      {"approx_kl", approx_kl},
-      {"actor_lr", actor_lr},
-      {"policy_version", policy_version},
-      {"queue_depth", queue_depth},
-  };
-  nlohmann::ordered_json by_outcome = nlohmann::ordered_json::object();
-  for (const auto& [name, count] : outcomes) by_outcome[name] = count;
-  j["outcomes"] = std::move(by_outcome);
-  if (gate_specialization >= 0) {
-    j["gate_specialization"] = gate_specialization;
-    j["gate_utilization"] = gate_utilization;
-  }
-  // Non-finite numbers (a diverged loss) are written as null: the line stays valid JSON.
-  return j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
-}
-
-std::string IterationReport::ToLine() const {
-  std::string line = absl::StrFormat(
-      "iter %5d  samples %9d  %7.0f samples/s  %5.1f sim-s/s  return %7.3f  ep_len %6.1f  "
-      "juggles/ep %5.2f  lag %.2f  workers %d  %.2fs (wait %.2f, update %.2f)",
-      iteration, total_samples, samples_per_s, sim_s_per_s, mean_return, mean_episode_len,
-      juggles_per_episode, mean_policy_lag, workers, iteration_s, wait_s, update_s);
-  if (!latest_eval.empty()) absl::StrAppend(&line, "  | ", latest_eval);
-  return line;
-}
 
 void DeclareLearnerMetrics(Metrics* m) {
   // Throughput.
@@ -154,54 +107,45 @@ void DeclareLearnerMetrics(Metrics* m) {
   m->Declare("juggle_evaluations_total", "counter", "In-run evaluations run.");
 }
 
-namespace {
-
-double UnixNow() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
-}  // namespace
-
-void RecordEvaluation(const EvalSummary& summary, Metrics* m) {
-  m->Set("juggle_eval_median_juggles", summary.median_juggles);
-  m->Set("juggle_eval_juggles_ge_10_ratio", summary.frac_juggles_ge_10);
+void RecordEvaluation(const runlog::EvaluationRecord& r, Metrics* m) {
+  m->Set("juggle_eval_median_juggles", r.median_juggles());
+  m->Set("juggle_eval_juggles_ge_10_ratio", r.frac_juggles_ge_10());
   m->Add("juggle_evaluations_total", 1);
 }
 
-std::vector<std::pair<std::string, int64_t>> OutcomeCounts(
-    const EpisodeCounters& ep, const std::vector<std::string>& outcome_names) {
-  std::vector<std::pair<std::string, int64_t>> out;
+void SetOutcomeCounts(const EpisodeCounters& ep, const std::vector<std::string>& outcome_names,
+                      google::protobuf::Map<std::string, int32_t>* outcomes) {
   for (size_t o = 0; o < ep.outcomes.size(); ++o) {
     if (ep.outcomes[o] == 0) continue;
-    out.emplace_back(OutcomeName(outcome_names, static_cast<Outcome>(o)), ep.outcomes[o]);
+    (*outcomes)[OutcomeName(outcome_names, static_cast<Outcome>(o))] =
+        static_cast<int32_t>(ep.outcomes[o]);
   }
-  return out;
 }
 
-void RecordIteration(const IterationReport& r, Metrics* m) {
-  m->Add("juggle_samples_total", static_cast<double>(r.samples));
-  if (r.samples_per_s > 0) {
-    m->Add("juggle_simulated_seconds_total", r.samples * r.sim_s_per_s / r.samples_per_s);
+void RecordIteration(const runlog::IterationRecord& r, Metrics* m) {
+  m->Add("juggle_samples_total", static_cast<double>(r.iteration_samples()));
+  if (r.samples_per_s() > 0) {
+    m->Add("juggle_simulated_seconds_total",
+           r.iteration_samples() * r.sim_s_per_s() / r.samples_per_s());
   }
-  m->Set("juggle_samples_per_second", r.samples_per_s);
-  m->Set("juggle_sim_seconds_per_second", r.sim_s_per_s);
-  m->Add("juggle_iteration_wait_seconds_total", r.wait_s);
-  m->Add("juggle_iteration_update_seconds_total", r.update_s);
+  m->Set("juggle_samples_per_second", r.samples_per_s());
+  m->Set("juggle_sim_seconds_per_second", r.sim_s_per_s());
+  m->Add("juggle_iteration_wait_seconds_total", r.wait_s());
+  m->Add("juggle_iteration_update_seconds_total", r.update_s());
   m->Add("juggle_iterations_total", 1);
   m->Set("juggle_last_iteration_timestamp_seconds", UnixNow());
-  m->Set("juggle_mean_return", r.mean_return);
-  m->Set("juggle_episode_length_steps", r.mean_episode_len);
-  m->Set("juggle_completions_per_episode", r.completions_per_episode);
-  m->Set("juggle_juggles_per_episode", r.juggles_per_episode);
-  m->Set("juggle_value_loss", r.value_loss);
-  m->Set("juggle_approx_kl", r.approx_kl);
-  m->Set("juggle_learning_rate", r.actor_lr);
-  if (r.gate_specialization >= 0) {
-    m->Set("juggle_moe_gate_specialization", r.gate_specialization);
-    m->Set("juggle_moe_gate_utilization", r.gate_utilization);
+  m->Set("juggle_mean_return", r.mean_return());
+  m->Set("juggle_episode_length_steps", r.mean_episode_len());
+  m->Set("juggle_completions_per_episode", r.completions_per_episode());
+  m->Set("juggle_juggles_per_episode", r.juggles_per_episode());
+  m->Set("juggle_value_loss", r.value_loss());
+  m->Set("juggle_approx_kl", r.approx_kl());
+  m->Set("juggle_learning_rate", r.actor_lr());
+  if (r.has_gate_specialization()) {
+    m->Set("juggle_moe_gate_specialization", r.gate_specialization());
+    m->Set("juggle_moe_gate_utilization", r.gate_utilization());
   }
-  for (const auto& [name, count] : r.outcomes) {
+  for (const auto& [name, count] : r.outcomes()) {
     m->Add("juggle_episodes_total", static_cast<double>(count), {{"outcome", name}});
   }
 }
@@ -254,6 +198,25 @@ void RecordWorkers(const std::vector<WorkerInfo>& live, WorkerRegistry::Clock::t
   }
   *reported_slots = std::move(live_slots);
   m->Set("juggle_workers_connected", static_cast<double>(live.size()));
+}
+
+absl::Status LearnerMetrics::OnIteration(const IterationEvent& event) {
+  RecordIteration(event.record, metrics_);
+  if (!edge_labels_.empty()) {
+    RecordWalk(edge_labels_, event.edge_counts, event.walk_events.chosen,
+               event.walk_events.completed, event.walk_events.failed, metrics_);
+  }
+  return absl::OkStatus();
+}
+
+absl::Status LearnerMetrics::OnEvaluation(const runlog::EvaluationRecord& record) {
+  RecordEvaluation(record, metrics_);
+  return absl::OkStatus();
+}
+
+absl::Status LearnerMetrics::OnCheckpoint(const runlog::CheckpointRecord&) {
+  RecordCheckpointTime(metrics_);
+  return absl::OkStatus();
 }
 
 }  // namespace juggle

@@ -19,14 +19,15 @@
 #include "google/protobuf/text_format.h"
 #include "learner/checkpoint.h"
 #include "learner/contribution_assembler.h"
-#include "learner/dashboard_json.h"
 #include "learner/dashboard_state.h"
 #include "learner/http_routes.h"
 #include "learner/in_run_eval.h"
+#include "learner/learner_metrics.h"
 #include "learner/learner_state.h"
 #include "learner/policy_store.h"
 #include "learner/ppo_trainer.h"
 #include "learner/rollout_service.h"
+#include "learner/run_log.h"
 #include "learner/training_loop.h"
 #include "learner/worker_registry.h"
 
@@ -50,6 +51,8 @@ struct LearnerServer::State {
   std::unique_ptr<HttpServer> http;
   std::unique_ptr<InRunEvaluator> evaluator;
   std::unique_ptr<DashboardState> dashboard;
+  std::unique_ptr<RunLogWriter> run_log;
+  std::unique_ptr<LearnerMetrics> metrics_observer;
   int port = 0;
   bool shut_down = false;
   std::atomic<int64_t> chunks_ingested{0};
@@ -67,17 +70,9 @@ struct LearnerServer::State {
     store.Publish(std::move(snap));
     metrics.Set("juggle_policy_version", static_cast<double>(trainer->version()));
   }
-  absl::Status Checkpoint() {
-    absl::StatusOr<std::string> path = checkpoints->Save(
-        trainer->iteration(), SaveLearnerState(options.config, *trainer, *walk, progress));
-    if (!path.ok()) return path.status();
-    RecordCheckpointTime(&metrics);
-    dashboard->RecordCheckpoint();
-    if (options.on_record) {
-      options.on_record(WalkRecordJson(trainer->iteration(), walk->counts(),
-                                       dashboard->Take().totals));
-    }
-    return absl::OkStatus();
+  absl::StatusOr<std::string> Checkpoint() {
+    return checkpoints->Save(trainer->iteration(),
+                             SaveLearnerState(options.config, *trainer, *walk, progress));
   }
 };
 
@@ -105,11 +100,6 @@ absl::Status BuildEnv(const LoadedConfig& config,
   b->num_nodes = std::max(1, (*spec)->graph().num_nodes());
   b->num_edges = (*spec)->graph().num_edges();
   return absl::OkStatus();
-}
-
-double UnixNow() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
 }
 
 }  // namespace
@@ -183,7 +173,14 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
     s->metrics.Set("juggle_iterations_total", 0);
     s->metrics.Set("juggle_samples_total", 0);
   }
-  if (s->options.on_record) s->options.on_record(RunRecordJson(s->dashboard->info()));
+  ASSIGN_OR_RETURN(s->run_log, RunLogWriter::Open(RunLogPath(s->options.run_dir),
+                                                  RunRecordOf(s->dashboard->info(), UnixNow())));
+  std::vector<std::pair<std::string, std::string>> edge_labels;
+  for (const DashboardRunInfo::Edge& e : s->dashboard->info().edges) {
+    edge_labels.emplace_back(s->dashboard->info().nodes[e.from].name,
+                             s->dashboard->info().nodes[e.to].name);
+  }
+  s->metrics_observer = std::make_unique<LearnerMetrics>(&s->metrics, std::move(edge_labels));
   s->PublishSnapshot();
 
   // gRPC.
@@ -235,18 +232,14 @@ absl::Status LearnerServer::Train(const std::atomic<bool>* stop) {
   deps.publish_snapshot = [&s] { s.PublishSnapshot(); };
   deps.release_workers = [&s] { s.store.Close(); };
   deps.checkpoint = [&s] { return s.Checkpoint(); };
-  deps.on_iteration = s.options.on_iteration;
   deps.evaluator = s.evaluator.get();
   deps.model = &run.model();
   deps.obs_dim = s.bootstrap.obs_dim;
   deps.act_dim = s.bootstrap.act_dim;
-  deps.on_eval = s.options.on_eval;
   deps.discard_data = s.options.discard_data;
-  deps.dashboard = s.dashboard.get();
-  for (const DashboardRunInfo::Edge& e : s.dashboard->info().edges) {
-    deps.edge_labels.emplace_back(s.dashboard->info().nodes[e.from].name,
-                                  s.dashboard->info().nodes[e.to].name);
-  }
+  deps.observers = {s.run_log.get(), s.metrics_observer.get(), s.dashboard.get()};
+  deps.observers.insert(deps.observers.end(), s.options.observers.begin(),
+                        s.options.observers.end());
   TrainingLoop::Limits limits;
   limits.max_iterations =
       s.options.max_iterations > 0 ? s.options.max_iterations : run.ppo().iterations();

@@ -2,7 +2,8 @@
 // everything that must survive a worker's death: policy weights and version, observation
 // normalizer, adaptive-walk edge counts, RNG, iteration and run progress, checkpointed
 // atomically. This file assembles the parts: rollout_service.h (gRPC adapter),
-// training_loop.h (the loop), learner_metrics.h (reports), http_routes.h (HTTP).
+// training_loop.h (the loop), its observers (run_log.h: <run_dir>/metrics.jsonl;
+// learner_metrics.h: /metrics; dashboard_state.h), http_routes.h (HTTP).
 //
 // Threads: gRPC handler threads validate chunks and push them into the bounded ingestion
 // queue (blocking up to a deadline when full: backpressure); Train() runs the training loop.
@@ -11,16 +12,15 @@
 #define JUGGLE_LEARNER_LEARNER_SERVER_H_
 
 #include <atomic>
-#include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "absl/status/statusor.h"
 #include "common/config_loader.h"
 #include "common/metrics.h"
 #include "common/transport_security.h"
-#include "learner/in_run_eval.h"
-#include "learner/learner_metrics.h"
+#include "learner/training_observer.h"
 
 namespace juggle {
 
@@ -40,12 +40,10 @@ struct LearnerOptions {
   TransportSecurity security;
   int64_t max_iterations = 0;   // 0: the config's ppo.iterations (0 = until stopped)
   double max_minutes = 0;
-  std::function<void(const IterationReport&)> on_iteration;
-  std::function<void(const InRunEvaluation&)> on_eval;  // in-run evaluations (may be empty)
-  // The other metrics.jsonl records, one JSON object per call (may be empty): the run and its
-  // graph ("event": "run") at start, the walk's weights and edge-event totals ("event":
-  // "walk") at every checkpoint. `juggle dashboard` reads them back.
-  std::function<void(const std::string&)> on_record;
+  // Told of every training event after the server's own observers (the run log
+  // <run_dir>/metrics.jsonl, /metrics, the dashboard): e.g. the console line. Not owned; they
+  // outlive Train.
+  std::vector<TrainingObserver*> observers;
   // Benchmarks only: accept and count chunks but never train (measures ingestion alone).
   bool discard_data = false;
 };
@@ -53,14 +51,16 @@ struct LearnerOptions {
 class LearnerServer {
  public:
   // Builds the env spec (every config or model error surfaces here, before any worker comes),
-  // restores the newest readable checkpoint if `resume`, starts the gRPC and HTTP servers.
-  // Errors: config/model/checkpoint problems, a fresh run in a directory with checkpoints,
-  // ports in use.
+  // restores the newest readable checkpoint if `resume`, opens the run log and writes its
+  // "run" record, starts the gRPC and HTTP servers. Errors: config/model/checkpoint problems,
+  // a fresh run in a directory with checkpoints, a run log that cannot be written (named, with
+  // the reason), ports in use.
   static absl::StatusOr<std::unique_ptr<LearnerServer>> Start(LearnerOptions options);
   ~LearnerServer();
 
   // Trains until `stop` is set, the iteration or time limit is reached. Checkpoints every
-  // service.checkpoint_every iterations and once at the end. Call from one thread.
+  // service.checkpoint_every iterations and once at the end. Call from one thread. Errors: a
+  // checkpoint or a run-log write that failed (training stops there).
   absl::Status Train(const std::atomic<bool>* stop);
 
   // Stops the servers; Train must have returned. Idempotent.

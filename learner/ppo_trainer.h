@@ -1,4 +1,4 @@
-// PPO on libtorch for the juggling policy (reference-juggle.md §7): critic epochs, then
+// PPO on libtorch for the juggling policy (paper §5.1 as the reference implementation runs it; departures: docs/learning.md): critic epochs, then
 // actor epochs with the clipped surrogate and the action-magnitude regularizer; GAE with
 // termination and truncation kept apart; learning-rate decay per iteration; optional
 // advantage and observation normalization. The torch state is hidden behind a pointer so this

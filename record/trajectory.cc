@@ -11,6 +11,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
+#include "common/file_io.h"
 
 namespace juggle {
 namespace {
@@ -141,17 +142,7 @@ absl::Status WriteTrajectory(const Trajectory& t, const std::string& path) {
     for (int c = 0; c < t.num_channels(); ++c) PutDouble(t.value(i, c), &out);
     for (int q = 0; q < t.nq; ++q) PutDouble(t.qpos_at(i)[q], &out);
   }
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  if (!file) {
-    return absl::PermissionDeniedError(absl::StrCat("cannot write trajectory ", path, ": ",
-                                                    std::strerror(errno)));
-  }
-  file.write(out.data(), static_cast<std::streamsize>(out.size()));
-  if (!file.flush()) {
-    return absl::InternalError(absl::StrCat("cannot write trajectory ", path, ": ",
-                                            std::strerror(errno)));
-  }
-  return absl::OkStatus();
+  return WriteFile(path, out);
 }
 
 absl::StatusOr<Trajectory> ReadTrajectory(const std::string& path) {

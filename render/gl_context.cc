@@ -15,7 +15,7 @@ namespace {
 constexpr char kInstallHint[] =
     "offscreen rendering needs EGL and Mesa's software rasteriser: "
     "apt-get install libegl1 libegl-mesa0 libgl1-mesa-dri libopengl0 "
-    "(scripts/install_deps.sh installs them)";
+    "(scripts/dev/install_deps.sh installs them)";
 
 std::string EglError(const char* what) {
   return absl::StrFormat("%s failed (EGL error 0x%04x)", what, eglGetError());
@@ -41,7 +41,7 @@ EGLDisplay OpenDisplay() {
 
 absl::StatusOr<std::unique_ptr<GlContext>> GlContext::Create() {
   // Mesa picks the platform from EGL_PLATFORM; without a display server only "surfaceless"
-  // works (docs: humanoid-mujoco.md §2.8). A user's explicit choice is kept.
+  // works (as MuJoCo's MUJOCO_GL=egl rendering documents). A user's explicit choice is kept.
   setenv("EGL_PLATFORM", "surfaceless", /*overwrite=*/0);
 
   EGLDisplay display = OpenDisplay();

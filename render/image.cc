@@ -11,6 +11,7 @@
 #include <cstring>
 
 #include "absl/strings/str_cat.h"
+#include "common/file_io.h"
 
 namespace juggle {
 namespace {
@@ -28,13 +29,6 @@ void OnPngError(png_structp png, png_const_charp message) {
   png_longjmp(png, 1);
 }
 void OnPngWarning(png_structp, png_const_charp) {}
-
-absl::Status ErrnoStatus(const std::string& what, const std::string& path, int err) {
-  const std::string msg = absl::StrCat("cannot ", what, " ", path, ": ", std::strerror(err));
-  if (err == EACCES || err == EPERM || err == EROFS) return absl::PermissionDeniedError(msg);
-  if (err == ENOENT || err == ENOTDIR) return absl::NotFoundError(msg);
-  return absl::InternalError(msg);
-}
 
 }  // namespace
 
@@ -71,21 +65,10 @@ absl::StatusOr<std::string> EncodePng(const Image& image) {
   return png_bytes;
 }
 
-absl::Status WriteFileBytes(const std::string& path, const std::string& bytes) {
-  FILE* f = std::fopen(path.c_str(), "wb");
-  if (f == nullptr) return ErrnoStatus("write", path, errno);
-  const size_t written = std::fwrite(bytes.data(), 1, bytes.size(), f);
-  const int write_errno = errno;
-  if (std::fclose(f) != 0 || written != bytes.size()) {
-    return ErrnoStatus("write", path, written != bytes.size() ? write_errno : errno);
-  }
-  return absl::OkStatus();
-}
-
 absl::Status WritePng(const std::string& path, const Image& image) {
   absl::StatusOr<std::string> png = EncodePng(image);
   if (!png.ok()) return png.status();
-  return WriteFileBytes(path, *png);
+  return WriteFile(path, *png);
 }
 
 Image Downscale(const Image& image, int factor) {
@@ -124,17 +107,6 @@ Image ContactSheet(const std::vector<Image>& tiles, int columns, int gap, uint8_
     }
   }
   return sheet;
-}
-
-absl::Status CheckWritable(const std::string& path) {
-  if (path.empty()) return absl::InvalidArgumentError("empty output path");
-  // Append mode: an existing file is neither truncated nor changed; a new one is removed again.
-  const bool existed = access(path.c_str(), F_OK) == 0;
-  FILE* f = std::fopen(path.c_str(), "ab");
-  if (f == nullptr) return ErrnoStatus("write", path, errno);
-  std::fclose(f);
-  if (!existed) std::remove(path.c_str());
-  return absl::OkStatus();
 }
 
 }  // namespace juggle

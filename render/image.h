@@ -32,10 +32,7 @@ struct Image {
 // INVALID_ARGUMENT for an empty or inconsistent image.
 absl::StatusOr<std::string> EncodePng(const Image& image);
 
-// Writes `bytes` to `path`. PERMISSION_DENIED / NOT_FOUND / INTERNAL with the path and errno text.
-absl::Status WriteFileBytes(const std::string& path, const std::string& bytes);
-
-// EncodePng + WriteFileBytes.
+// EncodePng + WriteFile (common/file_io.h: errors name the path and the reason).
 absl::Status WritePng(const std::string& path, const Image& image);
 
 // Averages factor×factor blocks (the last partial row/column is dropped). REQUIRES: factor >= 1.
@@ -45,10 +42,6 @@ Image Downscale(const Image& image, int factor);
 // REQUIRES: tiles non-empty and all the same size; columns >= 1.
 Image ContactSheet(const std::vector<Image>& tiles, int columns, int gap = 2,
                    uint8_t gap_gray = 255);
-
-// Fails early, with the reason, when `path` cannot be created or written. Leaves no trace: an
-// existing file is not modified, a file it had to create is removed.
-absl::Status CheckWritable(const std::string& path);
 
 }  // namespace juggle
 

@@ -10,6 +10,7 @@
 #include "envs/registry.h"
 #include "gtest/gtest.h"
 #include "learner/learner_server.h"
+#include "learner/testing/recording_observer.h"
 #include "worker/worker_client.h"
 
 namespace juggle {
@@ -37,10 +38,8 @@ AsyncRun RunAsync(int max_policy_lag, int iterations) {
   o.listen_all_interfaces = false;
   o.max_iterations = iterations;
   AsyncRun result;
-  o.on_iteration = [&](const IterationReport& r) {
-    result.max_lag_seen = std::max(result.max_lag_seen, r.mean_policy_lag);
-    result.iterations = r.iteration;
-  };
+  RecordingObserver recorded;
+  o.observers.push_back(&recorded);
   auto server = LearnerServer::Start(std::move(o));
   EXPECT_TRUE(server.ok()) << server.status();
   std::atomic<bool> stop{false}, workers_stop{false};
@@ -58,6 +57,10 @@ AsyncRun RunAsync(int max_policy_lag, int iterations) {
     });
   }
   EXPECT_TRUE((*server)->Train(&stop).ok());
+  for (const runlog::IterationRecord& r : recorded.iterations) {
+    result.max_lag_seen = std::max(result.max_lag_seen, r.policy_lag());
+    result.iterations = r.iteration();
+  }
   result.stale_rejections =
       (*server)->metrics().Get("juggle_chunks_rejected_total", {{"reason", "stale_version"}});
   workers_stop = true;

@@ -93,7 +93,7 @@ TEST(CliFlagsTest, DashboardNeedsARunDirWithAMetricsFile) {
   EXPECT_THAT(missing.output, HasSubstr("--run_dir"));
   const Result empty = Juggle("dashboard --run_dir=/nonexistent/run");
   EXPECT_EQ(empty.exit_code, 1) << empty.output;
-  EXPECT_THAT(empty.output, HasSubstr("cannot read /nonexistent/run/metrics.jsonl"));
+  EXPECT_THAT(empty.output, HasSubstr("cannot read the run log: /nonexistent/run/metrics.jsonl: cannot open file"));
 }
 
 TEST(CliFlagsTest, WorkerBinaryHasTheWorkerFlags) {

@@ -58,7 +58,7 @@ class DashboardBrowserTest : public ::testing::Test {
     chromium_ = FindProgram("chromium");
     if (chromium_.empty()) {
       GTEST_SKIP() << "chromium is not installed (apt-get install chromium; "
-                      "scripts/install_deps.sh)";
+                      "scripts/dev/install_deps.sh)";
     }
     dir_ = MakeTempDir("juggle_browser_");
     const char* shots = std::getenv("JUGGLE_SCREENSHOT_DIR");

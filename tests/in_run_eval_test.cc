@@ -8,6 +8,7 @@
 #include "gtest/gtest.h"
 #include "learner/checkpoint.h"
 #include "learner/learner_server.h"
+#include "learner/testing/recording_observer.h"
 #include "tests/one_worker_training.h"
 
 namespace juggle {
@@ -15,38 +16,28 @@ namespace {
 
 struct TrainedRun {
   Sections checkpoint;
-  std::vector<InRunEvaluation> evaluations;
-  std::vector<IterationReport> iterations;
+  std::vector<runlog::EvaluationRecord> evaluations;
+  std::vector<runlog::IterationRecord> iterations;
 };
 
 // Trains `iterations` iterations (counted from the run's start) in `dir` (fresh: a new temp
 // dir, removed afterwards).
 TrainedRun Train(bool evaluate, int iterations, std::string dir = "", bool resume = false) {
-  absl::StatusOr<LoadedConfig> config = LoadRunConfig("tests/data/tiny_right_foot.textproto");
-  EXPECT_TRUE(config.ok()) << config.status();
-  config::EvaluationConfig* e = config->run.mutable_evaluation();
-  e->set_every_minutes(0);
-  e->set_every_iterations(evaluate ? 1 : 0);
-  e->set_episodes(3);
-  e->set_max_seconds(2);
   const bool keep = !dir.empty();
   if (!keep) dir = MakeTempDir("juggle_in_run_eval_");
-  LearnerOptions o;
+  LearnerOptions o = TinyRunOptions(dir, iterations, /*evaluate_every=*/evaluate ? 1 : 0);
   o.resume = resume;
-  o.config = *config;
-  o.run_dir = dir;
-  o.port = 0;
-  o.listen_all_interfaces = false;
-  o.max_iterations = iterations;
-  TrainedRun run;
-  o.on_eval = [&](const InRunEvaluation& e) { run.evaluations.push_back(e); };
-  o.on_iteration = [&](const IterationReport& r) { run.iterations.push_back(r); };
+  RecordingObserver recorded;
+  o.observers.push_back(&recorded);
   auto server = LearnerServer::Start(std::move(o));
   EXPECT_TRUE(server.ok()) << server.status();
   EXPECT_TRUE(TrainWithOneWorker(**server).ok());
   absl::StatusOr<CheckpointDir::Loaded> loaded = CheckpointDir(dir + "/checkpoints").LoadLatest();
   EXPECT_TRUE(loaded.ok()) << loaded.status();
+  TrainedRun run;
   if (loaded.ok()) run.checkpoint = loaded->sections;
+  run.evaluations = recorded.evaluations;
+  run.iterations = recorded.iterations;
   if (!keep) std::system(("rm -rf " + dir).c_str());
   return run;
 }
@@ -57,12 +48,13 @@ TEST(InRunEvalTest, RunsWhenDueAndDoesNotChangeTraining) {
   ASSERT_EQ(with.evaluations.size(), 3u);
   EXPECT_TRUE(without.evaluations.empty());
   for (size_t i = 0; i < with.evaluations.size(); ++i) {
-    const InRunEvaluation& e = with.evaluations[i];
-    EXPECT_EQ(e.iteration, static_cast<int64_t>(i + 1));
-    EXPECT_EQ(e.summary.episodes, 3);
-    EXPECT_GT(e.samples, 0);
-    EXPECT_GT(e.summary.mean_episode_s, 0);
-    EXPECT_LE(e.summary.mean_episode_s, 2.0 + 1e-9);
+    const runlog::EvaluationRecord& e = with.evaluations[i];
+    EXPECT_EQ(e.iteration(), static_cast<int>(i + 1));
+    EXPECT_EQ(e.episodes(), 3);
+    EXPECT_GT(e.samples(), 0);
+    EXPECT_EQ(e.juggles_size(), 3);
+    EXPECT_GT(e.mean_episode_s(), 0);
+    EXPECT_LE(e.mean_episode_s(), 2.0 + 1e-9);
   }
   // Everything the trainer and the walk hold is bit-identical: the networks, the normalizer,
   // the counters, the RNG and the edge counts. Not compared: the config and progress sections
@@ -88,11 +80,11 @@ TEST(InRunEvalTest, SamplesAndTrainingTimeAreCumulativeAcrossResume) {
   ASSERT_EQ(first.iterations.size(), 2u);
   const TrainedRun resumed = Train(/*evaluate=*/false, 4, dir, /*resume=*/true);
   ASSERT_EQ(resumed.iterations.size(), 2u);
-  const IterationReport& last_before = first.iterations.back();
-  const IterationReport& first_after = resumed.iterations.front();
-  EXPECT_EQ(first_after.iteration, 3);
-  EXPECT_EQ(first_after.total_samples, last_before.total_samples + first_after.samples);
-  EXPECT_GT(first_after.train_seconds, last_before.train_seconds);
+  const runlog::IterationRecord& last_before = first.iterations.back();
+  const runlog::IterationRecord& first_after = resumed.iterations.front();
+  EXPECT_EQ(first_after.iteration(), 3);
+  EXPECT_EQ(first_after.samples(), last_before.samples() + first_after.iteration_samples());
+  EXPECT_GT(first_after.train_s(), last_before.train_s());
   std::system(("rm -rf " + dir).c_str());
 }
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""scripts/kick_stats.py on hand-made recordings whose kick errors are known in closed form.
+"""scripts/analysis/kick_stats.py on hand-made recordings whose kick errors are known in closed form.
 
 Episode 0: the ball falls from the 1.4 m apex (phase 0 at t = 0) onto the foot at 0.5 m, leaves
 it at v = sqrt(2 g 1.0) (apex 1.5 m) with vx = 0.05 m/s from 0.1 m ahead of the target, and falls
@@ -15,7 +15,7 @@ import tempfile
 
 G, DT, NQ = 9.81, 0.02, 50
 HERE = os.path.dirname(os.path.abspath(__file__))
-SCRIPT = os.path.join(HERE, '..', 'scripts', 'kick_stats.py')
+SCRIPT = os.path.join(HERE, '..', 'scripts', 'analysis', 'kick_stats.py')
 CYCLE = 2 * math.sqrt(2 * 0.9 / G)
 T_CONTACT = CYCLE / 2
 V_OUT = math.sqrt(2 * G * 1.0)

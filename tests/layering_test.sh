@@ -14,11 +14,12 @@ if [ "${1:-}" = "--self-test" ]; then
   printf '#include <torch/torch.h>\n' > "$tree/envs/b.cc"
   printf '#include "envs/env.h"\n#include <mujoco/mujoco.h>\n' > "$tree/common/c.h"
   printf '#include "common/rng.h"\n#include <mujoco/mujoco.h>\n' > "$tree/envs/ok.cc"
+  printf '#include "nlohmann/json.hpp"\n' > "$tree/worker/d.cc"
   out=$(bash "$tree/tests/layering_test.sh" 2>&1); status=$?
   rm -rf "$tree"
   echo "$out"
-  # Exactly the four planted violations, and a failing exit status.
-  [ $status -ne 0 ] && [ "$(echo "$out" | grep -c 'must not')" -eq 4 ] || { echo "self-test FAILED"; exit 1; }
+  # Exactly the five planted violations, and a failing exit status.
+  [ $status -ne 0 ] && [ "$(echo "$out" | grep -c 'must not')" -eq 5 ] || { echo "self-test FAILED"; exit 1; }
   echo "self-test passed"
   exit 0
 fi
@@ -41,19 +42,22 @@ declare -A PROJECT=(
 # httplib: cpp-httplib, only common/http_server.cc (the one HTTP implementation; the learner and
 # tests reach HTTP through common/http_server.h, and juggle-worker never links it); grpc, only
 # common/transport_security (token and TLS credentials, its own library juggle_transport).
+# json: nlohmann-json, the one JSON library, where JSON is written or read: envs (toss
+# evaluation lines), eval (evaluation tables), learner (dashboard API), export (replay page),
+# app, bench, tests; not common, record, worker or render (the run log is protobuf JSON).
 declare -A LIBS=(
   [common]="httplib grpc"
   [record]="mujoco"
-  [envs]="mujoco"
+  [envs]="mujoco json"
   [worker]="mujoco grpc"
-  [eval]="mujoco"
+  [eval]="mujoco json"
   [planner]="mujoco"
-  [learner]="mujoco grpc torch"
+  [learner]="mujoco grpc torch json"
   [render]="mujoco gl"
-  [export]="mujoco"
-  [bench]="mujoco grpc torch"
-  [app]="mujoco grpc torch gl"
-  [tests]="mujoco grpc torch"
+  [export]="mujoco json"
+  [bench]="mujoco grpc torch json"
+  [app]="mujoco grpc torch gl json"
+  [tests]="mujoco grpc torch json"
 )
 
 # The library an include belongs to ("" for the standard library, Abseil, Eigen, protobuf,
@@ -65,6 +69,7 @@ library_of() {
     torch/*|ATen/*|c10/*) echo torch ;;
     EGL/*|GL/*|GLES*/*) echo gl ;;
     httplib.h) echo httplib ;;
+    nlohmann/*) echo json ;;
     *) echo "" ;;
   esac
 }

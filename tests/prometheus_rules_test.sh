@@ -7,7 +7,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 if ! command -v promtool >/dev/null; then
-  echo "SKIP: promtool not installed (apt-get install prometheus; scripts/install_deps.sh)"
+  echo "SKIP: promtool not installed (apt-get install prometheus; scripts/dev/install_deps.sh)"
   exit 77
 fi
 cd "$root/deploy/prometheus"

@@ -46,7 +46,7 @@ class PrometheusScrapeTest : public ::testing::Test {
     prometheus_ = FindProgram("prometheus");
     if (prometheus_.empty()) {
       GTEST_SKIP() << "prometheus is not installed (apt-get install prometheus; "
-                      "scripts/install_deps.sh)";
+                      "scripts/dev/install_deps.sh)";
     }
     dir_ = MakeTempDir("juggle_prom_");
   }

@@ -4,7 +4,7 @@
 // (pixels of its colour in the middle of a screenshot at #t=...); `--serve` serves the same
 // page; `export-bvh` writes the recording's frames; Blender (when installed) imports the BVH;
 // and the commands fail clearly on missing, empty or unloadable recordings.
-// Browser tests skip only when chromium is not installed (scripts/install_deps.sh installs it).
+// Browser tests skip only when chromium is not installed (scripts/dev/install_deps.sh installs it).
 #include <fcntl.h>
 #include <png.h>
 #include <signal.h>

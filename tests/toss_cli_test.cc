@@ -12,6 +12,7 @@
 #include "common/testing/temp_dir.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "nlohmann/json.hpp"
 #include "tests/service_test_util.h"
 
 namespace juggle {
@@ -132,7 +133,9 @@ TEST_F(TossCliTest, EvalWritesTheProtocolAsJsonLines) {
   EXPECT_THAT(lines[0], HasSubstr("{\"table\":\"toss_pattern\",\"pattern\":\"3\",\"balls\":3,"));
   EXPECT_THAT(lines[0], HasSubstr(three));
   EXPECT_THAT(lines[1], HasSubstr("\"pattern\":\"531\""));
-  EXPECT_THAT(lines[2], HasSubstr("{\"table\":\"toss_wind\",\"wind_n\":0,"));
+  const nlohmann::json wind = nlohmann::json::parse(lines[2]);
+  EXPECT_EQ(wind["table"], "toss_wind");
+  EXPECT_EQ(wind["wind_n"], 0);
   EXPECT_THAT(lines[3], HasSubstr("{\"table\":\"toss_summary\",\"seeds\":2,\"max_throws\":200,"
                                   "\"max_basic_pattern\":0,"));
   EXPECT_EQ(Run({"toss", "--zero-action", "--json=" + json}, 30, "nojson.log"), 2);
@@ -213,7 +216,7 @@ TEST_F(TossCliTest, LoopTrainingRunsWithExportedPartnerPolicies) {
   EXPECT_GE(Value("throws"), 1) << last_line_;
   // The ranking script evaluates every checkpoint of the loop run with the partner, best last.
   const std::string rank_log = dir_ + "/rank.log";
-  ASSERT_EQ(std::system(("JUGGLE=" JUGGLE_BINARY " scripts/rank_toss_checkpoints.sh throw " + dir_ +
+  ASSERT_EQ(std::system(("JUGGLE=" JUGGLE_BINARY " scripts/experiments/rank_toss_checkpoints.sh throw " + dir_ +
                          "/loop/checkpoints " + dir_ + "/catch 3,531 101 > " + rank_log + " 2>&1")
                             .c_str()),
             0);

@@ -14,7 +14,7 @@ if [ "${FORCE:-0}" != 1 ] && podman image exists "$IMAGE"; then
   exit 0
 fi
 for tool in debootstrap podman; do
-  command -v "$tool" >/dev/null || { echo "error: $tool is missing (scripts/install_deps.sh --deploy)" >&2; exit 1; }
+  command -v "$tool" >/dev/null || { echo "error: $tool is missing (scripts/dev/install_deps.sh --deploy)" >&2; exit 1; }
 done
 
 ROOT=$(mktemp -d /var/tmp/juggle-base.XXXXXX)

@@ -1,4 +1,4 @@
-// Sizes of the toss-juggling tasks' interface (seed 001 §4.1), shared by workers and the learner.
+// Sizes of the toss-juggling tasks' interface (Chemin & Lee §4.1; docs/toss.md), shared by workers and the learner.
 // Everything is in the right arm's frame; the left arm is mirrored into it (envs/toss/world.h).
 #ifndef JUGGLE_ENVS_TOSS_DIMS_H_
 #define JUGGLE_ENVS_TOSS_DIMS_H_

@@ -2,13 +2,14 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "common/file_io.h"
 #include "common/status_macros.h"
 #include "envs/toss/dims.h"
 #include "google/protobuf/text_format.h"
+#include "nlohmann/json.hpp"
 
 namespace juggle::toss {
 namespace {
@@ -44,13 +45,10 @@ absl::Status WriteArmStates(const std::vector<TossArmState>& states, const std::
   if (!google::protobuf::TextFormat::PrintToString(message, &text)) {
     return absl::InternalError("cannot print the arm states");
   }
-  std::ofstream out(path);
-  out << "# proto-file: proto/envs/toss.proto\n# proto-message: juggle.config.TossArmStates\n"
-      << "# " << states.size() << " arm states (right arm's frame: neck, shoulder, elbow, wrist; "
-      << "rad, rad/s) " << what << ", written by `juggle toss --record-states`.\n"
-      << text;
-  out.close();
-  return out ? absl::OkStatus() : absl::DataLossError(absl::StrCat("error writing ", path));
+  return WriteFile(path, absl::StrCat(
+      "# proto-file: proto/envs/toss.proto\n# proto-message: juggle.config.TossArmStates\n# ",
+      states.size(), " arm states (right arm's frame: neck, shoulder, elbow, wrist; rad, rad/s) ",
+      what, ", written by `juggle toss --record-states`.\n", text));
 }
 
 }  // namespace
@@ -138,23 +136,25 @@ absl::Status WriteStartStates(const StartStates& states, const std::string& pref
 
 std::vector<std::string> TossEvalJsonLines(const TossEvalReport& report,
                                            const TossEvalOptions& options) {
+  using Json = nlohmann::ordered_json;
+  auto line = [](const Json& j) { return j.dump(-1, ' ', false, Json::error_handler_t::replace); };
   std::vector<std::string> lines;
   for (const PatternResult& p : report.patterns) {
-    std::string throws;
-    for (size_t i = 0; i < p.throws.size(); ++i) absl::StrAppend(&throws, i ? "," : "", p.throws[i]);
-    lines.push_back(absl::StrCat("{\"table\":\"toss_pattern\",\"pattern\":\"", p.pattern,
-                                 "\",\"balls\":", p.balls, ",\"median_throws\":", p.median_throws,
-                                 ",\"throws\":[", throws, "]}"));
+    lines.push_back(line({{"table", "toss_pattern"},
+                          {"pattern", p.pattern},
+                          {"balls", p.balls},
+                          {"median_throws", p.median_throws},
+                          {"throws", p.throws}}));
   }
   for (const auto& [wind, median] : report.wind_sweep) {
-    lines.push_back(absl::StrCat("{\"table\":\"toss_wind\",\"wind_n\":",
-                                 absl::StrFormat("%.6g", wind),
-                                 ",\"pattern\":\"3\",\"median_throws\":", median, "}"));
+    lines.push_back(line(
+        {{"table", "toss_wind"}, {"wind_n", wind}, {"pattern", "3"}, {"median_throws", median}}));
   }
-  lines.push_back(absl::StrCat("{\"table\":\"toss_summary\",\"seeds\":", options.seeds,
-                               ",\"max_throws\":", options.max_throws, ",\"max_basic_pattern\":",
-                               report.max_basic_pattern, ",\"max_wind_n\":",
-                               absl::StrFormat("%.6g", report.max_wind_n), "}"));
+  lines.push_back(line({{"table", "toss_summary"},
+                        {"seeds", options.seeds},
+                        {"max_throws", options.max_throws},
+                        {"max_basic_pattern", report.max_basic_pattern},
+                        {"max_wind_n", report.max_wind_n}}));
   return lines;
 }
 

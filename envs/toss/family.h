@@ -1,4 +1,4 @@
-// The toss-juggling family (seed 001): a planar two-arm upper body juggles up to 7 balls by
+// The toss-juggling family (Chemin & Lee, MIG 2018; docs/toss.md): a planar two-arm upper body juggles up to 7 balls by
 // siteswap. RunConfig.toss; spec, tasks, in-loop env, runtime, siteswaps and the evaluation
 // protocol live in this folder, in namespace juggle::toss.
 #ifndef JUGGLE_ENVS_TOSS_FAMILY_H_

@@ -1,4 +1,4 @@
-// TossJuggler: pattern juggling with two arms (seed 001 §3, Fig. 4). Each hand runs a mode
+// TossJuggler: pattern juggling with two arms (Chemin & Lee §3, Fig. 4; docs/toss.md). Each hand runs a mode
 // machine — empty: catch mode, holding: throw mode — and the beat clock sequences the throws of
 // a siteswap: beat k (right hand on even k) comes at (k + 1)·P_hand/2 — beat −1 at t = 0 —
 // and throws s[k mod period] with the ball that hand holds.

@@ -1,4 +1,4 @@
-// The reward terms of seed 001 §4 (Eq. 5 and 8), shared by the single-arm tasks
+// The reward terms of Chemin & Lee (MIG 2018) §4, Eq. 5 and 8 (docs/toss.md), shared by the single-arm tasks
 // (TossTaskEnv) and in-loop training (TossLoopEnv). Units: m, m/s. Pure functions.
 #ifndef JUGGLE_ENVS_TOSS_REWARD_H_
 #define JUGGLE_ENVS_TOSS_REWARD_H_

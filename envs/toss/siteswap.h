@@ -1,6 +1,6 @@
 // Vanilla siteswaps (asynchronous, one ball caught and thrown per beat, solo): parsing,
 // validation, ball count, juggling states, transitions between patterns, enumeration, and the
-// physical throw schedule of toss-juggling seed 001 (Chemin & Lee, MIG 2018, Eq. 1-3).
+// physical throw schedule of toss juggling (Chemin & Lee, MIG 2018, Eq. 1-3; docs/siteswap.md).
 // docs/siteswap.md has the notation, worked examples and the CLI (`juggle siteswap`).
 //
 // Notation. A siteswap is a cyclic sequence of throw values t_0 .. t_{p-1} (period p), one
@@ -20,8 +20,8 @@
 // rotations starts in the ground state (441 and 531 are; 51 is excited). A throw t from state
 // s (bit 0 set) gives (s >> 1) | (1 << (t - 1)); with bit 0 clear only t = 0 is possible.
 //
-// Physical schedule (paper §2.1-2.2, Eq. 1-3; the equations in the seed text are garbled by
-// OCR, these are the reconstruction of shared/docs/seed-systems.md §1a, re-derived here):
+// Physical schedule (paper §2.1-2.2, Eq. 1-3; the paper's equations are garbled in the copy
+// this project worked from, so these are re-derived here; docs/siteswap.md):
 //   hand period P_hand: time between two throws of one hand (paper Table 1: 0.5 s), so one
 //     beat lasts P_hand / 2 and the throw at beat i happens at time i * P_hand / 2;
 //   dwell ratio D_ratio: fraction of P_hand a hand holds its ball (Table 1: 0.7), dwell time

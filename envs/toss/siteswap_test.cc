@@ -1,7 +1,7 @@
 // Vanilla siteswaps: parsing, validity with the exact collision, ball count, states and
 // ground/excited, transitions (checked by an independent state machine and an exhaustive
 // search), enumeration (checked by brute force and by the Buhler-Eisenbud-Graham-Wright count),
-// and the physical schedule of seed 001's Eq. 1-3 against hand-computed numbers.
+// and the physical schedule of Chemin & Lee's Eq. 1-3 (docs/siteswap.md) against hand-computed numbers.
 #include "envs/toss/siteswap.h"
 
 #include <cmath>
@@ -406,7 +406,7 @@ TEST(SiteswapTransitionTest, IntoAndOutOfTheExcitedPattern51) {
   EXPECT_EQ(FormatJugglingState(in->path[0], 5), "xxx--");
   EXPECT_EQ(FormatJugglingState(in->path[1], 5), "xx-x-");
   EXPECT_THAT(FindTransition(Must("51"), Must("3"))->throws, ElementsAre(2));
-  // The example SiteswapSuite documents (shared/docs/seed-systems.md §5.2): 5 -> 91 is 678.
+  // The transition example of the SiteswapSuite library's documentation: 5 -> 91 is 678.
   EXPECT_THAT(FindTransition(Must("5"), Must("91"))->throws, ElementsAre(6, 7, 8));
   // Entering at the other rotation takes longer.
   EXPECT_THAT(FindTransition(Must("3"), Must("15"))->throws, ElementsAre(4, 5));

@@ -1,4 +1,4 @@
-// TossSpec: the fixed part of a toss-juggling run (seed 001) — the compiled planar two-arm
+// TossSpec: the fixed part of a toss-juggling run (docs/toss.md) — the compiled planar two-arm
 // model, the joint and ball addresses, the home pose and the siteswap timing — and the factory
 // of TossTaskEnv (the single-arm training tasks) or TossLoopEnv (in-loop training, toss.loop).
 // The two-arm runtime (envs/toss/juggler.h) uses the same spec. Conventions: the frontal x–z plane, x to the juggler's left; the right arm is

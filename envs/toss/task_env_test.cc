@@ -1,4 +1,4 @@
-// Toss juggling (seed 001): the home pose, the auto-catch and auto-release mechanics, the
+// Toss juggling (docs/toss.md): the home pose, the auto-catch and auto-release mechanics, the
 // catch and throw tasks' rewards and episode rules, and mirroring of the right arm's policy
 // onto the left arm.
 #include <algorithm>

@@ -8,7 +8,7 @@ die() { echo "FAIL: $*" >&2; exit 1; }
 # Exit 77 (ctest SKIP_RETURN_CODE) when a tool is missing; make test-deploy installs them.
 need() {
   for tool in "$@"; do
-    command -v "$tool" >/dev/null || { echo "SKIP: $tool missing (scripts/install_deps.sh --deploy)"; exit 77; }
+    command -v "$tool" >/dev/null || { echo "SKIP: $tool missing (scripts/dev/install_deps.sh --deploy)"; exit 77; }
   done
 }
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Plots a `juggle toss --record` trajectory as an SVG (standard library only).
 
-usage: scripts/plot_toss.py RUN.traj OUT.svg [--seconds S] [--title TEXT]
+usage: scripts/analysis/plot_toss.py RUN.traj OUT.svg [--seconds S] [--title TEXT]
 
 Two panels over the first S seconds (default 3): every ball's height and horizontal position
 (one colour per ball; thin while held, thick in flight) with both palms in grey. Crossing

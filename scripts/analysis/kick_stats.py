@@ -2,7 +2,7 @@
 """Per-kick statistics of a right-foot soccer recording: how far each kick's ball flight is from
 what the next contact needs (docs/learning.md, "Where it stands").
 
-usage: scripts/kick_stats.py TRAJECTORY [--apex 1.4] [--contact 0.5] [--target_x 0.6]
+usage: scripts/analysis/kick_stats.py TRAJECTORY [--apex 1.4] [--contact 0.5] [--target_x 0.6]
                              [--target_y -0.1] [--window 0.06]
 
 TRAJECTORY is a `juggle eval --record=FILE` or `juggle render --record=FILE` recording of a

@@ -3,8 +3,8 @@
 # seeds (101..105 by default; `juggle toss --eval` reports on seeds 1..10). Checkpoints of one
 # run differ a lot (docs/results.md), so a run's last checkpoint is not necessarily its best.
 #
-#   scripts/rank_toss_checkpoints.sh catch DIR PARTNER_THROW [PATTERNS] [FIRST_SEED]
-#   scripts/rank_toss_checkpoints.sh throw DIR PARTNER_CATCH [PATTERNS] [FIRST_SEED]
+#   scripts/experiments/rank_toss_checkpoints.sh catch DIR PARTNER_THROW [PATTERNS] [FIRST_SEED]
+#   scripts/experiments/rank_toss_checkpoints.sh throw DIR PARTNER_CATCH [PATTERNS] [FIRST_SEED]
 # (WIND_MAX=0.3: the largest wind of the sweep, N; 0 skips it)
 #
 # DIR holds .jglc files; PARTNER is a checkpoint file or run directory. Prints one line per

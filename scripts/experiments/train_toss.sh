@@ -3,7 +3,7 @@
 # policies, two rounds of training inside the two-arm loop, a held-out ranking of the round-2
 # catch checkpoints, the exported pair and the evaluation on seeds 1-10.
 #
-#   scripts/train_toss.sh [RUNS_DIR]        (default runs; `make train-toss` runs it)
+#   scripts/experiments/train_toss.sh [RUNS_DIR]        (default runs; `make train-toss` runs it)
 #
 # Every stage stops at a fixed iteration (the counts of the measured runs), so the result does
 # not depend on how busy the machine is. Each stage trains on one core (the configs set one
@@ -65,7 +65,7 @@ for ckpt in "$runs"/toss_loop2_catch/checkpoints/*.jglc; do
   if [[ $half == a ]]; then half=b; else half=a; fi
 done
 for half in a b; do
-  JUGGLE=$juggle scripts/rank_toss_checkpoints.sh catch "$rank_dir/$half" \
+  JUGGLE=$juggle scripts/experiments/rank_toss_checkpoints.sh catch "$rank_dir/$half" \
     "$runs/toss_loop1_throw" 3,4,5,531,53,441,6,7 >"$rank_dir/$half.txt" &
 done
 wait

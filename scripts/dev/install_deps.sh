@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Installs juggle's build and run dependencies from Debian packages when missing.
 # Idempotent: does nothing (and needs no network) when everything is present.
-#   scripts/install_deps.sh            build, run and `make test`
-#   scripts/install_deps.sh --deploy   also `make test-deploy`'s engines (Slurm, podman, kubectl)
+#   scripts/dev/install_deps.sh            build, run and `make test`
+#   scripts/dev/install_deps.sh --deploy   also `make test-deploy`'s engines (Slurm, podman, kubectl)
 set -euo pipefail
 
 PACKAGES=(
@@ -22,7 +22,7 @@ PACKAGES=(
 # libjs-chart.js, libjs-d3: the dashboard's charts and graph (embedded in the binary at build
 # time); prometheus (prometheus + promtool) and chromium: tests of deploy/prometheus and of the
 # dashboard in a real browser; openssl: certificates of the TLS tests; clang and
-# libclang-rt-14-dev: the libFuzzer harnesses (scripts/fuzz.sh); python3: the scripts/ tools
+# libclang-rt-14-dev: the libFuzzer harnesses (scripts/dev/fuzz.sh); python3: the scripts/ tools
 # (standard library only) and their tests.
 if [ "${1:-}" = --deploy ]; then
   PACKAGES+=(slurmctld slurmd slurm-client munge podman runc catatonit debootstrap curl

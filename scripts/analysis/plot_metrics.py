@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Plots a run's metrics.jsonl as an SVG learning curve (standard library only).
 
-usage: scripts/plot_metrics.py RUN_DIR/metrics.jsonl OUT.svg [--title TEXT]
+usage: scripts/analysis/plot_metrics.py RUN_DIR/metrics.jsonl OUT.svg [--title TEXT]
 
 Three panels over wall-clock minutes: completions per episode, mean episode length (s),
 mean episode return. Each panel shows the raw per-iteration values and a moving average.
@@ -9,17 +9,7 @@ mean episode return. Each panel shows the raw per-iteration values and a moving 
 import json
 import sys
 
-from svg_axes import axes
-
-
-def moving_average(values, window):
-    out, acc = [], 0.0
-    for i, v in enumerate(values):
-        acc += v
-        if i >= window:
-            acc -= values[i - window]
-        out.append(acc / min(i + 1, window))
-    return out
+from svg_axes import axes, moving_average, write_svg
 
 
 def panel(x, y, top, height, width, title, colour):
@@ -60,12 +50,8 @@ def main(argv):
         parts, px = panel(minutes, y, 50 + i * 185, 140, width, label, colour)
         svg += parts
     xmax = max(minutes)
-    for frac in (0, 0.25, 0.5, 0.75, 1):
-        svg.append(f'<text x="{px(xmax*frac):.1f}" y="{height-12}" font-size="11" '
-                   f'text-anchor="middle" font-family="sans-serif">{xmax*frac:.0f} min</text>')
-    svg.append("</svg>")
-    with open(argv[2], "w") as out:
-        out.write("\n".join(svg))
+    write_svg(argv[2], svg, [(px(xmax * f), f"{xmax*f:.0f} min") for f in (0, 0.25, 0.5, 0.75, 1)],
+              height - 12)
     print(f"wrote {argv[2]} ({len(rows)} iterations, {xmax:.1f} min)")
     return 0
 

@@ -3,11 +3,11 @@
 # config for the same number of iterations (= the same samples: every config has the same
 # envs and unroll length) on each seed, one run after another with the whole machine,
 # evaluates each final policy (`juggle eval --json`), and plots the learning curves averaged
-# over seeds (scripts/plot_ablation.py). Runs land in OUT_DIR/<config>_s<seed>/.
+# over seeds (scripts/analysis/plot_ablation.py). Runs land in OUT_DIR/<config>_s<seed>/.
 #
-# usage: scripts/ablation.sh OUT_DIR ITERATIONS "SEED..." [CONFIG...]
+# usage: scripts/experiments/ablation.sh OUT_DIR ITERATIONS "SEED..." [CONFIG...]
 #   default configs: configs/ablation/{layerwise_moe,output_moe,mlp,uniform_walk}.textproto
-#   JUGGLE=build/juggle EPISODES=20 scripts/ablation.sh runs/ablation 2000 "1 2 3"
+#   JUGGLE=build/juggle EPISODES=20 scripts/experiments/ablation.sh runs/ablation 2000 "1 2 3"
 set -euo pipefail
 [ $# -ge 3 ] || { sed -n '2,10p' "$0"; exit 2; }
 out=$1 iterations=$2 seeds=$3
@@ -17,7 +17,7 @@ configs=("$@")
 if [ ${#configs[@]} -eq 0 ]; then
   configs=()
   for name in layerwise_moe output_moe mlp uniform_walk; do
-    configs+=("$here/../configs/ablation/$name.textproto")
+    configs+=("$here/../../configs/ablation/$name.textproto")
   done
 fi
 juggle=${JUGGLE:-build/release/juggle}
@@ -44,4 +44,4 @@ for seed in $seeds; do
         "$(value "$line" mean_completions)" | tee -a "$summary"
   done
 done
-/usr/bin/python3 "$here/plot_ablation.py" "$out" "$out/ablation.svg"
+/usr/bin/python3 "$here/../analysis/plot_ablation.py" "$out" "$out/ablation.svg"

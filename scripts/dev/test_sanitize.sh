@@ -3,7 +3,7 @@
 #   ASan + UBSan (preset asan): learner, protocol, security, multi-process, assembly, parsing;
 #   TSan (preset tsan): the threaded ones — protocol, asynchronous mode, queue, env pool.
 #
-#   scripts/test_sanitize.sh [asan|tsan|all]      (default all)
+#   scripts/dev/test_sanitize.sh [asan|tsan|all]      (default all)
 #
 # System libraries (libtorch, gRPC, protobuf, OpenMP) are not instrumented; the suppressions in
 # tests/sanitizers/ name each library that needs one and why. Ends with ctest's summary.

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Plots the ablation study's learning curves as one SVG (standard library only).
 
-usage: scripts/plot_ablation.py OUT_DIR OUT.svg
+usage: scripts/analysis/plot_ablation.py OUT_DIR OUT.svg
 
-Reads OUT_DIR/<config>_s<seed>/metrics.jsonl (scripts/ablation.sh's runs). Panels over
+Reads OUT_DIR/<config>_s<seed>/metrics.jsonl (scripts/experiments/ablation.sh's runs). Panels over
 training samples: juggles per episode and node completions per episode (training episodes,
 moving average over 20 iterations), and the in-run evaluation's median juggles. Each config is
 one colour: the mean over its seeds as a line, the range over seeds as a band.
@@ -14,19 +14,9 @@ import os
 import re
 import sys
 
-from svg_axes import axes
+from svg_axes import axes, moving_average, write_svg
 
 COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"]
-
-
-def moving_average(values, window):
-    out, acc = [], 0.0
-    for i, v in enumerate(values):
-        acc += v
-        if i >= window:
-            acc -= values[i - window]
-        out.append(acc / min(i + 1, window))
-    return out
 
 
 def load_runs(out_dir):
@@ -114,12 +104,9 @@ def main(argv):
             if p == 0:
                 svg.append(f'<text x="{width-160}" y="{top+16+16*k}" font-size="12" fill="{colour}" '
                            f'font-family="sans-serif">{config} ({len(runs[config])} seeds)</text>')
-    for frac in (0, 0.5, 1):
-        svg.append(f'<text x="{70 + (width-240)*frac:.1f}" y="{height-14}" font-size="11" '
-                   f'text-anchor="middle" font-family="sans-serif">{x_max*frac/1e6:.2f} M samples</text>')
-    svg.append("</svg>")
-    with open(argv[2], "w") as out:
-        out.write("\n".join(svg))
+    write_svg(argv[2], svg,
+              [(70 + (width - 240) * f, f"{x_max*f/1e6:.2f} M samples") for f in (0, 0.5, 1)],
+              height - 14)
     print(f"wrote {argv[2]} ({len(runs)} configs, {sum(len(s) for s in runs.values())} runs)")
     return 0
 

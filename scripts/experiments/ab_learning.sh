@@ -5,8 +5,8 @@
 # `juggle eval` (EPISODES episodes from held-out seeds, episodes up to 60 s) and appends a row
 # per run to OUT_DIR/summary.tsv. Runs in OUT_DIR/<config name>_s<seed>/.
 #
-# usage: scripts/ab_learning.sh OUT_DIR MINUTES "SEED..." CONFIG [CONFIG...]
-#   EPISODES=50 JUGGLE=build/release/juggle scripts/ab_learning.sh runs/ab 30 "1 2 3" \
+# usage: scripts/experiments/ab_learning.sh OUT_DIR MINUTES "SEED..." CONFIG [CONFIG...]
+#   EPISODES=50 JUGGLE=build/release/juggle scripts/experiments/ab_learning.sh runs/ab 30 "1 2 3" \
 #       configs/learning/baseline.textproto configs/learning/base.textproto
 set -euo pipefail
 [ $# -ge 4 ] || { sed -n '2,11p' "$0"; exit 2; }

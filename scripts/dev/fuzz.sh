@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs the libFuzzer harnesses of tests/fuzz/ (docs/reliability.md).
 #
-#   scripts/fuzz.sh [SECONDS_EACH] [NAME...]     (default 60 s, every harness; `make fuzz`)
+#   scripts/dev/fuzz.sh [SECONDS_EACH] [NAME...]     (default 60 s, every harness; `make fuzz`)
 #
 # Builds the `fuzz` preset (clang, ASan + UBSan) when needed, fuzzes each harness from its
 # committed seed corpus (tests/fuzz/corpus/NAME, copied to build/fuzz/corpus/NAME so new inputs

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Juggles-vs-wall-clock curves of several soccer runs as one SVG (standard library only).
 
-usage: scripts/plot_learning.py OUT.svg RUN_DIR [RUN_DIR ...] [--x samples]
+usage: scripts/analysis/plot_learning.py OUT.svg RUN_DIR [RUN_DIR ...] [--x samples]
 
 Top panel: mean juggles of each run's in-run evaluations (the `"event": "eval"` lines of
 RUN_DIR/metrics.jsonl: mean-action policy, held-out starts, no training curricula). Bottom

@@ -187,9 +187,10 @@ int Evaluate(EvalFlags f) {
     double sim_seconds = 0;
     for (const EpisodeResult& e : report->episodes) sim_seconds += e.steps * (*spec)->control_dt();
     absl::StrAppend(&line, absl::StrFormat(
-        " planner_replans=%d planner_rollouts=%d planner_rollout_steps=%d wall_s=%.1f "
-        "wall_s_per_sim_s=%.3f",
-        t.replans, t.rollouts, t.rollout_steps, wall, wall / std::max(sim_seconds, 1e-9)));
+        " planner_replans=%d planner_rollouts=%d planner_rollout_steps=%d "
+        "prediction_checks=%d prediction_mismatches=%d wall_s=%.1f wall_s_per_sim_s=%.3f",
+        t.replans, t.rollouts, t.rollout_steps, t.prediction_checks, t.prediction_mismatches,
+        wall, wall / std::max(sim_seconds, 1e-9)));
   }
   if (policy_controller != nullptr && policy_controller->gates().rows() > 0) {
     const GateStatistics g = ComputeGateStatistics(policy_controller->gates());

@@ -71,6 +71,8 @@ PlannerTotals PlannerController::totals() const {
     t.replans += p->totals().replans;
     t.rollouts += p->totals().rollouts;
     t.rollout_steps += p->totals().rollout_steps;
+    t.prediction_checks += p->totals().prediction_checks;
+    t.prediction_mismatches += p->totals().prediction_mismatches;
   }
   return t;
 }

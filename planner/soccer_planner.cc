@@ -3,8 +3,28 @@
 #include <algorithm>
 
 #include "common/check.h"
+#include "common/status_macros.h"
 
 namespace juggle::planner {
+namespace {
+
+// FNV-1a of the env's positions and velocities.
+uint64_t StateFingerprint(const Env& env, const mjModel* m) {
+  const mjData* d = env.data();
+  uint64_t h = 1469598103934665603ull;
+  auto mix = [&h](const double* x, int n) {
+    const auto* bytes = reinterpret_cast<const unsigned char*>(x);
+    for (size_t i = 0; i < sizeof(double) * n; ++i) {
+      h ^= bytes[i];
+      h *= 1099511628211ull;
+    }
+  };
+  mix(d->qpos, m->nq);
+  mix(d->qvel, m->nv);
+  return h;
+}
+
+}  // namespace
 
 using soccer_juggle::JuggleEnv;
 using soccer_juggle::kNumActions;
@@ -28,7 +48,8 @@ SoccerPlanner::SoccerPlanner(std::shared_ptr<const soccer_juggle::JuggleSpec> sp
 }
 
 SoccerPlanner::RolloutResult SoccerPlanner::Rollout(JuggleEnv* env, const double* theta,
-                                                    PlanClock clock) {
+                                                    PlanClock clock,
+                                                    std::vector<uint64_t>* trace) {
   RolloutResult result;
   SoccerRolloutScorer scorer(config_.cost(), layout_.horizon);
   scorer.Begin(*env);
@@ -38,6 +59,7 @@ SoccerPlanner::RolloutResult SoccerPlanner::Rollout(JuggleEnv* env, const double
   for (; t < layout_.horizon; ++t, ++clock.step) {
     SoccerPlanAction(*env, layout_, theta, clock, action);
     const StepResult r = env->Step(action, walk_);
+    if (trace != nullptr) trace->push_back(StateFingerprint(*env, spec_->model()));
     scorer.AfterStep(*env, action, r);
     if (r.outcome != Outcome::kRunning) {
       result.end = r.outcome;
@@ -71,6 +93,87 @@ absl::StatusOr<double> SoccerPlanner::Evaluate(const JuggleEnv& env,
   return cost;
 }
 
+absl::StatusOr<std::vector<SoccerPlanner::RolloutResult>> SoccerPlanner::RolloutBatch(
+    const EnvSnapshot& snapshot, PlanClock clock, const std::vector<double>& candidates, int n) {
+  const int dim = layout_.dim();
+  std::vector<RolloutResult> results(n);
+  RETURN_IF_ERROR(pool_->Run(snapshot, n, [&](int i, Env* copy) {
+    results[i] = Rollout(static_cast<JuggleEnv*>(copy), candidates.data() + i * dim, clock);
+  }));
+  for (const RolloutResult& r : results) totals_.rollout_steps += r.steps;
+  return results;
+}
+
+absl::Status SoccerPlanner::Refine(const EnvSnapshot& snapshot, PlanClock clock, int set,
+                                   std::vector<double>* theta, double* cost) {
+  const int dim = layout_.dim();
+  const int first = layout_.kick(set);
+  const config::PlannerCost& w = config_.cost();
+  // Finite-difference steps: 2 ms of timing, 0.01 rad of placement.
+  const double h[kKickVariables] = {0.002, 0.01, 0.01, 0.01, 0.01};
+  auto residual = [&](const KickOutcome& k, double out[3]) {
+    out[0] = k.timing / w.timing_scale_s();
+    out[1] = k.dx / w.landing_scale();
+    out[2] = k.dy / w.landing_scale();
+  };
+  for (int it = 0; it < config_.refine_iterations(); ++it) {
+    std::vector<double> batch;
+    for (int j = -1; j < kKickVariables; ++j) {
+      batch.insert(batch.end(), theta->begin(), theta->end());
+      if (j >= 0) batch[batch.size() - dim + first + j] += h[j];
+    }
+    ASSIGN_OR_RETURN(std::vector<RolloutResult> probes,
+                     RolloutBatch(snapshot, clock, batch, kKickVariables + 1));
+    totals_.rollouts += kKickVariables + 1;
+    if (!probes[0].first_kick.valid) return absl::OkStatus();
+    double f[3], J[3][kKickVariables];
+    residual(probes[0].first_kick, f);
+    for (int j = 0; j < kKickVariables; ++j) {
+      if (!probes[j + 1].first_kick.valid) return absl::OkStatus();
+      double fj[3];
+      residual(probes[j + 1].first_kick, fj);
+      for (int r = 0; r < 3; ++r) J[r][j] = (fj[r] - f[r]) / h[j];
+    }
+    // Levenberg-Marquardt: (JᵀJ + λ·diag(JᵀJ) + μI) Δ = −Jᵀf.
+    double A[kKickVariables * kKickVariables], b[kKickVariables];
+    for (int i = 0; i < kKickVariables; ++i) {
+      b[i] = 0;
+      for (int r = 0; r < 3; ++r) b[i] -= J[r][i] * f[r];
+      for (int j = 0; j < kKickVariables; ++j) {
+        double s = 0;
+        for (int r = 0; r < 3; ++r) s += J[r][i] * J[r][j];
+        A[i * kKickVariables + j] = s;
+      }
+    }
+    for (int i = 0; i < kKickVariables; ++i) {
+      A[i * kKickVariables + i] += 0.1 * A[i * kKickVariables + i] + 1e-3;
+    }
+    double delta[kKickVariables];
+    mju_copy(delta, b, kKickVariables);
+    if (mju_cholFactor(A, kKickVariables, 1e-12) < kKickVariables) return absl::OkStatus();
+    mju_cholSolve(delta, A, b, kKickVariables);
+    batch.clear();
+    for (const double alpha : {1.0, 0.5, 0.25}) {
+      batch.insert(batch.end(), theta->begin(), theta->end());
+      double* x = batch.data() + batch.size() - dim;
+      for (int j = 0; j < kKickVariables; ++j) {
+        x[first + j] =
+            std::clamp(x[first + j] + alpha * delta[j], space_.lower[first + j], space_.upper[first + j]);
+      }
+    }
+    ASSIGN_OR_RETURN(std::vector<RolloutResult> steps, RolloutBatch(snapshot, clock, batch, 3));
+    totals_.rollouts += 3;
+    int best = -1;
+    for (int k = 0; k < 3; ++k) {
+      if (steps[k].cost < *cost && (best < 0 || steps[k].cost < steps[best].cost)) best = k;
+    }
+    if (best < 0) return absl::OkStatus();
+    std::copy_n(batch.begin() + best * dim, dim, theta->begin());
+    *cost = steps[best].cost;
+  }
+  return absl::OkStatus();
+}
+
 absl::Status SoccerPlanner::Replan(const JuggleEnv& env) {
   const int knot0 = KnotAtOrBefore(layout_, env.steps());
   const int moved = layout_.knot_steps > 0 ? (knot0 - knot0_step_) / layout_.knot_steps : 0;
@@ -81,23 +184,15 @@ absl::Status SoccerPlanner::Replan(const JuggleEnv& env) {
   const std::unique_ptr<EnvSnapshot> snapshot = env.Snapshot();
   Rng rng = Rng::ForStream(config_.seed(), stream_, static_cast<uint64_t>(replan_count_++));
   absl::Status status;
-  const int dim = layout_.dim();
-  std::vector<int> steps;
   const BatchCost cost = [&](const std::vector<double>& candidates, int n,
                              std::vector<double>* costs) {
-    steps.assign(n, 0);
-    absl::Status s = pool_->Run(*snapshot, n, [&](int i, Env* copy) {
-      const RolloutResult r =
-          Rollout(static_cast<JuggleEnv*>(copy), candidates.data() + i * dim, clock);
-      (*costs)[i] = r.cost;
-      steps[i] = r.steps;
-    });
-    if (!s.ok()) {
-      status = s;
+    absl::StatusOr<std::vector<RolloutResult>> r = RolloutBatch(*snapshot, clock, candidates, n);
+    if (!r.ok()) {
+      status = r.status();
       std::fill(costs->begin(), costs->end(), 0.0);
       return;
     }
-    for (int x : steps) totals_.rollout_steps += x;
+    for (int i = 0; i < n; ++i) (*costs)[i] = (*r)[i].cost;
   };
   // Seeds: the shifted plan, and the same with the nominal kick (a carried kick that no longer
   // fits is then one candidate away from the configured swing).
@@ -106,23 +201,28 @@ absl::Status SoccerPlanner::Replan(const JuggleEnv& env) {
     seeds.push_back(start);
     std::fill(seeds.back().begin(), seeds.back().begin() + layout_.kick_dim(), 0.0);
   }
-  const CemResult result = MinimizeCem(space_, settings_, seeds, &rng, cost);
+  CemResult result = MinimizeCem(space_, settings_, seeds, &rng, cost);
   if (!status.ok()) return status;
+  totals_.rollouts += result.evaluations;
+  if (config_.refine_iterations() > 0 && layout_.kick_sets > 0) {
+    const int set = std::min(env.state().kick_touched ? 1 : 0, layout_.kick_sets - 1);
+    RETURN_IF_ERROR(Refine(*snapshot, clock, set, &result.best, &result.best_cost));
+  }
   theta_ = result.best;
   has_plan_ = true;
   origin_step_ = env.steps();
   knot0_step_ = knot0;
   origin_cycle_ = cycle_;
   ++totals_.replans;
-  totals_.rollouts += result.evaluations;
   last_.env_step = env.steps();
   last_.incumbent_cost = result.incumbent_cost;
   last_.best_cost = result.best_cost;
   last_.evaluations = result.evaluations;
   // The chosen plan's prediction, for reports (one more rollout).
   RolloutResult chosen;
+  predicted_.clear();
   status = pool_->Run(*snapshot, 1, [&](int, Env* copy) {
-    chosen = Rollout(static_cast<JuggleEnv*>(copy), theta_.data(), clock);
+    chosen = Rollout(static_cast<JuggleEnv*>(copy), theta_.data(), clock, &predicted_);
   });
   ++totals_.rollouts;
   totals_.rollout_steps += chosen.steps;
@@ -145,6 +245,14 @@ absl::Status SoccerPlanner::Act(const JuggleEnv& env, float* action) {
     if (spec_->graph().node(last_node_).stage == config::DOWN) ++cycle_;
   }
   last_step_ = env.steps();
+  if (has_plan_) {
+    // The state the plan predicted for this step.
+    const int k = env.steps() - origin_step_ - 1;
+    if (k >= 0 && k < static_cast<int>(predicted_.size())) {
+      ++totals_.prediction_checks;
+      if (predicted_[k] != StateFingerprint(env, spec_->model())) ++totals_.prediction_mismatches;
+    }
+  }
   if (!has_plan_ || env.steps() - origin_step_ >= config_.replan_every()) {
     if (absl::Status s = Replan(env); !s.ok()) return s;
   }

@@ -41,6 +41,10 @@ struct PlannerTotals {
   int64_t replans = 0;
   int64_t rollouts = 0;
   int64_t rollout_steps = 0;   // control steps simulated by rollouts
+  // Visited states checked against the chosen plan's rollout (position and velocity, bit for
+  // bit), and those that differed: the executed future equals the predicted one.
+  int64_t prediction_checks = 0;
+  int64_t prediction_mismatches = 0;
 };
 
 class SoccerPlanner {
@@ -74,8 +78,19 @@ class SoccerPlanner {
     KickOutcome first_kick;
   };
   // `clock`: where the rollout's first state is in the plan.
-  RolloutResult Rollout(soccer_juggle::JuggleEnv* env, const double* theta, PlanClock clock);
+  // With `trace`, the fingerprint of the state after every step is appended to it.
+  RolloutResult Rollout(soccer_juggle::JuggleEnv* env, const double* theta, PlanClock clock,
+                        std::vector<uint64_t>* trace = nullptr);
   absl::Status Replan(const soccer_juggle::JuggleEnv& env);
+  // Rolls out candidates[i·dim .. (i+1)·dim) for i < n from `snapshot`; counts them.
+  absl::StatusOr<std::vector<RolloutResult>> RolloutBatch(const EnvSnapshot& snapshot,
+                                                          PlanClock clock,
+                                                          const std::vector<double>& candidates,
+                                                          int n);
+  // Gauss-Newton steps on kick set `set`'s variables of `theta` (cost `cost`); returns the
+  // refined plan and its cost.
+  absl::Status Refine(const EnvSnapshot& snapshot, PlanClock clock, int set,
+                      std::vector<double>* theta, double* cost);
 
   std::shared_ptr<const soccer_juggle::JuggleSpec> spec_;
   const config::PlannerConfig config_;
@@ -97,6 +112,8 @@ class SoccerPlanner {
   int last_node_ = -1;
   int cycle_ = 0;
   int64_t replan_count_ = 0;
+  // The chosen plan's predicted state fingerprints, from origin_step_ + 1 on.
+  std::vector<uint64_t> predicted_;
   ReplanReport last_;
   PlannerTotals totals_;
 };

@@ -291,11 +291,12 @@ void JuggleEnv::AddStanceBalance(double* feedforward) {
                              b.com_kp() * ex + b.com_kd() * vel[0], 0};
     mju_mulMatTVec(tau_ankle, data_->xmat + 9 * foot, world, 3, 3);  // into the foot frame
   }
-  if (b.pelvis_kp() != 0 || b.pelvis_kd() != 0) {
+  if (b.pelvis_kp() != 0 || b.pelvis_kd() != 0 || b.yaw_kp() != 0 || b.yaw_kd() != 0) {
     double tilt[3];
     mju_subQuat(tilt, data_->qpos + 3, kUprightQuat);
     const double* w = data_->qvel + 3;
     for (int i : {0, 2}) tau_hip[i] = b.pelvis_kp() * tilt[i] + b.pelvis_kd() * w[i];
+    tau_hip[1] = b.yaw_kp() * tilt[1] + b.yaw_kd() * w[1];  // about the root's vertical (y)
   }
   add(ankle, tau_ankle);
   add(hip, tau_hip);

@@ -1,0 +1,89 @@
+// Planner settings: out-of-range values are config errors naming file, line and field; the
+// planner refuses settings the schema allows but the run does not.
+#include <string>
+
+#include "absl/strings/str_cat.h"
+#include "envs/registry.h"
+#include "envs/testing/test_configs.h"
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "planner/planner_controller.h"
+
+namespace juggle::planner {
+namespace {
+
+using ::juggle::testing::RepoPath;
+using ::juggle::testing::WriteTemp;
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+// A config over the shipped planner config with `planner_fields` in its planner block.
+std::string Config(const std::string& planner_fields) {
+  return absl::StrCat("base_config: \"", RepoPath("configs/right_foot_planner.textproto"),
+                      "\"\nplanner {\n  ", planner_fields, "\n}\n");
+}
+
+absl::Status Load(const std::string& name, const std::string& text,
+                  LoadedConfig* out = nullptr) {
+  const std::string path = WriteTemp(name, text);
+  absl::StatusOr<LoadedConfig> loaded = LoadRunConfig(path);
+  if (!loaded.ok()) return loaded.status();
+  if (out != nullptr) *out = *loaded;
+  return absl::OkStatus();
+}
+
+TEST(PlannerConfigTest, ZeroSamplesIsAnErrorNamingFileLineAndField) {
+  const std::string text = Config("samples: 0");
+  const absl::Status s = Load("zero_samples.textproto", text);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()),
+              StartsWith(::juggle::testing::Loc(WriteTemp("zero_samples.textproto", text), text,
+                                                "samples: 0")));
+  EXPECT_THAT(std::string(s.message()), HasSubstr("planner.samples"));
+}
+
+TEST(PlannerConfigTest, NegativeHorizonIsAnErrorNamingTheField) {
+  const absl::Status s = Load("negative_horizon.textproto", Config("horizon_steps: -5"));
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()), HasSubstr("planner.horizon_steps"));
+}
+
+TEST(PlannerConfigTest, AHorizonLongerThanTheEpisodeIsRefused) {
+  const std::string text = Config("horizon_steps: 5000");
+  LoadedConfig config;
+  const absl::Status loaded = Load("long_horizon.textproto", text, &config);
+  ASSERT_TRUE(loaded.ok()) << loaded;
+  const absl::Status s = ValidatePlannerConfig(config);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()),
+              StartsWith(::juggle::testing::Loc(config.config_path, text, "horizon_steps")));
+  EXPECT_THAT(std::string(s.message()), HasSubstr("longer than the episode"));
+}
+
+TEST(PlannerConfigTest, ReplanningBeyondTheHorizonIsRefused) {
+  LoadedConfig config;
+  ASSERT_TRUE(Load("replan.textproto", Config("horizon_steps: 10 replan_every: 11"), &config).ok());
+  EXPECT_THAT(std::string(ValidatePlannerConfig(config).message()),
+              HasSubstr("planner.replan_every"));
+}
+
+TEST(PlannerConfigTest, TheShippedPlannerConfigIsValid) {
+  absl::StatusOr<LoadedConfig> config =
+      LoadRunConfig(RepoPath("configs/right_foot_planner.textproto"));
+  ASSERT_TRUE(config.ok()) << config.status();
+  EXPECT_TRUE(ValidatePlannerConfig(*config).ok());
+}
+
+TEST(PlannerConfigTest, AFamilyWithoutAPlannerIsRefused) {
+  absl::StatusOr<LoadedConfig> config = LoadRunConfig(RepoPath("configs/toss_catch.textproto"));
+  ASSERT_TRUE(config.ok()) << config.status();
+  const absl::Status s = ValidatePlannerConfig(*config);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()), HasSubstr("drives soccer_juggle envs"));
+  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*config);
+  ASSERT_TRUE(spec.ok());
+  EXPECT_FALSE(PlannerController::Create(*spec, *config).ok());
+}
+
+}  // namespace
+}  // namespace juggle::planner

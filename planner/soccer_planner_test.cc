@@ -1,0 +1,176 @@
+// The soccer planner on the real simulator: its plans execute exactly as predicted, it rescues
+// a kick the base controller misses, it is deterministic for a seed, and its actions replayed
+// through a plain env give the same episode.
+#include "planner/soccer_planner.h"
+
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include "envs/registry.h"
+#include "envs/testing/test_configs.h"
+#include "gtest/gtest.h"
+#include "planner/soccer_cost.h"
+#include "planner/soccer_plan.h"
+
+namespace juggle::planner {
+namespace {
+
+using soccer_juggle::JuggleEnv;
+using soccer_juggle::JuggleSpec;
+using soccer_juggle::kNumActions;
+
+class SoccerPlannerTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    absl::StatusOr<LoadedConfig> config =
+        LoadRunConfig(testing::RepoPath("configs/right_foot_planner.textproto"));
+    ASSERT_TRUE(config.ok()) << config.status();
+    config_ = *config;
+    // A small, quick planner: kick variables only.
+    config::PlannerConfig& p = *config_.run.mutable_planner();
+    p.set_samples(16);
+    p.set_iterations(4);
+    p.set_horizon_steps(32);
+    p.set_replan_every(4);
+    p.set_body_knot_steps(0);
+    absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(config_);
+    ASSERT_TRUE(spec.ok()) << spec.status();
+    spec_ = std::dynamic_pointer_cast<const JuggleSpec>(*spec);
+    walk_ = std::make_unique<AdaptiveWalk>(&spec_->graph());
+    pool_ = std::make_unique<RolloutPool>(spec_, 2);
+    down_ = *spec_->graph().FindNode("right_foot_down");
+  }
+
+  // An env at the apex of a DOWN node with the ball `forward` m ahead of its target.
+  std::unique_ptr<JuggleEnv> StartWithBallAhead(double forward, uint64_t seed = 3) {
+    auto env = std::make_unique<JuggleEnv>(spec_, Rng(seed));
+    env->ResetAt(down_, *walk_);
+    mjData* d = env->data();
+    d->qpos[spec_->ball_qpos()] += forward;
+    mj_forward(spec_->model(), d);
+    return env;
+  }
+
+  std::unique_ptr<SoccerPlanner> NewPlanner(uint64_t seed = 1) {
+    config::PlannerConfig p = config_.run.planner();
+    p.set_seed(seed);
+    return std::make_unique<SoccerPlanner>(spec_, p, pool_.get(), 0);
+  }
+
+  LoadedConfig config_;
+  std::shared_ptr<const JuggleSpec> spec_;
+  std::unique_ptr<AdaptiveWalk> walk_;
+  std::unique_ptr<RolloutPool> pool_;
+  int down_ = -1;
+};
+
+// Steps `env` with zero action until its kick leaves the foot (or the episode ends); returns
+// the kick's outcome (invalid if there was none).
+KickOutcome ZeroActionKick(JuggleEnv* env, const AdaptiveWalk& walk) {
+  const float zero[kNumActions] = {0};
+  for (int t = 0; t < 60; ++t) {
+    if (env->Step(zero, walk).outcome != Outcome::kRunning) return {};
+    if (env->state().kick_touched && !env->state().touched_this_step) {
+      return PredictKickOutcome(*env);
+    }
+  }
+  return {};
+}
+
+TEST_F(SoccerPlannerTest, RescuesAKickTheBaseControllerMissesExactlyAsPredicted) {
+  // 9 cm too far forward: the base controller's kick flies off.
+  const KickOutcome base = ZeroActionKick(StartWithBallAhead(0.09).get(), *walk_);
+  ASSERT_TRUE(!base.valid || std::abs(base.timing) > 0.06 || std::hypot(base.dx, base.dy) > 0.3)
+      << "the hand-made state should defeat the base controller: timing " << base.timing
+      << " landing " << base.dx << " " << base.dy;
+
+  std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.09);
+  std::unique_ptr<SoccerPlanner> planner = NewPlanner();
+  float action[kNumActions];
+  KickOutcome predicted, executed;
+  for (int t = 0; t < 60 && !executed.valid; ++t) {
+    ASSERT_TRUE(planner->Act(*env, action).ok());
+    const ReplanReport& r = planner->last_replan();
+    if (r.env_step == env->steps() && r.predicted_kick.valid && !env->state().kick_touched) {
+      predicted = r.predicted_kick;
+    }
+    ASSERT_EQ(env->Step(action, *walk_).outcome, Outcome::kRunning) << "step " << t;
+    if (env->state().kick_touched && !env->state().touched_this_step) {
+      executed = PredictKickOutcome(*env);
+    }
+  }
+  ASSERT_TRUE(executed.valid);
+  ASSERT_TRUE(predicted.valid);
+  // Bit for bit: the last plan made before the touch is what happened.
+  EXPECT_EQ(executed.timing, predicted.timing);
+  EXPECT_EQ(executed.dx, predicted.dx);
+  EXPECT_EQ(executed.dy, predicted.dy);
+  // And the ball comes back inside the contact window, near the ball target.
+  EXPECT_LT(std::abs(executed.timing), 0.06);
+  EXPECT_LT(std::hypot(executed.dx, executed.dy), 0.15);
+  EXPECT_EQ(planner->totals().prediction_mismatches, 0);
+  EXPECT_GT(planner->totals().prediction_checks, 20);
+}
+
+TEST_F(SoccerPlannerTest, TheSameSeedGivesTheSamePlan) {
+  std::vector<std::vector<float>> runs;
+  for (uint64_t seed : {7, 7, 8}) {
+    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.03);
+    std::unique_ptr<SoccerPlanner> planner = NewPlanner(seed);
+    std::vector<float> actions;
+    float action[kNumActions];
+    for (int t = 0; t < 12; ++t) {
+      ASSERT_TRUE(planner->Act(*env, action).ok());
+      actions.insert(actions.end(), action, action + kNumActions);
+      env->Step(action, *walk_);
+    }
+    runs.push_back(actions);
+  }
+  EXPECT_EQ(runs[0], runs[1]);
+  EXPECT_NE(runs[0], runs[2]);
+}
+
+TEST_F(SoccerPlannerTest, ItsActionsReplayedInAPlainEnvGiveTheSameEpisode) {
+  std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.03);
+  std::unique_ptr<SoccerPlanner> planner = NewPlanner();
+  std::vector<std::vector<float>> actions;
+  float action[kNumActions];
+  for (int t = 0; t < 50; ++t) {
+    ASSERT_TRUE(planner->Act(*env, action).ok());
+    actions.emplace_back(action, action + kNumActions);
+    if (env->Step(action, *walk_).outcome != Outcome::kRunning) break;
+  }
+  ASSERT_GE(env->juggles(), 1) << "the planned stretch should hold a kick";
+  // The labels alone, without the planner: the same start, the same actions.
+  std::unique_ptr<JuggleEnv> replay = StartWithBallAhead(0.03);
+  for (const std::vector<float>& a : actions) replay->Step(a.data(), *walk_);
+  EXPECT_EQ(replay->juggles(), env->juggles());
+  EXPECT_EQ(replay->steps(), env->steps());
+  PhysicsSnapshot a, b;
+  a.Save(spec_->model(), env->data());
+  EXPECT_TRUE(a.Equals(replay->data()));
+}
+
+TEST_F(SoccerPlannerTest, AShiftedPlanActsAsBefore) {
+  config::PlannerConfig p = config_.run.planner();
+  p.set_body_knot_steps(5);
+  p.set_horizon_steps(20);
+  const SoccerPlanLayout layout = MakeSoccerPlanLayout(p);
+  ASSERT_GT(layout.body_knots, 2);
+  Rng rng(2);
+  std::vector<double> theta(layout.dim());
+  for (double& x : theta) x = rng.Uniform(-0.3, 0.3);
+  std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0);
+  const std::vector<double> shifted = ShiftSoccerPlan(layout, theta, 1, 0);
+  float a[kNumActions], b[kNumActions];
+  // Steps 5..19 of the old plan are steps 0..14 of the one shifted by one knot.
+  for (int step = 5; step < 20; ++step) {
+    SoccerPlanAction(*env, layout, theta.data(), {step, 0}, a);
+    SoccerPlanAction(*env, layout, shifted.data(), {step - 5, 0}, b);
+    for (int i = 0; i < kNumActions; ++i) ASSERT_EQ(a[i], b[i]) << "step " << step;
+  }
+}
+
+}  // namespace
+}  // namespace juggle::planner

@@ -50,18 +50,21 @@ PlannerController::PlannerController(std::shared_ptr<const JuggleSpec> spec,
     : spec_(std::move(spec)), config_(config), pool_(spec_, config_.threads()) {}
 
 void PlannerController::Act(const Env* const* envs, const float*, int n, float* actions) {
-  while (static_cast<int>(planners_.size()) < n) {
-    planners_.push_back(
-        std::make_unique<SoccerPlanner>(spec_, config_, &pool_, planners_.size()));
-  }
   for (int i = 0; i < n; ++i) {
     const auto* env = dynamic_cast<const JuggleEnv*>(envs[i]);
     JUGGLE_CHECK(env != nullptr, "the planner controller got an env of another family");
-    SoccerPlanner& planner = *planners_[i];
+    auto [it, added] = planner_of_.try_emplace(env, static_cast<int>(planners_.size()));
+    if (added) {
+      planners_.push_back(
+          std::make_unique<SoccerPlanner>(spec_, config_, &pool_, planners_.size()));
+    }
+    SoccerPlanner& planner = *planners_[it->second];
     const int64_t replans = planner.totals().replans;
     const absl::Status s = planner.Act(*env, actions + static_cast<size_t>(i) * kNumActions);
     JUGGLE_CHECK(s.ok(), "the planner's snapshot did not restore into its pool");
-    if (on_replan_ && planner.totals().replans != replans) on_replan_(i, planner.last_replan());
+    if (on_replan_ && planner.totals().replans != replans) {
+      on_replan_(it->second, planner.last_replan());
+    }
   }
 }
 

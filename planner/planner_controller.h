@@ -1,7 +1,8 @@
 // The planner as an evaluation controller (eval/controller.h): what `--controller=planner`
-// runs in `juggle eval`, `juggle render` and `juggle simulate`. One SoccerPlanner per env slot
-// (its random stream is the slot), all sharing one rollout pool of RunConfig.planner.threads
-// threads. Thread-compatible.
+// runs in `juggle eval`, `juggle render` and `juggle simulate`. One SoccerPlanner per env (by
+// identity: batches may be compacted as episodes end; its random stream is the order in which
+// the env was first seen), all sharing one rollout pool of RunConfig.planner.threads threads.
+// Thread-compatible.
 #ifndef JUGGLE_PLANNER_PLANNER_CONTROLLER_H_
 #define JUGGLE_PLANNER_PLANNER_CONTROLLER_H_
 
@@ -10,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "absl/container/flat_hash_map.h"
 #include "absl/status/statusor.h"
 #include "common/config_loader.h"
 #include "envs/env.h"
@@ -36,8 +38,7 @@ class PlannerController final : public Controller {
 
   // Totals over every slot's planner.
   PlannerTotals totals() const;
-  const SoccerPlanner& slot(int i) const { return *planners_[i]; }
-  // Called after every re-plan (slot, report): progress lines of long evaluations.
+  // Called after every re-plan (the env's planner stream, report): progress lines.
   void set_on_replan(std::function<void(int, const ReplanReport&)> f) { on_replan_ = std::move(f); }
 
  private:
@@ -47,7 +48,8 @@ class PlannerController final : public Controller {
   std::shared_ptr<const soccer_juggle::JuggleSpec> spec_;
   config::PlannerConfig config_;
   RolloutPool pool_;
-  std::vector<std::unique_ptr<SoccerPlanner>> planners_;
+  std::vector<std::unique_ptr<SoccerPlanner>> planners_;  // in the order envs were first seen
+  absl::flat_hash_map<const Env*, int> planner_of_;
   std::function<void(int, const ReplanReport&)> on_replan_;
 };
 

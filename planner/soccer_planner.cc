@@ -56,7 +56,8 @@ SoccerPlanner::RolloutResult SoccerPlanner::Rollout(JuggleEnv* env, const double
   float action[kNumActions];
   int node = env->node();
   int t = 0;
-  for (; t < layout_.horizon; ++t, ++clock.step) {
+  int end = layout_.horizon;
+  for (; t < end; ++t, ++clock.step) {
     SoccerPlanAction(*env, layout_, theta, clock, action);
     const StepResult r = env->Step(action, walk_);
     if (trace != nullptr) trace->push_back(StateFingerprint(*env, spec_->model()));
@@ -65,6 +66,9 @@ SoccerPlanner::RolloutResult SoccerPlanner::Rollout(JuggleEnv* env, const double
       result.end = r.outcome;
       ++t;
       break;
+    }
+    if (config_.steps_after_kick() > 0 && scorer.kicks() == 1 && end == layout_.horizon) {
+      end = std::min(end, t + 1 + config_.steps_after_kick());
     }
     if (env->node() != node) {
       node = env->node();

@@ -1,4 +1,4 @@
-// `juggle bench sim|moe|ingest|broadcast|local|dashboard`: the benchmarks of bench/ (docs/performance.md).
+// `juggle bench sim|planner|moe|ingest|broadcast|local|dashboard`: the benchmarks of bench/ (docs/performance.md).
 #include "app/commands.h"
 #include "bench/benchmarks.h"
 
@@ -18,6 +18,15 @@ CommandBody AddBenchCommand(CLI::App* cmd) {
   s->add_option("--envs", sim->envs, "envs in the pool")->check(Between(1, 10000))->capture_default_str();
   s->add_option("--steps", sim->steps, "batch steps per measurement")->check(Between(1, 1e6))->capture_default_str();
   s->add_option("--repeats", sim->repeats, "alternating repeats (best is reported)")
+      ->check(Between(1, 100))->capture_default_str();
+
+  auto plan = std::make_shared<PlannerBenchOptions>();
+  CLI::App* pl = cmd->add_subcommand("planner", "the planner's rollouts on 1 and 2 threads and "
+                                                "snapshot restores vs bare mj_step");
+  pl->add_option("--config", plan->config, "run config (its planner settings)")->capture_default_str();
+  pl->add_option("--replans", plan->replans, "re-plans from visited states per measurement")
+      ->check(Between(1, 10000))->capture_default_str();
+  pl->add_option("--repeats", plan->repeats, "alternating repeats (best is reported)")
       ->check(Between(1, 100))->capture_default_str();
 
   CLI::App* m = cmd->add_subcommand("moe", "layer-wise vs weight-blended MoE, PPO update and "
@@ -91,6 +100,7 @@ CommandBody AddBenchCommand(CLI::App* cmd) {
   return [=] {
     absl::Status status;
     if (s->parsed()) status = RunSimBench(*sim);
+    if (pl->parsed()) status = RunPlannerBench(*plan);
     if (m->parsed()) status = RunMoeBench(*moe);
     if (i->parsed()) status = RunIngestBench(*ingest);
     if (k->parsed()) status = RunSoakBench(*soak);

@@ -15,6 +15,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "app/commands.h"
+#include "app/planner_flags.h"
 #include "app/policy_source.h"
 #include "common/file_io.h"
 #include "envs/registry.h"
@@ -37,7 +38,7 @@ struct EvalFlags {
   bool zero_action = false;
   std::string controller;  // "", "policy", "zero" or "planner"
   bool planner_trace = false;
-  std::string planner_set;  // text-format PlannerConfig fields over the config's
+  PlannerFlags planner;
   int episodes = 50;
   int64_t seed = kHeldOutSeed;
   double max_seconds = 60;
@@ -124,13 +125,7 @@ int Evaluate(EvalFlags f) {
     if (!loaded.ok()) return Fail(loaded.status());
     config = std::move(*loaded);
   }
-  if (!f.planner_set.empty()) {
-    config::PlannerConfig changes;
-    absl::StatusOr<SourceLocator> parsed =
-        ParseTextMessage(f.planner_set, "--planner-set", &changes);
-    if (!parsed.ok()) return Fail(parsed.status());
-    config.run.mutable_planner()->MergeFrom(changes);
-  }
+  if (absl::Status s = ApplyPlannerFlags(f.planner, &config); !s.ok()) return Fail(s);
   absl::StatusOr<const EnvFamily*> family = FamilyOf(config.run);
   if (!family.ok()) return Fail(family.status());
   (*family)->ConfigureForEvaluation(f.max_seconds, &config.run);
@@ -275,9 +270,7 @@ CommandBody AddEvalCommand(CLI::App* cmd) {
                   "planner (model-predictive search with the config's planner settings, "
                   "docs/planner.md)")
       ->check(CLI::IsMember({"policy", "zero", "planner"}));
-  cmd->add_option("--planner-set", f->planner_set,
-                  "planner settings over the config's (text format, e.g. 'samples: 64 "
-                  "horizon_steps: 45 cost { kick: 20 }')");
+  AddPlannerFlags(cmd, &f->planner);
   cmd->add_flag("--planner-trace", f->planner_trace,
                 "print every re-plan: its cost and the kick it predicts");
   cmd->add_option("--episodes", f->episodes, "episodes, one per env seed")

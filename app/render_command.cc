@@ -6,6 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "app/commands.h"
+#include "app/planner_flags.h"
 #include "app/policy_source.h"
 #include "render/render_job.h"
 
@@ -16,11 +17,23 @@ struct RenderFlags {
   RenderJobOptions job;
   std::string policy;
   bool zero_action = false;
+  std::string controller;  // "", "policy", "zero" or "planner"
+  PlannerFlags planner;
   std::string quality = "low";
 };
 
 int Render(RenderFlags f) {
   RenderJobOptions& o = f.job;
+  if (f.controller == "planner") {
+    if (!f.policy.empty() || f.zero_action || !o.replay.empty()) {
+      return UsageError("--controller=planner excludes --policy, --zero-action and --replay");
+    }
+    absl::StatusOr<ControllerFactory> factory = PlannerControllerFactory(f.planner);
+    if (!factory.ok()) return Fail(factory.status());
+    o.controller = *factory;
+  } else if (f.controller == "policy" && f.policy.empty()) {
+    return UsageError("--controller=policy needs --policy=PATH");
+  }
   if (!f.policy.empty()) {
     if (!o.replay.empty()) return UsageError("--policy and --replay exclude each other");
     if (f.zero_action) return UsageError("--policy and --zero-action exclude each other");
@@ -63,6 +76,11 @@ CommandBody AddRenderCommand(CLI::App* cmd) {
                 "zero feed-forward torques (the default without --policy)");
   cmd->add_option("--policy,--checkpoint", f->policy,
                   "policy: checkpoint file, run directory or exported .jglpolicy (mean action)");
+  cmd->add_option("--controller", f->controller,
+                  "what acts: policy (--policy), zero (the default without --policy) or planner "
+                  "(the config's planner settings, docs/planner.md)")
+      ->check(CLI::IsMember({"policy", "zero", "planner"}));
+  AddPlannerFlags(cmd, &f->planner);
   cmd->add_option("--seconds", o.seconds, "simulated seconds (video length)")
       ->check(Between(0, 3600))
       ->capture_default_str();

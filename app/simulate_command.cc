@@ -1,11 +1,13 @@
-// `juggle simulate`: steps an env pool with a fixed action policy (zero or uniform random) and
-// prints progress and episode statistics.
+// `juggle simulate`: steps an env pool with a fixed action policy (zero or uniform random) or
+// the planner, and prints progress and episode statistics.
 #include <chrono>
 #include <cstdio>
 #include <vector>
 
 #include "absl/strings/str_cat.h"
 #include "app/commands.h"
+#include "app/planner_flags.h"
+#include "planner/planner_controller.h"
 #include "common/rng.h"
 #include "envs/registry.h"
 #include "worker/env_pool.h"
@@ -19,11 +21,13 @@ struct SimulateFlags {
   int envs = 0, threads = 0;
   int64_t seed = -1;
   std::string policy = "zero";
+  PlannerFlags planner;
 };
 
 int Simulate(const SimulateFlags& f) {
   absl::StatusOr<LoadedConfig> config = LoadRunConfig(f.config);
   if (!config.ok()) return Fail(config.status());
+  if (absl::Status s = ApplyPlannerFlags(f.planner, &*config); !s.ok()) return Fail(s);
   absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*config);
   if (!spec.ok()) return Fail(spec.status());
   const config::RunConfig& run = config->run;
@@ -39,12 +43,23 @@ int Simulate(const SimulateFlags& f) {
               num_envs, num_threads, f.seconds, total_steps, static_cast<unsigned long>(run_seed));
   std::vector<float> actions(size_t(num_envs) * (*spec)->act_dim(), 0.0f);
   Rng action_rng(run_seed ^ 0xA5A5A5A5ULL);
+  std::unique_ptr<planner::PlannerController> planner;
+  std::vector<const Env*> envs;
+  if (f.policy == "planner") {
+    absl::StatusOr<std::unique_ptr<planner::PlannerController>> p =
+        planner::PlannerController::Create(*spec, *config);
+    if (!p.ok()) return Fail(p.status());
+    planner = std::move(*p);
+    for (int i = 0; i < num_envs; ++i) envs.push_back(&(*pool)->env(i));
+  }
   (*pool)->Reset();
   EpisodeCounters total;
   const auto start = std::chrono::steady_clock::now();
   for (int step = 1; step <= total_steps; ++step) {
     if (f.policy == "random") {
       for (float& a : actions) a = static_cast<float>(action_rng.Uniform(-1, 1));
+    } else if (planner) {
+      planner->Act(envs.data(), nullptr, num_envs, actions.data());
     }
     (*pool)->Step(actions.data());
     if (step % report_every == 0 || step == total_steps) {
@@ -88,9 +103,12 @@ CommandBody AddSimulateCommand(CLI::App* cmd) {
   cmd->add_option("--seed", f->seed, "run seed (-1: the config's seed)")
       ->check(AtLeast(-1))
       ->capture_default_str();
-  cmd->add_option("--policy", f->policy, "action policy: zero | random (uniform in [-1, 1])")
-      ->check(CLI::IsMember({"zero", "random"}))
+  cmd->add_option("--policy,--controller", f->policy,
+                  "what acts: zero | random (uniform in [-1, 1]) | planner (the config's "
+                  "planner settings, docs/planner.md)")
+      ->check(CLI::IsMember({"zero", "random", "planner"}))
       ->capture_default_str();
+  AddPlannerFlags(cmd, &f->planner);
   return [f] { return Simulate(*f); };
 }
 

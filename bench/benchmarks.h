@@ -20,6 +20,14 @@ struct SimBenchOptions {
 // Env steps/s on 1 and 2 threads vs bare mj_step of the same states.
 absl::Status RunSimBench(const SimBenchOptions& options);
 
+struct PlannerBenchOptions {
+  std::string config = "configs/right_foot_planner.textproto";
+  int replans = 12;   // re-plans from visited states per measurement
+  int repeats = 2;    // alternating repeats (best is reported)
+};
+// The planner's rollouts (1 and 2 threads) and snapshot restores vs bare mj_step.
+absl::Status RunPlannerBench(const PlannerBenchOptions& options);
+
 struct MoeBenchOptions {
   int reps = 3;             // repetitions per measurement (best is reported)
   int threads = 2;          // torch threads

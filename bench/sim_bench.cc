@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "bench/benchmarks.h"
+#include "bench/physics_reference.h"
 #include "envs/registry.h"
 #include "worker/env_pool.h"
 #include "envs/mujoco_model.h"
@@ -23,47 +24,6 @@ using Clock = std::chrono::steady_clock;
 
 double Seconds(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-// A state the env visited at the start of a control step, with the torques it applied.
-struct VisitedState {
-  std::vector<double> qpos, qvel, qfrc_applied;
-};
-
-// Records the states one env visits over `steps` zero-action control steps (with resets).
-std::vector<VisitedState> RecordEnvStates(std::shared_ptr<const JuggleSpec> spec, int steps) {
-  JuggleEnv env(spec, Rng(7));
-  AdaptiveWalk walk(&spec->graph());
-  env.Reset(walk);
-  const mjModel* m = spec->model();
-  const float zero[kNumActions] = {0};
-  std::vector<VisitedState> states;
-  for (int i = 0; i < steps; ++i) {
-    const mjData* d = env.data();
-    states.push_back({std::vector<double>(d->qpos, d->qpos + m->nq),
-                      std::vector<double>(d->qvel, d->qvel + m->nv),
-                      std::vector<double>(d->qfrc_applied, d->qfrc_applied + m->nv)});
-    if (env.Step(zero, walk).outcome != Outcome::kRunning) env.Reset(walk);
-  }
-  return states;
-}
-
-// Bare mj_step calls per second over the same states: each recorded control step is replayed
-// as `substeps` mj_steps from its state with its torques held — the physics of the env's own
-// trajectory without any of the env's code.
-double BareMjStepRate(const JuggleSpec& spec, const std::vector<VisitedState>& states) {
-  const mjModel* m = spec.model();
-  MjDataPtr data(mj_makeData(m));
-  mjData* d = data.get();
-  const int substeps = spec.env().substeps();
-  const auto start = Clock::now();
-  for (const VisitedState& s : states) {
-    mju_copy(d->qpos, s.qpos.data(), m->nq);
-    mju_copy(d->qvel, s.qvel.data(), m->nv);
-    mju_copy(d->qfrc_applied, s.qfrc_applied.data(), m->nv);
-    for (int k = 0; k < substeps; ++k) mj_step(m, d);
-  }
-  return double(states.size()) * substeps / Seconds(start);
 }
 
 // Env control steps per second with zero actions (automatic resets included).

@@ -1,13 +1,16 @@
-// What acts in an env during evaluation, rendering and the toss runtime: a policy's mean action
-// or the zero-action baseline (an MPC baseline later). Thread-compatible.
+// What acts in an env during evaluation, rendering and the toss runtime: a policy's mean action,
+// the zero-action baseline, or the planner (planner/planner_controller.h). Thread-compatible.
 #ifndef JUGGLE_EVAL_CONTROLLER_H_
 #define JUGGLE_EVAL_CONTROLLER_H_
 
 #include <algorithm>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
 
+#include "absl/status/statusor.h"
+#include "common/config_loader.h"
 #include "common/eigen_policy.h"
 #include "envs/env.h"
 
@@ -61,6 +64,11 @@ class PolicyController final : public Controller {
   bool keep_gates_;
   RowMatrix gates_;
 };
+
+// Makes the controller that acts in the envs of `spec` (built from `config`): a policy ignores
+// both, the planner plans with them. For tools that build their env specs themselves.
+using ControllerFactory = std::function<absl::StatusOr<std::unique_ptr<Controller>>(
+    std::shared_ptr<const EnvSpec> spec, const LoadedConfig& config)>;
 
 }  // namespace juggle
 

@@ -59,15 +59,12 @@ struct ForceSweepReport {
   std::map<std::string, std::string> unsupported;  // direction -> the family's reason
 };
 
-// Makes the controller that acts in the envs of `spec` (built from `config`, the swept config
-// with its force): a policy ignores both, the planner plans with them.
-using ControllerFactory = std::function<absl::StatusOr<std::unique_ptr<Controller>>(
-    std::shared_ptr<const EnvSpec> spec, const LoadedConfig& config)>;
-
 // Runs the sweep on `config` (already an evaluation config: ConfigureForEvaluation). The
 // zero force is run once and shared by every direction. `progress` (may be empty) receives a
 // line per row. Errors: INVALID_ARGUMENT for no magnitudes or descending ones; a config the
 // family cannot build; the factory's.
+// `controllers` makes each swept config's controller (with the config's force: a planner plans
+// with it).
 absl::StatusOr<ForceSweepReport> RunForceSweep(
     const LoadedConfig& config, const ControllerFactory& controllers,
     const ForceSweepOptions& options, const std::function<void(const std::string&)>& progress);

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "envs/ballistic.h"
+#include "envs/mujoco_model.h"
 #include "envs/soccer_juggle/reference_pose.h"
 
 namespace juggle::planner {
@@ -19,7 +20,8 @@ namespace {
 double Square(double x) { return x * x; }
 
 // The residuals of a ball crossing `node`'s contact height `seconds_to_contact` from now.
-KickOutcome OutcomeAt(const JuggleEnv& env, int node, double seconds_to_contact) {
+KickOutcome OutcomeAt(const JuggleEnv& env, int node, double seconds_to_contact,
+                      const LandingAnchors* anchors) {
   const JuggleSpec& spec = env.spec();
   const config::NodeSpec& target = spec.graph().node(node).spec;
   const mjData* d = env.data();
@@ -30,15 +32,46 @@ KickOutcome OutcomeAt(const JuggleEnv& env, int node, double seconds_to_contact)
   KickOutcome out;
   out.valid = true;
   out.timing = c.t - seconds_to_contact;
-  out.dx = c.x - d->qpos[0] - target.ball_target().x();
-  out.dy = c.y - d->qpos[1] - target.ball_target().y();
+  double root[2] = {d->qpos[0], d->qpos[1]};
+  if (anchors != nullptr && anchors->stance && anchors->stance_body[node] >= 0) {
+    const double* foot = d->xpos + 3 * anchors->stance_body[node];
+    root[0] = foot[0] + anchors->root_from_stance[node][0];
+    root[1] = foot[1] + anchors->root_from_stance[node][1];
+  }
+  out.dx = c.x - root[0] - target.ball_target().x();
+  out.dy = c.y - root[1] - target.ball_target().y();
   out.apex = ApexHeight(ball[2], vel[2], g) - NominalApexHeight(target, g);
   return out;
 }
 
 }  // namespace
 
-KickOutcome PredictKickOutcome(const JuggleEnv& env) {
+LandingAnchors MakeLandingAnchors(const JuggleSpec& spec, bool stance) {
+  LandingAnchors a;
+  a.stance = stance;
+  const int nodes = spec.graph().num_nodes();
+  a.root_from_stance.assign(nodes, {0, 0});
+  a.stance_body.assign(nodes, -1);
+  const mjModel* m = spec.model();
+  MjDataPtr scratch(mj_makeData(m));
+  for (int n = 0; n < nodes; ++n) {
+    const config::ReferencePose& pose = spec.graph().node(n).spec.pose();
+    if (!pose.has_leg_swing()) continue;
+    const bool kick_left = pose.leg_swing().side() == config::LEFT;
+    const int ankle = spec.joint(kick_left ? soccer_juggle::kRightAnkle
+                                           : soccer_juggle::kLeftAnkle).dof_adr;
+    a.stance_body[n] = m->dof_bodyid[ankle];
+    soccer_juggle::CharacterPose ref;
+    soccer_juggle::ComputeReferencePose(spec, n, 0.5, &ref);
+    mju_copy(scratch->qpos, ref.data(), soccer_juggle::kCharacterNq);
+    mj_kinematics(m, scratch.get());
+    a.root_from_stance[n] = {ref[0] - scratch->xpos[3 * a.stance_body[n]],
+                             ref[1] - scratch->xpos[3 * a.stance_body[n] + 1]};
+  }
+  return a;
+}
+
+KickOutcome PredictKickOutcome(const JuggleEnv& env, const LandingAnchors* anchors) {
   const JuggleSpec& spec = env.spec();
   const CursorState& c = env.cursor();
   // The DOWN node the ball is sent to: the next one after the current cycle's contact.
@@ -49,14 +82,14 @@ KickOutcome PredictKickOutcome(const JuggleEnv& env) {
   }
   // The clock's next contact: φ runs to 1 (this cycle) and on to 0.5 of the next.
   const double seconds = (1.5 - c.phase) / c.phase_speed * spec.control_dt();
-  return OutcomeAt(env, target, seconds);
+  return OutcomeAt(env, target, seconds, anchors);
 }
 
-KickOutcome PredictApproach(const JuggleEnv& env) {
+KickOutcome PredictApproach(const JuggleEnv& env, const LandingAnchors* anchors) {
   const JuggleSpec& spec = env.spec();
   const CursorState& c = env.cursor();
   if (spec.graph().node(c.current).stage != config::DOWN || c.phase_speed <= 0) return {};
-  return OutcomeAt(env, c.current, -spec.cursor().SecondsFromContact(c, c.phase));
+  return OutcomeAt(env, c.current, -spec.cursor().SecondsFromContact(c, c.phase), anchors);
 }
 
 double BallClearance(const JuggleEnv& env) {
@@ -114,8 +147,9 @@ double BodyCost(const JuggleEnv& env, const config::PlannerCost& w) {
          w.com_speed() * Square(speed / w.com_speed_scale());
 }
 
-SoccerRolloutScorer::SoccerRolloutScorer(const config::PlannerCost& cost, int horizon)
-    : cost_(cost), horizon_(std::max(horizon, 1)) {}
+SoccerRolloutScorer::SoccerRolloutScorer(const config::PlannerCost& cost, int horizon,
+                                         const LandingAnchors* anchors)
+    : cost_(cost), horizon_(std::max(horizon, 1)), anchors_(anchors) {}
 
 void SoccerRolloutScorer::Begin(const JuggleEnv& env) {
   // A kick whose ball is already on its way was scored by an earlier plan.
@@ -150,7 +184,7 @@ void SoccerRolloutScorer::AfterStep(const JuggleEnv& env, const float* action,
   // that sends it down scores its early crossing).
   if (s.kick_touched && !s.touched_this_step && !scored_this_cycle_) {
     scored_this_cycle_ = true;
-    const KickOutcome k = PredictKickOutcome(env);
+    const KickOutcome k = PredictKickOutcome(env, anchors_);
     if (k.valid) {
       if (kicks_ == 0) first_kick_ = k;
       ++kicks_;
@@ -167,7 +201,7 @@ double SoccerRolloutScorer::Finish(const JuggleEnv& env) {
   if (failed_) return total;
   total += cost_.terminal() * BodyCost(env, cost_);
   if (!env.state().kick_touched) {
-    const KickOutcome a = PredictApproach(env);
+    const KickOutcome a = PredictApproach(env, anchors_);
     if (a.valid) {
       total += cost_.approach() * (Square(a.timing / cost_.timing_scale_s()) +
                                    (Square(a.dx) + Square(a.dy)) / Square(cost_.landing_scale()));

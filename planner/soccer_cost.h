@@ -5,6 +5,9 @@
 #ifndef JUGGLE_PLANNER_SOCCER_COST_H_
 #define JUGGLE_PLANNER_SOCCER_COST_H_
 
+#include <array>
+#include <vector>
+
 #include "envs/env.h"
 #include "envs/soccer_juggle/env.h"
 #include "proto/planner.pb.h"
@@ -19,12 +22,29 @@ struct KickOutcome {
   double apex = 0;      // apex minus the node's apex height (m)
 };
 
+// Where a landing is measured from. The node's ball target is relative to the root; with
+// `stance` set, the root's place is taken as the stance foot's now plus where the root sits
+// over that foot in the node's reference pose at the contact (a foot planted on the ground
+// moves less than a swaying pelvis).
+struct LandingAnchors {
+  bool stance = false;
+  // Per graph node: root minus stance ankle (x, y) in the reference pose at φ = 0.5, and the
+  // stance ankle's body id (−1: no leg swing, the root is the anchor).
+  std::vector<std::array<double, 2>> root_from_stance;
+  std::vector<int> stance_body;
+};
+// The anchors of every node of `spec`'s graph (the reference poses' kinematics).
+LandingAnchors MakeLandingAnchors(const soccer_juggle::JuggleSpec& spec, bool stance);
+
 // The free flight of `env`'s ball from now to the contact node it is headed for (the next
-// DOWN node after the current cycle's contact), by the ballistic formula.
-KickOutcome PredictKickOutcome(const soccer_juggle::JuggleEnv& env);
+// DOWN node after the current cycle's contact), by the ballistic formula. `anchors` may be
+// null (the root).
+KickOutcome PredictKickOutcome(const soccer_juggle::JuggleEnv& env,
+                               const LandingAnchors* anchors = nullptr);
 // The same for a ball still coming down to the current cycle's contact: its crossing of the
 // current node's contact height against the nominal contact and the node's ball target.
-KickOutcome PredictApproach(const soccer_juggle::JuggleEnv& env);
+KickOutcome PredictApproach(const soccer_juggle::JuggleEnv& env,
+                            const LandingAnchors* anchors = nullptr);
 
 // How far (m) the ball's surface is from the nearest geom of a body the current node allows to
 // touch it (geom centres less their bounding radii: a ranking, not a collision distance).
@@ -35,7 +55,9 @@ double BodyCost(const soccer_juggle::JuggleEnv& env, const config::PlannerCost& 
 
 class SoccerRolloutScorer {
  public:
-  SoccerRolloutScorer(const config::PlannerCost& cost, int horizon);
+  // `anchors` may be null (landings against the root) and must outlive the scorer.
+  SoccerRolloutScorer(const config::PlannerCost& cost, int horizon,
+                      const LandingAnchors* anchors = nullptr);
   // At the rollout's first state.
   void Begin(const soccer_juggle::JuggleEnv& env);
   // After each step with its action ([kNumActions]) and result.
@@ -50,6 +72,7 @@ class SoccerRolloutScorer {
  private:
   const config::PlannerCost& cost_;
   int horizon_;
+  const LandingAnchors* anchors_;
   int steps_ = 0;
   double body_ = 0, effort_ = 0, kick_ = 0, failure_ = 0;
   bool scored_this_cycle_ = false;

@@ -38,7 +38,8 @@ SoccerPlanner::SoccerPlanner(std::shared_ptr<const soccer_juggle::JuggleSpec> sp
       stream_(stream),
       walk_(&spec_->graph()),
       layout_(MakeSoccerPlanLayout(config_)),
-      space_(MakeSoccerSearchSpace(layout_, config_)) {
+      space_(MakeSoccerSearchSpace(layout_, config_)),
+      anchors_(MakeLandingAnchors(*spec_, config_.cost().landing_from_stance_foot())) {
   settings_.samples = config_.samples();
   settings_.iterations = config_.iterations();
   settings_.elite_fraction = config_.elite_fraction();
@@ -51,7 +52,7 @@ SoccerPlanner::RolloutResult SoccerPlanner::Rollout(JuggleEnv* env, const double
                                                     PlanClock clock,
                                                     std::vector<uint64_t>* trace) {
   RolloutResult result;
-  SoccerRolloutScorer scorer(config_.cost(), layout_.horizon);
+  SoccerRolloutScorer scorer(config_.cost(), layout_.horizon, &anchors_);
   scorer.Begin(*env);
   float action[kNumActions];
   int node = env->node();

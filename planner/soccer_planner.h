@@ -100,6 +100,7 @@ class SoccerPlanner {
   SoccerPlanLayout layout_;
   SearchSpace space_;
   CemSettings settings_;
+  LandingAnchors anchors_;
 
   // The plan and where it started.
   std::vector<double> theta_;

@@ -131,7 +131,9 @@ absl::StatusOr<RenderJobReport> RunRenderJob(const RenderJobOptions& o) {
   if (o.replay.empty()) {
     const uint64_t seed = o.seed >= 0 ? static_cast<uint64_t>(o.seed) : config.run.seed();
     std::unique_ptr<Controller> controller;
-    if (o.policy) {
+    if (o.controller) {
+      ASSIGN_OR_RETURN(controller, o.controller(spec, config));
+    } else if (o.policy) {
       controller = std::make_unique<PolicyController>(o.policy);
     } else {
       controller = std::make_unique<ZeroController>(spec->act_dim());

@@ -16,6 +16,7 @@
 
 #include "absl/status/statusor.h"
 #include "common/eigen_policy.h"
+#include "eval/controller.h"
 #include "render/image.h"
 #include "render/renderer.h"
 #include "envs/env.h"
@@ -39,8 +40,10 @@ struct RenderJobOptions {
   std::string replay;        // render this recording instead of simulating
   int fps = 30;
   RenderOptions render;      // size and quality; the camera tracks the root
-  // Policy acting with its mean action (no exploration noise); null: zero action.
+  // Policy acting with its mean action (no exploration noise); null: zero action ...
   std::shared_ptr<const EigenPolicy> policy;
+  // ... or, when set, the controller this makes for the job's spec and config (the planner).
+  ControllerFactory controller;
 };
 
 struct RenderJobReport {

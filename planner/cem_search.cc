@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace juggle {
@@ -44,14 +45,18 @@ CemResult MinimizeCem(const SearchSpace& space, const CemSettings& settings,
         ClampInto(space, x);
       }
     }
+    const int exploring = static_cast<int>(std::lround(settings.explore_fraction * (fresh - given)));
     for (int i = given; i < fresh; ++i) {
       double* x = batch.data() + static_cast<size_t>(i) * dim;
-      for (int d = 0; d < dim; ++d) x[d] = mean[d] + sigma[d] * rng->Normal();
+      const std::vector<double>& spread = i < fresh - exploring ? sigma : space.sigma;
+      for (int d = 0; d < dim; ++d) x[d] = mean[d] + spread[d] * rng->Normal();
       ClampInto(space, x);
     }
     costs.assign(fresh, 0.0);
-    cost(batch, fresh, &costs);
+    const double before = it == 0 ? std::numeric_limits<double>::infinity() : result.best_cost;
+    cost(batch, fresh, before, &costs);
     result.evaluations += fresh;
+    result.iterations = it + 1;
     if (it == 0) {
       result.incumbent_cost = costs[0];
       result.best.assign(mean.begin(), mean.end());
@@ -71,6 +76,10 @@ CemResult MinimizeCem(const SearchSpace& space, const CemSettings& settings,
       result.best_cost = pool.front().cost;
     }
     result.iteration_best.push_back(result.best_cost);
+    if (it > 0 && settings.converged_fraction > 0 &&
+        before - result.best_cost <= settings.converged_fraction * std::abs(result.best_cost)) {
+      break;
+    }
     const int elites = std::clamp(
         static_cast<int>(std::lround(settings.elite_fraction * static_cast<double>(pool.size()))),
         std::min<int>(2, static_cast<int>(pool.size())), static_cast<int>(pool.size()));

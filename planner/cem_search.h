@@ -25,17 +25,27 @@ struct CemSettings {
   double elite_fraction = 0.125;    // at least 2 elites
   double keep_elite_fraction = 0.3; // of the elites, carried into the next iteration
   double min_sigma_fraction = 0.1;  // spread floor, relative to SearchSpace::sigma
+  // Share of each iteration's fresh samples drawn with the initial spread (around the current
+  // mean), so the search keeps looking beyond a collapsed spread.
+  double explore_fraction = 0;
+  // Stop after an iteration that lowers the best cost by less than this fraction of it (0:
+  // always run every iteration).
+  double converged_fraction = 0;
 };
 
 // Writes the costs of `n` candidates (row-major [n, dim] in `candidates`) to costs[0..n).
-using BatchCost =
-    std::function<void(const std::vector<double>& candidates, int n, std::vector<double>* costs)>;
+// `bound` is the best cost found before this batch (infinity for the first): a candidate known
+// to cost at least that much may be given any cost >= bound (it cannot become the best), so
+// its evaluation may stop early; the value must still be deterministic.
+using BatchCost = std::function<void(const std::vector<double>& candidates, int n, double bound,
+                                     std::vector<double>* costs)>;
 
 struct CemResult {
   std::vector<double> best;          // [dim]
   double best_cost = 0;
   double incumbent_cost = 0;         // the cost of the incumbent as given
   int evaluations = 0;               // candidates simulated
+  int iterations = 0;                // run (fewer than asked when converged)
   std::vector<double> iteration_best;  // best cost so far after each iteration
 };
 

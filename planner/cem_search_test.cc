@@ -20,7 +20,7 @@ SearchSpace Box(int dim, double limit, double sigma) {
 
 // Σ (x_d − c_d)² with c = (0.3, −0.2, 0.1, ...), evaluated candidate by candidate.
 BatchCost Bowl(int* evaluations = nullptr) {
-  return [evaluations](const std::vector<double>& x, int n, std::vector<double>* costs) {
+  return [evaluations](const std::vector<double>& x, int n, double, std::vector<double>* costs) {
     const int dim = static_cast<int>(x.size()) / n;
     for (int i = 0; i < n; ++i) {
       double c = 0;
@@ -59,7 +59,8 @@ TEST(CemSearchTest, FindsTheMinimumOfAQuadraticBowl) {
 TEST(CemSearchTest, NeverReturnsWorseThanTheIncumbent) {
   // Only the incumbent itself is good: every sampled candidate costs more.
   const std::vector<double> incumbent = {0.5, -0.5};
-  const BatchCost spike = [&](const std::vector<double>& x, int n, std::vector<double>* costs) {
+  const BatchCost spike = [&](const std::vector<double>& x, int n, double,
+                              std::vector<double>* costs) {
     for (int i = 0; i < n; ++i) {
       const bool is_incumbent = x[2 * i] == incumbent[0] && x[2 * i + 1] == incumbent[1];
       (*costs)[i] = is_incumbent ? 1.0 : 2.0;
@@ -87,7 +88,8 @@ TEST(CemSearchTest, EverySeedIsACandidateOfTheFirstIteration) {
 TEST(CemSearchTest, CandidatesStayInTheBox) {
   SearchSpace space = Box(3, 0.1, 5.0);  // a spread far wider than the box
   bool outside = false;
-  const BatchCost check = [&](const std::vector<double>& x, int n, std::vector<double>* costs) {
+  const BatchCost check = [&](const std::vector<double>& x, int n, double,
+                              std::vector<double>* costs) {
     for (double v : x) outside = outside || v < -0.1 || v > 0.1;
     for (int i = 0; i < n; ++i) (*costs)[i] = x[3 * i];
   };
@@ -106,6 +108,66 @@ TEST(CemSearchTest, TheSameStreamGivesTheSamePlan) {
   EXPECT_EQ(ra.best, rb.best);
   EXPECT_EQ(ra.best_cost, rb.best_cost);
   EXPECT_NE(ra.best, rc.best);
+}
+
+TEST(CemSearchTest, StopsWhenAnIterationNoLongerImproves) {
+  // A flat cost: the first iteration finds nothing better than the incumbent.
+  const BatchCost flat = [](const std::vector<double>&, int n, double,
+                            std::vector<double>* costs) { costs->assign(n, 1.0); };
+  CemSettings settings;
+  settings.iterations = 6;
+  settings.converged_fraction = 0.01;
+  Rng rng(8);
+  const CemResult r = MinimizeCem(Box(2, 1.0, 0.2), settings, {{0.0, 0.0}}, &rng, flat);
+  EXPECT_EQ(r.iterations, 2);
+  settings.converged_fraction = 0;
+  Rng rng2(8);
+  EXPECT_EQ(MinimizeCem(Box(2, 1.0, 0.2), settings, {{0.0, 0.0}}, &rng2, flat).iterations, 6);
+}
+
+TEST(CemSearchTest, TellsTheBatchTheBestCostSoFar) {
+  std::vector<double> bounds;
+  const BatchCost record = [&](const std::vector<double>& x, int n, double bound,
+                               std::vector<double>* costs) {
+    bounds.push_back(bound);
+    for (int i = 0; i < n; ++i) (*costs)[i] = 1.0 + std::abs(x[i]);
+  };
+  CemSettings settings;
+  settings.iterations = 3;
+  Rng rng(9);
+  const CemResult r = MinimizeCem(Box(1, 1.0, 0.5), settings, {{0.5}}, &rng, record);
+  ASSERT_EQ(bounds.size(), 3u);
+  EXPECT_TRUE(std::isinf(bounds[0]));
+  EXPECT_EQ(bounds[1], r.iteration_best[0]);
+  EXPECT_EQ(bounds[2], r.iteration_best[1]);
+}
+
+TEST(CemSearchTest, ExplorationSamplesUseTheInitialSpread) {
+  // After the first iteration the elites sit together; exploring samples still go wide.
+  double widest_last = 0;
+  int calls = 0;
+  const BatchCost cost = [&](const std::vector<double>& x, int n, double,
+                             std::vector<double>* costs) {
+    ++calls;
+    for (int i = 0; i < n; ++i) {
+      (*costs)[i] = std::abs(x[i]);
+      if (calls == 3) widest_last = std::max(widest_last, std::abs(x[i]));
+    }
+  };
+  CemSettings settings;
+  settings.iterations = 3;
+  settings.samples = 64;
+  settings.min_sigma_fraction = 0.001;
+  settings.explore_fraction = 0.5;
+  Rng rng(10);
+  MinimizeCem(Box(1, 10.0, 1.0), settings, {{0.0}}, &rng, cost);
+  EXPECT_GT(widest_last, 0.8);
+  settings.explore_fraction = 0;
+  widest_last = 0;
+  calls = 0;
+  Rng rng2(10);
+  MinimizeCem(Box(1, 10.0, 1.0), settings, {{0.0}}, &rng2, cost);
+  EXPECT_LT(widest_last, 0.5);
 }
 
 }  // namespace

@@ -197,7 +197,7 @@ void SoccerRolloutScorer::AfterStep(const JuggleEnv& env, const float* action,
 
 double SoccerRolloutScorer::Finish(const JuggleEnv& env) {
   double total = failure_ + kick_ + effort_;
-  if (steps_ > 0) total += body_ / steps_;
+  total += body_ / horizon_;
   if (failed_) return total;
   total += cost_.terminal() * BodyCost(env, cost_);
   if (!env.state().kick_touched) {

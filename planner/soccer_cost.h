@@ -64,6 +64,9 @@ class SoccerRolloutScorer {
   void AfterStep(const soccer_juggle::JuggleEnv& env, const float* action, const StepResult& r);
   // The total, with the terminal and approach terms of the last state.
   double Finish(const soccer_juggle::JuggleEnv& env);
+  // The cost so far: never more than the total (every term is non-negative and the per-step
+  // body terms are summed over the horizon).
+  double partial() const { return failure_ + kick_ + effort_ + body_ / horizon_; }
   // The kick outcomes scored (the first one), for tests and tools.
   const KickOutcome& first_kick() const { return first_kick_; }
   int kicks() const { return kicks_; }

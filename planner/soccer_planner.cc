@@ -45,12 +45,14 @@ SoccerPlanner::SoccerPlanner(std::shared_ptr<const soccer_juggle::JuggleSpec> sp
   settings_.elite_fraction = config_.elite_fraction();
   settings_.keep_elite_fraction = config_.keep_elite_fraction();
   settings_.min_sigma_fraction = config_.min_sigma_fraction();
+  settings_.explore_fraction = config_.explore_fraction();
+  settings_.converged_fraction = config_.converged_fraction();
   theta_.assign(layout_.dim(), 0.0);
 }
 
 SoccerPlanner::RolloutResult SoccerPlanner::Rollout(JuggleEnv* env, const double* theta,
                                                     PlanClock clock,
-                                                    std::vector<uint64_t>* trace) {
+                                                    std::vector<uint64_t>* trace, double bound) {
   RolloutResult result;
   SoccerRolloutScorer scorer(config_.cost(), layout_.horizon, &anchors_);
   scorer.Begin(*env);
@@ -67,6 +69,13 @@ SoccerPlanner::RolloutResult SoccerPlanner::Rollout(JuggleEnv* env, const double
       result.end = r.outcome;
       ++t;
       break;
+    }
+    if (config_.prune() && scorer.partial() >= bound) {
+      ++t;
+      result.first_kick = scorer.first_kick();
+      result.steps = t;
+      result.cost = scorer.partial();
+      return result;
     }
     if (config_.steps_after_kick() > 0 && scorer.kicks() == 1 && end == layout_.horizon) {
       end = std::min(end, t + 1 + config_.steps_after_kick());
@@ -99,11 +108,13 @@ absl::StatusOr<double> SoccerPlanner::Evaluate(const JuggleEnv& env,
 }
 
 absl::StatusOr<std::vector<SoccerPlanner::RolloutResult>> SoccerPlanner::RolloutBatch(
-    const EnvSnapshot& snapshot, PlanClock clock, const std::vector<double>& candidates, int n) {
+    const EnvSnapshot& snapshot, PlanClock clock, const std::vector<double>& candidates, int n,
+    double bound) {
   const int dim = layout_.dim();
   std::vector<RolloutResult> results(n);
   RETURN_IF_ERROR(pool_->Run(snapshot, n, [&](int i, Env* copy) {
-    results[i] = Rollout(static_cast<JuggleEnv*>(copy), candidates.data() + i * dim, clock);
+    results[i] =
+        Rollout(static_cast<JuggleEnv*>(copy), candidates.data() + i * dim, clock, nullptr, bound);
   }));
   for (const RolloutResult& r : results) totals_.rollout_steps += r.steps;
   return results;
@@ -189,9 +200,10 @@ absl::Status SoccerPlanner::Replan(const JuggleEnv& env) {
   const std::unique_ptr<EnvSnapshot> snapshot = env.Snapshot();
   Rng rng = Rng::ForStream(config_.seed(), stream_, static_cast<uint64_t>(replan_count_++));
   absl::Status status;
-  const BatchCost cost = [&](const std::vector<double>& candidates, int n,
+  const BatchCost cost = [&](const std::vector<double>& candidates, int n, double bound,
                              std::vector<double>* costs) {
-    absl::StatusOr<std::vector<RolloutResult>> r = RolloutBatch(*snapshot, clock, candidates, n);
+    absl::StatusOr<std::vector<RolloutResult>> r =
+        RolloutBatch(*snapshot, clock, candidates, n, bound);
     if (!r.ok()) {
       status = r.status();
       std::fill(costs->begin(), costs->end(), 0.0);

@@ -10,6 +10,7 @@
 #define JUGGLE_PLANNER_SOCCER_PLANNER_H_
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -78,15 +79,16 @@ class SoccerPlanner {
     KickOutcome first_kick;
   };
   // `clock`: where the rollout's first state is in the plan.
-  // With `trace`, the fingerprint of the state after every step is appended to it.
+  // With `trace`, the fingerprint of the state after every step is appended to it. With
+  // config.prune, stops once the cost so far reaches `bound`.
   RolloutResult Rollout(soccer_juggle::JuggleEnv* env, const double* theta, PlanClock clock,
-                        std::vector<uint64_t>* trace = nullptr);
+                        std::vector<uint64_t>* trace = nullptr,
+                        double bound = std::numeric_limits<double>::infinity());
   absl::Status Replan(const soccer_juggle::JuggleEnv& env);
   // Rolls out candidates[i·dim .. (i+1)·dim) for i < n from `snapshot`; counts them.
-  absl::StatusOr<std::vector<RolloutResult>> RolloutBatch(const EnvSnapshot& snapshot,
-                                                          PlanClock clock,
-                                                          const std::vector<double>& candidates,
-                                                          int n);
+  absl::StatusOr<std::vector<RolloutResult>> RolloutBatch(
+      const EnvSnapshot& snapshot, PlanClock clock, const std::vector<double>& candidates, int n,
+      double bound = std::numeric_limits<double>::infinity());
   // Gauss-Newton steps on kick set `set`'s variables of `theta` (cost `cost`); returns the
   // refined plan and its cost.
   absl::Status Refine(const EnvSnapshot& snapshot, PlanClock clock, int set,

@@ -59,24 +59,61 @@ double SplineValue(const SoccerPlanLayout& layout, const double* theta, int step
   return (1 - f) * theta[layout.knot(k) + i] + f * theta[layout.knot(k + 1) + i];
 }
 
+// Rotates ball joint `j` of `pose` by `angle` about its z axis (pitch in the y-up joint frames)
+// or moves hinge `j` by `angle`.
+void AddPitch(const JuggleSpec& spec, soccer_juggle::JointId j, double angle, CharacterPose* pose) {
+  const ActuatedJoint& joint = spec.joint(j);
+  if (joint.dofs == 3) {
+    const double rotation[3] = {0, 0, angle};
+    mju_quatIntegrate(pose->data() + joint.qpos_adr, rotation, 1.0);
+  } else {
+    (*pose)[joint.qpos_adr] += angle;
+  }
+}
+
+// The contact node's reference changed by the kick variables: for a leg swing, its timing and
+// amplitudes (reference_pose.h SwingAdjust); for the other generators (head, chest), its timing
+// and the pitch of chest, neck, both hips and both knees, scaled by sin²(πφ) (largest at the
+// contact, zero where the cycle wraps).
+void KickReferences(const JuggleEnv& env, const double* kick, double cycle_s, CharacterPose* from,
+                    CharacterPose* to) {
+  const JuggleSpec& spec = env.spec();
+  const int node = env.node();
+  const double phase = env.cursor().phase;
+  const SwingAdjust& base = env.state().swing_adjust;
+  ComputeReferencePose(spec, node, phase, from, base);
+  if (spec.graph().node(node).spec.pose().has_leg_swing()) {
+    SwingAdjust changed = base;
+    changed.phase += kick[0] / cycle_s;
+    changed.hip += kick[1];
+    changed.abduction += kick[2];
+    changed.knee += kick[3];
+    changed.ankle += kick[4];
+    ComputeReferencePose(spec, node, phase, to, changed);
+    return;
+  }
+  double shifted = phase + kick[0] / cycle_s;
+  shifted -= std::floor(shifted);
+  ComputeReferencePose(spec, node, shifted, to, base);
+  const double envelope = std::pow(std::sin(M_PI * phase), 2);
+  using soccer_juggle::JointId;
+  AddPitch(spec, soccer_juggle::kChest, kick[1] * envelope, to);
+  AddPitch(spec, soccer_juggle::kNeck, kick[2] * envelope, to);
+  for (JointId hip : {soccer_juggle::kRightHip, soccer_juggle::kLeftHip}) {
+    AddPitch(spec, hip, kick[3] * envelope, to);
+  }
+  for (JointId knee : {soccer_juggle::kRightKnee, soccer_juggle::kLeftKnee}) {
+    AddPitch(spec, knee, kick[4] * envelope, to);
+  }
+}
+
 // Adds the kick variables' torque (in action units) at `env`'s state to `out`.
 void AddKickAction(const JuggleEnv& env, const double* kick, double* out) {
   const JuggleSpec& spec = env.spec();
-  const int node = env.node();
-  if (!spec.graph().node(node).spec.pose().has_leg_swing()) return;
   const soccer_juggle::CursorState& c = env.cursor();
   if (c.phase_speed <= 0) return;
-  const double cycle_s = spec.control_dt() / c.phase_speed;
-  const SwingAdjust& base = env.state().swing_adjust;
-  SwingAdjust changed = base;
-  changed.phase += kick[0] / cycle_s;
-  changed.hip += kick[1];
-  changed.abduction += kick[2];
-  changed.knee += kick[3];
-  changed.ankle += kick[4];
   CharacterPose from, to;
-  ComputeReferencePose(spec, node, c.phase, &from, base);
-  ComputeReferencePose(spec, node, c.phase, &to, changed);
+  KickReferences(env, kick, spec.control_dt() / c.phase_speed, &from, &to);
   const double unit = spec.env().action_torque();
   for (int j = 0; j < kNumJoints; ++j) {
     const ActuatedJoint& joint = spec.joint(j);

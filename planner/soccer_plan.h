@@ -2,8 +2,10 @@
 //
 // A plan θ is, in order:
 //   kick variables, one set per juggle cycle (KickVariables.cycles sets; a cycle starts when a
-//   DOWN node is entered): the swing's timing (s earlier), and its hip flexion, hip abduction,
-//   knee and ankle-pitch amplitudes (rad);
+//   DOWN node is entered): the contact node's timing (s earlier), and for a leg swing its hip
+//   flexion, hip abduction, knee and ankle-pitch amplitudes (rad), for the other generators
+//   (head, chest) the pitch of chest, neck, both hips and both knees (rad, largest at the
+//   contact);
 //   whole-body knots: body_knots × 28 actions (policy units), a piecewise-linear spline with a
 //   knot every knot_steps control steps of the episode, on a grid fixed to the episode (knot 0
 //   of a plan is the grid knot at or before its origin), so a re-plan keeps the knots it

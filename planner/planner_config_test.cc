@@ -8,6 +8,7 @@
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "planner/planner_controller.h"
+#include "planner/soccer_plan.h"
 
 namespace juggle::planner {
 namespace {
@@ -65,6 +66,23 @@ TEST(PlannerConfigTest, ReplanningBeyondTheHorizonIsRefused) {
   ASSERT_TRUE(Load("replan.textproto", Config("horizon_steps: 10 replan_every: 11"), &config).ok());
   EXPECT_THAT(std::string(ValidatePlannerConfig(config).message()),
               HasSubstr("planner.replan_every"));
+}
+
+TEST(PlannerConfigTest, BodyActionsNameJointsAndAxesOfTheCharacter) {
+  LoadedConfig config;
+  ASSERT_TRUE(Load("bad_joint.textproto", Config("body_actions: \"left_toe\""), &config).ok());
+  EXPECT_THAT(std::string(ValidatePlannerConfig(config).message()),
+              HasSubstr("planner.body_actions: 'left_toe' names no joint"));
+  ASSERT_TRUE(Load("bad_axis.textproto", Config("body_actions: \"left_knee:x\""), &config).ok());
+  EXPECT_THAT(std::string(ValidatePlannerConfig(config).message()),
+              HasSubstr("an axis (x, y or z) of a ball joint"));
+  google::protobuf::RepeatedPtrField<std::string> names;
+  *names.Add() = "left_ankle:x";
+  *names.Add() = "left_knee";
+  *names.Add() = "chest";
+  // left_ankle is the last ball joint (actions 25..27), left_knee the hinge before it (24).
+  EXPECT_EQ(*BodyActionIndices(names), (std::vector<int>{25, 24, 0, 1, 2}));
+  EXPECT_EQ(BodyActionIndices({})->size(), 28u);
 }
 
 TEST(PlannerConfigTest, TheShippedPlannerConfigIsValid) {

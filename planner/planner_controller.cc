@@ -2,6 +2,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "common/check.h"
+#include "planner/soccer_plan.h"
 
 namespace juggle::planner {
 
@@ -23,6 +24,9 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
         where("horizon_steps"), ": a horizon of ", p.horizon_steps(),
         " control steps is longer than the episode (soccer_juggle.env.max_episode_steps ",
         episode, ")"));
+  }
+  if (absl::StatusOr<std::vector<int>> a = BodyActionIndices(p.body_actions()); !a.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat(where("body_actions"), ": ", a.status().message()));
   }
   if (p.replan_every() > p.horizon_steps()) {
     return absl::InvalidArgumentError(

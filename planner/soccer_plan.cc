@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "absl/strings/str_cat.h"
 #include "envs/soccer_juggle/reference_pose.h"
 
 namespace juggle::planner {
@@ -15,8 +16,54 @@ using soccer_juggle::kNumActions;
 using soccer_juggle::kNumJoints;
 using soccer_juggle::SwingAdjust;
 
+absl::StatusOr<std::vector<int>> BodyActionIndices(
+    const google::protobuf::RepeatedPtrField<std::string>& names) {
+  // The first action of each joint and its axes, in the model's dof order.
+  int first[kNumJoints];
+  for (int j = 0, a = 0; j < kNumJoints; ++j) {
+    first[j] = a;
+    a += (j == soccer_juggle::kRightElbow || j == soccer_juggle::kLeftElbow ||
+          j == soccer_juggle::kRightKnee || j == soccer_juggle::kLeftKnee)
+             ? 1
+             : 3;
+  }
+  auto axes = [](int j) {
+    return (j == soccer_juggle::kRightElbow || j == soccer_juggle::kLeftElbow ||
+            j == soccer_juggle::kRightKnee || j == soccer_juggle::kLeftKnee)
+               ? 1
+               : 3;
+  };
+  std::vector<int> out;
+  if (names.empty()) {
+    for (int a = 0; a < kNumActions; ++a) out.push_back(a);
+    return out;
+  }
+  for (const std::string& entry : names) {
+    const size_t colon = entry.find(':');
+    const std::string joint = entry.substr(0, colon);
+    int j = 0;
+    while (j < kNumJoints && joint != soccer_juggle::kJointNames[j]) ++j;
+    if (j == kNumJoints) {
+      return absl::InvalidArgumentError(absl::StrCat("'", entry, "' names no joint"));
+    }
+    if (colon == std::string::npos) {
+      for (int k = 0; k < axes(j); ++k) out.push_back(first[j] + k);
+      continue;
+    }
+    const std::string axis = entry.substr(colon + 1);
+    if (axes(j) != 3 || axis.size() != 1 || axis[0] < 'x' || axis[0] > 'z') {
+      return absl::InvalidArgumentError(
+          absl::StrCat("'", entry, "': an axis (x, y or z) of a ball joint"));
+    }
+    out.push_back(first[j] + (axis[0] - 'x'));
+  }
+  return out;
+}
+
 SoccerPlanLayout MakeSoccerPlanLayout(const config::PlannerConfig& config) {
   SoccerPlanLayout layout;
+  absl::StatusOr<std::vector<int>> actions = BodyActionIndices(config.body_actions());
+  if (actions.ok()) layout.body_actions = *std::move(actions);
   layout.kick_sets = config.kick().enabled() ? config.kick().cycles() : 0;
   layout.horizon = config.horizon_steps();
   layout.knot_steps = config.body_knot_steps();
@@ -41,7 +88,7 @@ SearchSpace MakeSoccerSearchSpace(const SoccerPlanLayout& layout,
     add(kick.phase_limit_s(), kick.phase_sigma_s());
     for (int a = 1; a < kKickVariables; ++a) add(kick.angle_limit(), kick.angle_sigma());
   }
-  for (int i = 0; i < layout.body_knots * kNumActions; ++i) {
+  for (int i = 0; i < layout.body_knots * layout.knot_size(); ++i) {
     add(config.body_limit(), config.body_sigma());
   }
   return space;
@@ -49,7 +96,7 @@ SearchSpace MakeSoccerSearchSpace(const SoccerPlanLayout& layout,
 
 namespace {
 
-// Value of action `i` of the body spline `step` control steps after knot 0 (the last knot
+// Value of body action `i` (an index into layout.body_actions) of the body spline `step` control steps after knot 0 (the last knot
 // held past the end).
 double SplineValue(const SoccerPlanLayout& layout, const double* theta, int step, int i) {
   const int knots = layout.body_knots;
@@ -139,7 +186,9 @@ void SoccerPlanAction(const JuggleEnv& env, const SoccerPlanLayout& layout, cons
     AddKickAction(env, theta + layout.kick(set), a);
   }
   if (layout.body_knots > 0) {
-    for (int i = 0; i < kNumActions; ++i) a[i] += SplineValue(layout, theta, clock.step, i);
+    for (int i = 0; i < layout.knot_size(); ++i) {
+      a[layout.body_actions[i]] += SplineValue(layout, theta, clock.step, i);
+    }
   }
   for (int i = 0; i < kNumActions; ++i) action[i] = static_cast<float>(std::clamp(a[i], -1.0, 1.0));
 }
@@ -157,7 +206,8 @@ std::vector<double> ShiftSoccerPlan(const SoccerPlanLayout& layout, const std::v
   }
   for (int k = 0; k < layout.body_knots; ++k) {
     const int from = std::min(k + std::max(knots, 0), layout.body_knots - 1);
-    std::copy_n(theta.begin() + layout.knot(from), kNumActions, out.begin() + layout.knot(k));
+    std::copy_n(theta.begin() + layout.knot(from), layout.knot_size(),
+                out.begin() + layout.knot(k));
   }
   return out;
 }

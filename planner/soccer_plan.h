@@ -20,6 +20,8 @@
 
 #include <vector>
 
+#include "absl/status/statusor.h"
+
 #include "envs/soccer_juggle/env.h"
 #include "envs/soccer_juggle/spec.h"
 #include "planner/cem_search.h"
@@ -34,13 +36,21 @@ struct SoccerPlanLayout {
   int knot_steps = 0;    // 0: no whole-body corrections
   int body_knots = 0;    // enough to span a horizon from anywhere between two grid knots
   int horizon = 1;
+  std::vector<int> body_actions;  // the action indices a knot holds, in order
+  int knot_size() const { return static_cast<int>(body_actions.size()); }
   int kick_dim() const { return kick_sets * kKickVariables; }
-  int dim() const { return kick_dim() + body_knots * soccer_juggle::kNumActions; }
+  int dim() const { return kick_dim() + body_knots * knot_size(); }
   // Index of the first variable of kick set `set` / body knot `knot`.
   int kick(int set) const { return set * kKickVariables; }
-  int knot(int k) const { return kick_dim() + k * soccer_juggle::kNumActions; }
+  int knot(int k) const { return kick_dim() + k * knot_size(); }
 };
 
+// The action indices named by PlannerConfig.body_actions (all 28 when empty), or
+// INVALID_ARGUMENT naming the entry that is not a joint or axis of the character.
+absl::StatusOr<std::vector<int>> BodyActionIndices(
+    const google::protobuf::RepeatedPtrField<std::string>& names);
+
+// REQUIRES: config.body_actions valid (BodyActionIndices).
 SoccerPlanLayout MakeSoccerPlanLayout(const config::PlannerConfig& config);
 // The box and spreads of the variables.
 SearchSpace MakeSoccerSearchSpace(const SoccerPlanLayout& layout,

@@ -218,12 +218,25 @@ absl::Status SoccerPlanner::Replan(const JuggleEnv& env) {
     seeds.push_back(start);
     std::fill(seeds.back().begin(), seeds.back().begin() + layout_.kick_dim(), 0.0);
   }
-  CemResult result = MinimizeCem(space_, settings_, seeds, &rng, cost);
+  // After the current cycle's release its kick set is held where it is.
+  SearchSpace space = space_;
+  const bool released = env.state().kick_touched && !env.state().touched_this_step;
+  if (config_.kick().freeze_after_release() && released && layout_.kick_sets > 0) {
+    for (int v = 0; v < kKickVariables; ++v) {
+      space.lower[v] = space.upper[v] = start[v];
+      space.sigma[v] = 0;
+    }
+    for (std::vector<double>& seed : seeds) std::copy_n(start.begin(), kKickVariables, seed.begin());
+  }
+  CemResult result = MinimizeCem(space, settings_, seeds, &rng, cost);
   if (!status.ok()) return status;
   totals_.rollouts += result.evaluations;
   if (config_.refine_iterations() > 0 && layout_.kick_sets > 0) {
+    // The set of the next kick inside the horizon (not a frozen one).
     const int set = std::min(env.state().kick_touched ? 1 : 0, layout_.kick_sets - 1);
-    RETURN_IF_ERROR(Refine(*snapshot, clock, set, &result.best, &result.best_cost));
+    if (!(set == 0 && released && config_.kick().freeze_after_release())) {
+      RETURN_IF_ERROR(Refine(*snapshot, clock, set, &result.best, &result.best_cost));
+    }
   }
   theta_ = result.best;
   has_plan_ = true;

@@ -152,6 +152,31 @@ TEST_F(SoccerPlannerTest, ItsActionsReplayedInAPlainEnvGiveTheSameEpisode) {
   EXPECT_TRUE(a.Equals(replay->data()));
 }
 
+TEST_F(SoccerPlannerTest, AReleasedKickKeepsItsVariablesUntilTheNextCycle) {
+  config_.run.mutable_planner()->mutable_kick()->set_freeze_after_release(true);
+  std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.03);
+  std::unique_ptr<SoccerPlanner> planner = NewPlanner();
+  float action[kNumActions];
+  std::vector<double> at_release;
+  int replans_after = 0;
+  for (int t = 0; t < 60; ++t) {
+    const bool released = env->state().kick_touched && !env->state().touched_this_step;
+    ASSERT_TRUE(planner->Act(*env, action).ok());
+    const std::vector<double> kick(planner->plan().begin(), planner->plan().begin() + kKickVariables);
+    if (released && planner->last_replan().env_step == env->steps()) {
+      if (at_release.empty()) {
+        at_release = kick;
+      } else {
+        EXPECT_EQ(kick, at_release) << "step " << t;
+        ++replans_after;
+      }
+    }
+    if (!at_release.empty() && !env->state().kick_touched) break;  // the next cycle began
+    ASSERT_EQ(env->Step(action, *walk_).outcome, Outcome::kRunning);
+  }
+  EXPECT_GE(replans_after, 3);
+}
+
 TEST_F(SoccerPlannerTest, AShiftedPlanActsAsBefore) {
   config::PlannerConfig p = config_.run.planner();
   p.set_body_knot_steps(5);

@@ -152,8 +152,9 @@ SoccerRolloutScorer::SoccerRolloutScorer(const config::PlannerCost& cost, int ho
     : cost_(cost), horizon_(std::max(horizon, 1)), anchors_(anchors) {}
 
 void SoccerRolloutScorer::Begin(const JuggleEnv& env) {
-  // A kick whose ball is already on its way was scored by an earlier plan.
-  scored_this_cycle_ = env.state().kick_touched;
+  // A kick whose ball is already on its way was scored by an earlier plan; one whose ball is
+  // still on the body is this plan's to score.
+  scored_this_cycle_ = env.state().kick_touched && !env.state().touched_this_step;
 }
 
 void SoccerRolloutScorer::AfterStep(const JuggleEnv& env, const float* action,

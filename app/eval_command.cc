@@ -41,6 +41,7 @@ struct EvalFlags {
   PlannerFlags planner;
   int episodes = 50;
   int64_t seed = kHeldOutSeed;
+  int first_episode = 0;
   double max_seconds = 60;
   std::string record;
   std::string json;
@@ -162,6 +163,7 @@ int Evaluate(EvalFlags f) {
   EpisodeOptions options;
   options.episodes = f.episodes;
   options.seed = static_cast<uint64_t>(f.seed);
+  options.first_episode = f.first_episode;
   options.record = !f.record.empty();
   options.config_path = config.config_path;
   absl::StatusOr<EpisodeReport> report = RunEpisodes(*spec, controller.get(), options);
@@ -197,6 +199,10 @@ int Evaluate(EvalFlags f) {
   std::printf("%s", FormatNodeTable(nodes).c_str());
   std::vector<std::string> json = {SummaryJson(summary)};
   for (const NodeRow& row : nodes) json.push_back(NodeRowJson(row));
+  for (size_t i = 0; i < report->episodes.size(); ++i) {
+    json.push_back(EpisodeJson(f.first_episode + static_cast<int>(i), report->episodes[i],
+                               (*spec)->control_dt(), (*spec)->outcome_names()));
+  }
 
   if (f.force_sweep) {
     ForceSweepOptions sweep;
@@ -277,9 +283,14 @@ CommandBody AddEvalCommand(CLI::App* cmd) {
       ->check(Between(1, 100000))
       ->capture_default_str();
   cmd->add_option("--seed", f->seed,
-                  "episode i starts from stream (seed, 0, i); the default is held out from "
-                  "training")
+                  "episode i starts from stream (seed, 0, first-episode + i); the default is "
+                  "held out from training")
       ->check(AtLeast(0))
+      ->capture_default_str();
+  cmd->add_option("--first-episode", f->first_episode,
+                  "index of the first episode: one evaluation split into parts (e.g. "
+                  "--episodes=5 --first-episode=5 is episodes 5-9 of --episodes=10)")
+      ->check(Between(0, 100000000))
       ->capture_default_str();
   cmd->add_option("--max_seconds", f->max_seconds,
                   "episode length limit in simulated seconds (0: the config's)")

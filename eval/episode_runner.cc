@@ -44,13 +44,17 @@ absl::StatusOr<EpisodeReport> RunEpisodes(std::shared_ptr<const EnvSpec> spec,
   if (o.episodes < 1) {
     return absl::InvalidArgumentError(absl::StrCat("episodes must be >= 1, got ", o.episodes));
   }
+  if (o.first_episode < 0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("first_episode must be >= 0, got ", o.first_episode));
+  }
   const AdaptiveWalk walk(&spec->graph());
   const int n = o.episodes;
   const int obs_dim = spec->obs_dim(), act_dim = spec->act_dim();
   std::vector<std::unique_ptr<Env>> envs;
   std::vector<std::optional<TrajectoryBuilder>> recorders(n);
   for (int i = 0; i < n; ++i) {
-    envs.push_back(spec->NewEnv(Rng::ForStream(o.seed, 0, i)));
+    envs.push_back(spec->NewEnv(Rng::ForStream(o.seed, 0, static_cast<uint64_t>(o.first_episode + i))));
     if (absl::Status s = StartEpisode(o.start_node, walk, envs.back().get()); !s.ok()) return s;
     if (o.record) {
       recorders[i].emplace(EnvTrajectoryBuilder(*spec, o.config_path));

@@ -35,7 +35,8 @@ struct EpisodeResult {
 
 struct EpisodeOptions {
   int episodes = 20;
-  uint64_t seed = 1000;    // episode i runs in an env drawing from Rng::ForStream(seed, 0, i)
+  uint64_t seed = 1000;    // episode i runs in an env drawing from Rng::ForStream(seed, 0,
+  int first_episode = 0;   // first_episode + i), so one evaluation can be split into parts
   int start_node = -1;     // >= 0: every episode starts at this graph node (Env::ResetAt)
   bool record = false;     // keep every episode as a trajectory, one after another
   std::string config_path; // for the recording's header

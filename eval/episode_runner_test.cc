@@ -20,25 +20,28 @@ std::shared_ptr<const EnvSpec> Spec(const std::string& name) {
   return spec.ok() ? *spec : nullptr;
 }
 
-// Uniform pseudo-random actions from the observations: a controller whose episodes differ.
+// Pseudo-random actions from each env's own observation: a controller whose episodes differ.
 class HashController final : public Controller {
  public:
-  explicit HashController(int act_dim) : act_dim_(act_dim) {}
+  HashController(int obs_dim, int act_dim) : obs_dim_(obs_dim), act_dim_(act_dim) {}
   void Act(const Env* const*, const float* obs, int n, float* actions) override {
     for (int i = 0; i < n; ++i) {
-      for (int a = 0; a < act_dim_; ++a) actions[i * act_dim_ + a] = std::sin(obs[i * 7] * (a + 1) * 13.0f);
+      const float* o = obs + static_cast<size_t>(i) * obs_dim_;
+      for (int a = 0; a < act_dim_; ++a) {
+        actions[i * act_dim_ + a] = std::sin((o[0] + o[obs_dim_ - 1]) * (a + 1) * 13.0f);
+      }
     }
   }
   std::string name() const override { return "hash"; }
 
  private:
-  int act_dim_;
+  int obs_dim_, act_dim_;
 };
 
 TEST(EpisodeRunnerTest, BatchedEpisodesEqualTheSameEpisodesRunAlone) {
   auto spec = Spec("foot_variable_height");
   ASSERT_NE(spec, nullptr);
-  HashController controller(spec->act_dim());
+  HashController controller(spec->obs_dim(), spec->act_dim());
   EpisodeOptions batch;
   batch.episodes = 4;
   batch.seed = 77;
@@ -51,6 +54,31 @@ TEST(EpisodeRunnerTest, BatchedEpisodesEqualTheSameEpisodesRunAlone) {
   EXPECT_EQ(first->episodes[0].steps, together->episodes[0].steps);
   EXPECT_EQ(first->episodes[0].return_sum, together->episodes[0].return_sum);
   EXPECT_EQ(first->episodes[0].outcome, together->episodes[0].outcome);
+}
+
+TEST(EpisodeRunnerTest, AnEvaluationSplitIntoPartsHasTheEpisodesOfTheWhole) {
+  auto spec = Spec("foot_variable_height");
+  ASSERT_NE(spec, nullptr);
+  HashController controller(spec->obs_dim(), spec->act_dim());
+  EpisodeOptions whole;
+  whole.episodes = 4;
+  whole.seed = 77;
+  absl::StatusOr<EpisodeReport> all = RunEpisodes(spec, &controller, whole);
+  ASSERT_TRUE(all.ok()) << all.status();
+  EpisodeOptions part = whole;
+  part.episodes = 2;
+  part.first_episode = 2;
+  absl::StatusOr<EpisodeReport> tail = RunEpisodes(spec, &controller, part);
+  ASSERT_TRUE(tail.ok()) << tail.status();
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(tail->episodes[i].steps, all->episodes[2 + i].steps) << i;
+    EXPECT_EQ(tail->episodes[i].return_sum, all->episodes[2 + i].return_sum) << i;
+  }
+  // The parts differ from the whole's first episodes (the streams are not reused).
+  EXPECT_NE(tail->episodes[0].return_sum, all->episodes[0].return_sum);
+  part.first_episode = -1;
+  EXPECT_EQ(RunEpisodes(spec, &controller, part).status().code(),
+            absl::StatusCode::kInvalidArgument);
 }
 
 TEST(EpisodeRunnerTest, ZeroActionRightFootEpisodesEndBallLostAfterTheFirstDescent) {

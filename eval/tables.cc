@@ -150,6 +150,16 @@ std::string NodeRowJson(const NodeRow& r) {
                {"endings", r.endings}});
 }
 
+std::string EpisodeJson(int episode, const EpisodeResult& e, double control_dt,
+                        const std::vector<std::string>& outcome_names) {
+  return Line({{"table", "episode"},
+               {"episode", episode},
+               {"juggles", e.juggles},
+               {"seconds", e.steps * control_dt},
+               {"return", e.return_sum},
+               {"outcome", OutcomeName(outcome_names, e.outcome)}});
+}
+
 std::string ForceRowJson(const ForceSweepRow& r) {
   Json j = {{"table", "force_sweep"}, {"direction", r.direction}, {"force_n", r.force_n}};
   j.update(SummaryToJson(r.summary));

@@ -72,6 +72,9 @@ absl::StatusOr<ForceSweepReport> RunForceSweep(
 // JSON objects (one line each, no trailing newline) for the JSON-lines outputs.
 std::string SummaryJson(const EvalSummary& summary);
 std::string NodeRowJson(const NodeRow& row);
+// One episode: its index (its env stream), juggles, simulated seconds, return and ending.
+std::string EpisodeJson(int episode, const EpisodeResult& e, double control_dt,
+                        const std::vector<std::string>& outcome_names);
 std::string ForceRowJson(const ForceSweepRow& row);
 // A direction's result: the largest force that still passed.
 std::string ForceLimitJson(const std::string& direction, double max_force_n,

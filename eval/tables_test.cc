@@ -108,6 +108,22 @@ TEST(TablesTest, FamiliesWithoutAGraphGetOneEpisodeRow) {
   EXPECT_DOUBLE_EQ(rows[0].success_rate, 1.0);
 }
 
+TEST(TablesTest, EpisodeJsonNamesTheEpisodeItsJugglesSecondsAndEnding) {
+  EpisodeResult e;
+  e.juggles = 7;
+  e.steps = 90;
+  e.return_sum = 12.5;
+  e.outcome = Outcome::kTimeLimit;
+  const nlohmann::json j =
+      nlohmann::json::parse(EpisodeJson(13, e, 1.0 / 30, {"running", "time_limit"}));
+  EXPECT_EQ(j["table"], "episode");
+  EXPECT_EQ(j["episode"], 13);
+  EXPECT_EQ(j["juggles"], 7);
+  EXPECT_DOUBLE_EQ(j["seconds"].get<double>(), 3.0);
+  EXPECT_DOUBLE_EQ(j["return"].get<double>(), 12.5);
+  EXPECT_EQ(j["outcome"], "time_limit");
+}
+
 TEST(TablesTest, TossSweepsHorizontalWindOnlyAndFindsTheLargestPassingForce) {
   const LoadedConfig config = EvalConfig("toss_catch", 1);
   const ControllerFactory zero = ZeroControllers(ActDim(config));

@@ -1,0 +1,64 @@
+#!/usr/bin/python3
+"""Summarizes `juggle eval --json` files made in parts (scripts/experiments/planner_eval.sh).
+
+Reads the "episode" lines of every file given, refuses an episode that appears twice, and
+prints the juggles distribution as `juggle eval` does (median, p10, p90 with the same linear
+interpolation as eval/summary.cc), the endings, and the planner cost when the logs beside the
+JSON files (same name, .log) carry `wall_s=`.
+
+  scripts/analysis/eval_parts.py runs/planner_eval60/ep_*.jsonl
+"""
+import json
+import math
+import os
+import re
+import sys
+
+
+def percentile(values, q):
+    """The interpolated percentile of eval/summary.cc (Percentile)."""
+    if not values:
+        return 0.0
+    v = sorted(values)
+    pos = min(max(q, 0.0), 1.0) * (len(v) - 1)
+    lo = int(math.floor(pos))
+    hi = min(lo + 1, len(v) - 1)
+    return v[lo] + (pos - lo) * (v[hi] - v[lo])
+
+
+def main(paths):
+    episodes = {}
+    wall = 0.0
+    for path in paths:
+        with open(path) as f:
+            for number, line in enumerate(f, 1):
+                record = json.loads(line)
+                if record.get("table") != "episode":
+                    continue
+                if record["episode"] in episodes:
+                    sys.exit(f"{path}:{number}: episode {record['episode']} appears twice")
+                episodes[record["episode"]] = record
+        log = re.sub(r"\.jsonl$", ".log", path)
+        if os.path.exists(log):
+            found = re.findall(r"wall_s=([0-9.]+)", open(log).read())
+            wall += float(found[-1]) if found else 0.0
+    if not episodes:
+        sys.exit("no episode lines in " + " ".join(paths))
+    juggles = [e["juggles"] for e in episodes.values()]
+    seconds = sum(e["seconds"] for e in episodes.values())
+    endings = {}
+    for e in episodes.values():
+        endings[e["outcome"]] = endings.get(e["outcome"], 0) + 1
+    print(f"episodes={len(juggles)} ({min(episodes)}..{max(episodes)}) "
+          f"median_juggles={percentile(juggles, 0.5):g} p10_juggles={percentile(juggles, 0.1):g} "
+          f"p90_juggles={percentile(juggles, 0.9):g} mean_juggles={sum(juggles) / len(juggles):.2f} "
+          f"mean_episode_s={seconds / len(juggles):.2f} "
+          + " ".join(f"{k}={v}" for k, v in sorted(endings.items()))
+          + (f" wall_s={wall:.0f} core_s_per_sim_s={wall / seconds:.2f}" if wall > 0 else ""))
+    print("juggles by episode: " + " ".join(f"{k}:{episodes[k]['juggles']}" for k in sorted(episodes)))
+
+
+if __name__ == "__main__":
+    if len(sys.argv) < 2:
+        sys.exit(__doc__)
+    main(sys.argv[1:])

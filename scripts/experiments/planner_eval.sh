@@ -1,0 +1,41 @@
+#!/bin/bash
+# A long planner evaluation in parts that can stop and go on: episodes FIRST..FIRST+EPISODES-1
+# of `juggle eval --controller=planner` (the held-out streams of the default seed), one
+# episode per part, SLOTS parts side by side with one planner thread each. A part whose JSON
+# holds its episode line is done and skipped, so re-running the same command continues an
+# interrupted evaluation. At the end the parts are summarized (scripts/analysis/eval_parts.py).
+#
+#   scripts/experiments/planner_eval.sh OUT CONFIG EPISODES SECONDS [SLOTS] [PLANNER_SET]
+#   e.g. scripts/experiments/planner_eval.sh runs/planner_eval60 \
+#          configs/right_foot_planner.textproto 20 60 2
+#
+# Every part also records its episode (OUT/ep_N.traj) for `juggle render --replay`.
+set -euo pipefail
+if [ $# -lt 4 ]; then
+  sed -n '2,12p' "$0"
+  exit 2
+fi
+out=$1; config=$2; episodes=$3; seconds=$4; slots=${5:-2}; extra=${6:-}
+juggle=${JUGGLE:-build/release/juggle}
+here=$(cd "$(dirname "$0")" && pwd)
+[ -x "$juggle" ] || { echo "planner_eval.sh: no juggle binary at $juggle (make build)" >&2; exit 1; }
+mkdir -p "$out"
+
+part() {
+  local i=$1 json="$out/ep_$1.jsonl"
+  if [ -s "$json" ] && grep -q '"table":"episode"' "$json"; then return 0; fi
+  "$juggle" eval --controller=planner --config="$config" --episodes=1 --first-episode="$i" \
+    --max_seconds="$seconds" --planner-set="threads: 1 $extra" --json="$json.part" \
+    --record="$out/ep_$i.traj" > "$out/ep_$i.log" 2>&1
+  mv "$json.part" "$json"
+  echo "episode $i: $(grep -o 'juggles=[0-9.]*' "$out/ep_$i.log" | head -1) $(tail -1 "$out/ep_$i.log" | grep -o 'wall_s=[0-9.]*')"
+}
+
+running=0
+for ((i = 0; i < episodes; ++i)); do
+  part "$i" &
+  running=$((running + 1))
+  if [ "$running" -ge "$slots" ]; then wait -n; running=$((running - 1)); fi
+done
+wait
+/usr/bin/python3 "$here/../analysis/eval_parts.py" "$out"/ep_*.jsonl

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/status_macros.h"
+#include "envs/ballistic.h"
 #include "envs/soccer_juggle/reference_pose.h"
 
 namespace juggle::soccer_juggle {
@@ -410,14 +411,12 @@ void JuggleEnv::UpdateSwingAdjust() {
   const double* qpos = data_->qpos;
   const double* ball = qpos + spec_->ball_qpos();
   const double* ball_vel = data_->qvel + spec_->ball_dof();
-  const double g = spec_->env().gravity();
-  const double drop = ball[2] - node.spec.contact_height();
-  if (drop <= 0) return;  // at the contact height already: hold
-  const double vz = ball_vel[2];
-  const double t = (vz + std::sqrt(vz * vz + 2 * g * drop)) / g;  // free fall to the height
-  const double ex = ball[0] + ball_vel[0] * t - qpos[0] - node.spec.ball_target().x();
-  const double ey = ball[1] + ball_vel[1] * t - qpos[1] - node.spec.ball_target().y();
-  const double late = t + spec_->cursor().SecondsFromContact(s_.cursor, s_.cursor.phase);
+  if (ball[2] - node.spec.contact_height() <= 0) return;  // at the contact height already: hold
+  const BallisticCrossing c =
+      DescendingCrossing(ball, ball_vel, spec_->env().gravity(), node.spec.contact_height());
+  const double ex = c.x - qpos[0] - node.spec.ball_target().x();
+  const double ey = c.y - qpos[1] - node.spec.ball_target().y();
+  const double late = c.t + spec_->cursor().SecondsFromContact(s_.cursor, s_.cursor.phase);
   const config::KickFeedback& f = spec_->env().kick_feedback();
   const bool left = node.spec.pose().leg_swing().side() == config::LEFT;
   s_.swing_adjust.hip = f.hip_per_m() * ex;
@@ -444,10 +443,11 @@ float JuggleEnv::KickReward() {
   if (spec_->graph().node(target).stage != config::DOWN) return 0;  // stalls: no ballistic target
   const config::NodeSpec& node = spec_->graph().node(target).spec;
   const double g = spec_->env().gravity();
-  const double vz = ball_vel[2];
-  const double apex = ball[2] + vz * vz / (2 * g);
-  const double drop = std::max(0.0, ball[2] - node.contact_height());
-  const double t_land = (vz + std::sqrt(vz * vz + 2 * g * drop)) / g;
+  const double apex = ApexHeight(ball[2], ball_vel[2], g);
+  // A ball kicked from below the contact height is judged where it comes back down through
+  // its own height.
+  const double t_land =
+      SecondsToFall(ball_vel[2], std::max(0.0, ball[2] - node.contact_height()), g);
   const double* root = data_->qpos;
   const double dx = ball[0] + ball_vel[0] * t_land - root[0] - node.ball_target().x();
   const double dy = ball[1] + ball_vel[1] * t_land - root[1] - node.ball_target().y();

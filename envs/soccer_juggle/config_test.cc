@@ -69,6 +69,25 @@ TEST(SoccerJuggleConfigTest, ValidInlineGraphLoads) {
   EXPECT_EQ(loaded->config_path, kFile);
 }
 
+// Removed levers (docs/learning.md, "What did not help"): their field numbers are reserved and
+// their names are not, so an old config that still sets one fails at its line, naming it.
+TEST(SoccerJuggleConfigTest, RemovedLeverFieldsFailAtTheirLineNamingTheField) {
+  struct Removed {
+    std::string setting, field;
+  };
+  for (const Removed& r : {Removed{"ball_assist { kp: 20 kd: 4 }", "ball_assist"},
+                           Removed{"start { recorded_start_fraction: 0.3 }", "recorded_start_fraction"},
+                           Removed{"start { recorded_start_capacity: 64 }", "recorded_start_capacity"},
+                           Removed{"start { recorded_start_min_juggles: 1 }", "recorded_start_min_juggles"}}) {
+    const std::string text = WithGraph(ValidBody(), absl::StrCat("env {\n", r.setting, "\n}\n"));
+    const absl::StatusOr<LoadedConfig> loaded = ParseRunConfig(text, kFile);
+    ASSERT_EQ(loaded.status().code(), absl::StatusCode::kInvalidArgument) << r.field;
+    EXPECT_THAT(std::string(loaded.status().message()), StartsWith(LineOf(text, r.field)));
+    EXPECT_THAT(std::string(loaded.status().message()),
+                HasSubstr(absl::StrCat("has no field named \"", r.field, "\"")));
+  }
+}
+
 TEST(SoccerJuggleConfigTest, UnknownFieldIsATextFormatErrorAtItsLine) {
   const std::string text =
       WithGraph(Node("down", "DOWN", "initial: true colour: \"red\"") + Node("up", "UP") +

@@ -54,58 +54,8 @@ absl::Status JuggleEnv::Restore(const EnvSnapshot& snapshot) {
 
 void JuggleEnv::Reset(const AdaptiveWalk& walk) {
   s_.events.clear();
-  const config::StartVariation& start = spec_->env().start();
-  if (start.recorded_start_fraction() > 0 && !recorded_starts_.empty() &&
-      s_.rng.Uniform() < start.recorded_start_fraction()) {
-    StartFrom(recorded_starts_[s_.rng.UniformInt(recorded_starts_.size())]);
-    return;
-  }
   spec_->cursor().Reset(walk, &s_.rng, &s_.cursor);
   PlaceAtReference();
-}
-
-JuggleEnv::RecordedStart JuggleEnv::TakeRecordedStart() const {
-  RecordedStart s;
-  s.qpos.assign(data_->qpos, data_->qpos + model_->nq);
-  s.qvel.assign(data_->qvel, data_->qvel + model_->nv);
-  s.cursor = s_.cursor;
-  return s;
-}
-
-void JuggleEnv::StartFrom(const RecordedStart& s) {
-  s_.steps = 0;
-  s_.kick_touched = s_.kick_rewarded = false;
-  candidate_.reset();
-  mj_resetData(model_, data_.get());
-  mju_copy(data_->qpos, s.qpos.data(), model_->nq);
-  mju_copy(data_->qvel, s.qvel.data(), model_->nv);
-  s_.cursor = s.cursor;
-  s_.cursor.entered_by = -1;  // the episode's first node
-  s_.cursor.completions = 0;
-  s_.cursor.juggles = 0;
-  s_.swing_adjust = {};
-  ComputeReferencePose(*spec_, s_.cursor.current, s_.cursor.phase, &s_.reference, s_.swing_adjust);
-  s_.target = s_.reference;
-  PerturbStart(spec_->env().start());
-  mj_forward(model_, data_.get());
-}
-
-void JuggleEnv::RecordStartCandidates(bool entered_down, const StepResult& result) {
-  const config::StartVariation& start = spec_->env().start();
-  if (start.recorded_start_fraction() <= 0) return;
-  if (entered_down && result.outcome == Outcome::kRunning &&
-      s_.cursor.juggles >= start.recorded_start_min_juggles()) {
-    candidate_ = TakeRecordedStart();
-  }
-  if (!result.terminated() || !candidate_) return;
-  const size_t capacity = static_cast<size_t>(std::max(1, start.recorded_start_capacity()));
-  if (recorded_starts_.size() < capacity) {
-    recorded_starts_.push_back(std::move(*candidate_));
-  } else {
-    recorded_starts_[next_recorded_] = std::move(*candidate_);
-    next_recorded_ = (next_recorded_ + 1) % capacity;
-  }
-  candidate_.reset();
 }
 
 bool JuggleEnv::ResetAt(int node, const AdaptiveWalk& walk) {
@@ -118,7 +68,6 @@ bool JuggleEnv::ResetAt(int node, const AdaptiveWalk& walk) {
 void JuggleEnv::PlaceAtReference() {
   s_.steps = 0;
   s_.kick_touched = s_.kick_rewarded = false;
-  candidate_.reset();
   mj_resetData(model_, data_.get());
   const config::StartVariation& start = spec_->env().start();
   // A random phase of the initial DOWN node: the fall is already under way.
@@ -169,14 +118,7 @@ void JuggleEnv::PerturbStart(const config::StartVariation& start) {
   }
 }
 
-double JuggleEnv::assist_strength() const {
-  if (!spec_->env().has_ball_assist()) return 0;
-  const config::BallAssist& a = spec_->env().ball_assist();
-  if (a.anneal_iterations() <= 0) return 0;
-  return std::clamp(1.0 - static_cast<double>(s_.policy_version) / a.anneal_iterations(), 0.0, 1.0);
-}
-
-void JuggleEnv::ApplyTorques(const double* feedforward, double phase) {
+void JuggleEnv::ApplyTorques(const double* feedforward) {
   const double h = model_->opt.timestep;
   const double* qpos = data_->qpos;
   const double* qvel = data_->qvel;
@@ -201,21 +143,6 @@ void JuggleEnv::ApplyTorques(const double* feedforward, double phase) {
   xfrc[0] = force.x();
   xfrc[1] = force.y();
   xfrc[2] = force.z();
-  if (const double strength = assist_strength(); strength > 0) {
-    const config::BallAssist& a = spec_->env().ball_assist();
-    const double* ball = data_->qpos + spec_->ball_qpos();
-    const double* v = data_->qvel + spec_->ball_dof();
-    const BallReference ball_ref = spec_->cursor().DesiredBall(s_.cursor, phase);
-    const double target[3] = {qpos[0] + ball_ref.x, qpos[1] + ball_ref.y, ball_ref.z};
-    // Horizontal: spring and damper (the reference's horizontal velocity is the root's, ~0).
-    // Vertical: spring and damper on the errors from the reference flight's height and
-    // vertical velocity, so a free ball on its reference parabola feels nothing.
-    for (int c = 0; c < 2; ++c) xfrc[c] += strength * (-a.kp() * (ball[c] - target[c]) - a.kd() * v[c]);
-    if (a.vertical()) {
-      const double vz_ref = spec_->cursor().DesiredBallVelocity(s_.cursor, phase).z;
-      xfrc[2] += strength * (-a.kp() * (ball[2] - target[2]) - a.kd() * (v[2] - vz_ref));
-    }
-  }
 }
 
 void JuggleEnv::AddReferenceFeedforward(double phase, double* feedforward) {
@@ -491,7 +418,7 @@ StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
   StepResult result;
   const int substeps = spec_->env().substeps();
   for (int k = 0; k < substeps && result.outcome == Outcome::kRunning; ++k) {
-    ApplyTorques(feedforward, phase0 + s_.cursor.phase_speed * k / substeps);
+    ApplyTorques(feedforward);
     for (int w : kWatchedWarnings) data_->warning[w].number = 0;
     mj_step(model_, data_.get());
     if (Diverged()) {
@@ -501,13 +428,13 @@ StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
     result.outcome = CheckBallContacts(phase0 + s_.cursor.phase_speed * (k + 1) / substeps);
   }
 
-  bool entered_down = false;
   if (result.outcome == Outcome::kRunning) {
     const int before = s_.cursor.current;
     spec_->cursor().Advance(walk, &s_.rng, &s_.cursor, &s_.events);
-    entered_down = s_.cursor.current != before &&
-                   spec_->graph().node(s_.cursor.current).stage == config::DOWN;
-    if (entered_down) s_.kick_touched = s_.kick_rewarded = false;  // a new cycle
+    if (s_.cursor.current != before &&
+        spec_->graph().node(s_.cursor.current).stage == config::DOWN) {
+      s_.kick_touched = s_.kick_rewarded = false;  // a new cycle
+    }
     result.outcome = CheckTermination(ball_ref);
   }
   result.reward = result.outcome == Outcome::kDiverged ? 0.0f : ComputeReward(ball_ref);
@@ -517,7 +444,6 @@ StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
     result.outcome = Outcome::kTimeLimit;
   }
   if (result.terminated()) spec_->cursor().Fail(s_.cursor, &s_.events);
-  RecordStartCandidates(entered_down, result);
   return result;
 }
 

@@ -13,7 +13,6 @@
 
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <vector>
 
 #include <mujoco/mujoco.h>
@@ -31,8 +30,7 @@
 namespace juggle::soccer_juggle {
 
 // The env's own variables of an episode (the physics is in its mjData). Copyable: a snapshot
-// is this plus the physics. The recorded-start ring (env.start) is not part of it: it only
-// chooses later episodes' starts.
+// is this plus the physics.
 struct JuggleEnvState {
   Rng rng{0};
   CursorState cursor;
@@ -41,7 +39,6 @@ struct JuggleEnvState {
   SwingAdjust swing_adjust;  // env.kick_feedback's change of the current leg swing
   std::vector<EdgeEvent> events;
   int steps = 0;
-  int64_t policy_version = 0;
   // The current cycle's kick: the ball touched an allowed body, and the kick was rewarded.
   bool kick_touched = false;
   bool kick_rewarded = false;
@@ -86,10 +83,6 @@ class JuggleEnv : public juggle::Env {
   // Simulator state, for tests and tools (render, record). Mutating it is the caller's risk.
   mjData* data() override { return data_.get(); }
   const mjData* data() const override { return data_.get(); }
-  // Anneals env().ball_assist().
-  void SetPolicyVersion(int64_t version) override { s_.policy_version = version; }
-  // The ball assist's strength now, in [0, 1] (0 without an assist).
-  double assist_strength() const;
   // node, phase (JuggleSpec::annotation_channels).
   void AppendAnnotations(std::vector<double>* out) const override;
   // The episode's exact state; Restore continues it bit for bit (envs/env_snapshot.h).
@@ -102,9 +95,8 @@ class JuggleEnv : public juggle::Env {
   const CharacterPose& reference_pose() const { return s_.reference; }
 
  private:
-  // PD + feed-forward torques and the external forces on the ball (ball_force, the assist
-  // toward the ball reference at `phase`, the substep's own phase).
-  void ApplyTorques(const double* feedforward, double phase);
+  // PD + feed-forward torques and the constant force on the ball (env.ball_force).
+  void ApplyTorques(const double* feedforward);
   // Adds env.reference_feedforward × the inverse dynamics of the reference at `phase`.
   void AddReferenceFeedforward(double phase, double* feedforward);
   // Adds env.stance_balance's torques on the stance leg of a leg-swing node.
@@ -126,17 +118,6 @@ class JuggleEnv : public juggle::Env {
   void PlaceAtReference();
   // Adds env().start()'s noise to the ball and the actuated joints.
   void PerturbStart(const config::StartVariation& start);
-  // Recorded starts (env().start().recorded_start_fraction): a state to start from.
-  struct RecordedStart {
-    std::vector<double> qpos, qvel;
-    CursorState cursor;
-  };
-  RecordedStart TakeRecordedStart() const;
-  // Starts the episode from `s` (steps, juggles and the kick restart from zero).
-  void StartFrom(const RecordedStart& s);
-  // Keeps a snapshot at the start of each DOWN node (after enough juggles); when the episode
-  // fails, its last one joins the recorded starts.
-  void RecordStartCandidates(bool entered_down, const StepResult& result);
 
   std::shared_ptr<const JuggleSpec> spec_;
   const mjModel* model_;
@@ -144,10 +125,6 @@ class JuggleEnv : public juggle::Env {
   MjDataPtr id_data_;  // scratch for AddReferenceFeedforward; null when it is off
   // Everything of the episode beside the physics: what a snapshot copies.
   JuggleEnvState s_;
-  // Recorded starts: the latest candidate of this episode and the ring of failed ones.
-  std::optional<RecordedStart> candidate_;
-  std::vector<RecordedStart> recorded_starts_;
-  size_t next_recorded_ = 0;
 };
 
 }  // namespace juggle::soccer_juggle

@@ -75,7 +75,8 @@ TEST(SoccerJuggleConfigTest, RemovedLeverFieldsFailAtTheirLineNamingTheField) {
   struct Removed {
     std::string setting, field;
   };
-  for (const Removed& r : {Removed{"ball_assist { kp: 20 kd: 4 }", "ball_assist"},
+  for (const Removed& r : {Removed{"action_mode: PD_TARGET_OFFSET", "action_mode"},
+                           Removed{"ball_assist { kp: 20 kd: 4 }", "ball_assist"},
                            Removed{"start { recorded_start_fraction: 0.3 }", "recorded_start_fraction"},
                            Removed{"start { recorded_start_capacity: 64 }", "recorded_start_capacity"},
                            Removed{"start { recorded_start_min_juggles: 1 }", "recorded_start_min_juggles"}}) {

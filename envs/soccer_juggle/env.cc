@@ -80,7 +80,6 @@ void JuggleEnv::PlaceAtReference() {
   }
   s_.swing_adjust = {};
   ComputeReferencePose(*spec_, s_.cursor.current, s_.cursor.phase, &s_.reference, s_.swing_adjust);
-  s_.target = s_.reference;
   mju_copy(data_->qpos, s_.reference.data(), kCharacterNq);
   const BallReference ball = spec_->cursor().DesiredBall(s_.cursor, s_.cursor.phase);
   double* ball_qpos = data_->qpos + spec_->ball_qpos();
@@ -129,12 +128,12 @@ void JuggleEnv::ApplyTorques(const double* feedforward) {
     if (joint.dofs == 3) {
       // Stable PD: kp·(err − h·q̇); the damping kd·q̇ is the joint's implicit damping.
       double err[3];
-      mju_subQuat(err, s_.target.data() + joint.qpos_adr, qpos + joint.qpos_adr);
+      mju_subQuat(err, s_.reference.data() + joint.qpos_adr, qpos + joint.qpos_adr);
       for (int d = 0; d < 3; ++d) {
         tau[dof + d] = joint.kp * (err[d] - h * qvel[dof + d]) + feedforward[dof + d];
       }
     } else {
-      const double err = s_.target[joint.qpos_adr] - qpos[joint.qpos_adr];
+      const double err = s_.reference[joint.qpos_adr] - qpos[joint.qpos_adr];
       tau[dof] = joint.kp * (err - h * qvel[dof]) + feedforward[dof];
     }
   }
@@ -393,23 +392,12 @@ StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
 
   double feedforward[kCharacterNv] = {0};
   const double unit = spec_->env().action_torque();
-  const bool target_offsets = spec_->env().action_mode() == config::PD_TARGET_OFFSET;
-  s_.target = s_.reference;
   for (int j = 0; j < kNumJoints; ++j) {
     const ActuatedJoint& joint = spec_->joint(j);
-    double a[3];
     for (int d = 0; d < joint.dofs; ++d) {
-      a[d] = unit * joint.torque_scale *
-             std::clamp(static_cast<double>(action[joint.dof_adr + d - 6]), -1.0, 1.0);
-      if (!target_offsets) feedforward[joint.dof_adr + d] = a[d];
-    }
-    if (!target_offsets) continue;
-    // The same torque authority through the PD: offset = τ / kp.
-    for (int d = 0; d < joint.dofs; ++d) a[d] /= joint.kp;
-    if (joint.dofs == 3) {
-      mju_quatIntegrate(s_.target.data() + joint.qpos_adr, a, 1.0);
-    } else {
-      s_.target[joint.qpos_adr] += a[0];
+      feedforward[joint.dof_adr + d] =
+          unit * joint.torque_scale *
+          std::clamp(static_cast<double>(action[joint.dof_adr + d - 6]), -1.0, 1.0);
     }
   }
   if (id_data_ != nullptr) AddReferenceFeedforward(phase0, feedforward);

@@ -34,8 +34,7 @@ namespace juggle::soccer_juggle {
 struct JuggleEnvState {
   Rng rng{0};
   CursorState cursor;
-  CharacterPose reference{};
-  CharacterPose target{};  // the PD target: the reference, moved by PD_TARGET_OFFSET actions
+  CharacterPose reference{};  // the PD target
   SwingAdjust swing_adjust;  // env.kick_feedback's change of the current leg swing
   std::vector<EdgeEvent> events;
   int steps = 0;

@@ -207,32 +207,6 @@ TEST_F(JuggleEnvTest, RewardIsAtMostPointOneAndNearItOnTheReference) {
   EXPECT_GT(r.reward, 0.08f);
 }
 
-// PD_TARGET_OFFSET: the action moves the PD target with the same torque authority as a
-// feed-forward torque — one step of either moves the knee the same way by a similar amount.
-TEST_F(JuggleEnvTest, TargetOffsetActionsMoveTheJointLikeTheSameFeedforwardTorque) {
-  auto knee_change = [&](config::ActionMode mode, float value) {
-    LoadedConfig config = spec_->config();
-    config.run.mutable_soccer_juggle()->mutable_env()->set_action_mode(mode);
-    auto spec = JuggleSpec::Create(config);
-    EXPECT_TRUE(spec.ok()) << spec.status();
-    JuggleEnv env(*spec, Rng(3));
-    env.ResetAt(down_, *walk_);
-    const int knee = (*spec)->joint(kRightKnee).qpos_adr;
-    const double before = env.data()->qpos[knee];
-    float action[kNumActions] = {0};
-    action[(*spec)->joint(kRightKnee).dof_adr - 6] = value;
-    env.Step(action, *walk_);
-    return env.data()->qpos[knee] - before;
-  };
-  const double zero = knee_change(config::FEEDFORWARD_TORQUE, 0);
-  const double torque = knee_change(config::FEEDFORWARD_TORQUE, 0.5) - zero;
-  const double target = knee_change(config::PD_TARGET_OFFSET, 0.5) - zero;
-  EXPECT_EQ(knee_change(config::PD_TARGET_OFFSET, 0) - zero, 0.0) << "no action: the release";
-  EXPECT_GT(torque, 0.005);
-  EXPECT_GT(target, 0.005);
-  EXPECT_NEAR(target / torque, 1.0, 0.35);
-}
-
 TEST_F(JuggleEnvTest, BallErrorObservationIsTheBallMinusItsReferenceAfterTheOneHots) {
   LoadedConfig config = spec_->config();
   config.run.mutable_soccer_juggle()->mutable_env()->set_ball_error_observation(true);

@@ -69,17 +69,19 @@ TEST(SoccerJuggleConfigTest, ValidInlineGraphLoads) {
   EXPECT_EQ(loaded->config_path, kFile);
 }
 
-// Removed levers (docs/learning.md, "What did not help"): their field numbers are reserved and
+// Removed levers (docs/learning.md, "Removed levers"): their field numbers are reserved and
 // their names are not, so an old config that still sets one fails at its line, naming it.
 TEST(SoccerJuggleConfigTest, RemovedLeverFieldsFailAtTheirLineNamingTheField) {
   struct Removed {
     std::string setting, field;
   };
-  for (const Removed& r : {Removed{"action_mode: PD_TARGET_OFFSET", "action_mode"},
-                           Removed{"ball_assist { kp: 20 kd: 4 }", "ball_assist"},
-                           Removed{"start { recorded_start_fraction: 0.3 }", "recorded_start_fraction"},
-                           Removed{"start { recorded_start_capacity: 64 }", "recorded_start_capacity"},
-                           Removed{"start { recorded_start_min_juggles: 1 }", "recorded_start_min_juggles"}}) {
+  const std::vector<Removed> removed = {
+      {"action_mode: PD_TARGET_OFFSET", "action_mode"},
+      {"ball_assist { kp: 20 kd: 4 }", "ball_assist"},
+      {"start { recorded_start_fraction: 0.3 }", "recorded_start_fraction"},
+      {"start { recorded_start_capacity: 64 }", "recorded_start_capacity"},
+      {"start { recorded_start_min_juggles: 1 }", "recorded_start_min_juggles"}};
+  for (const Removed& r : removed) {
     const std::string text = WithGraph(ValidBody(), absl::StrCat("env {\n", r.setting, "\n}\n"));
     const absl::StatusOr<LoadedConfig> loaded = ParseRunConfig(text, kFile);
     ASSERT_EQ(loaded.status().code(), absl::StatusCode::kInvalidArgument) << r.field;

@@ -35,6 +35,9 @@ void ComputeReferencePose(const JuggleSpec& spec, int node, double phase, Charac
 // The upright-forward root orientation (w, x, y, z) = (√½, √½, 0, 0).
 extern const double kUprightQuat[4];
 
+// sin²(θ/2) of the rotation θ between unit quaternions a and b (sign-safe: q and −q agree).
+double RotationSin2(const double* a, const double* b);
+
 }  // namespace juggle::soccer_juggle
 
 #endif  // JUGGLE_ENVS_SOCCER_JUGGLE_REFERENCE_POSE_H_

@@ -487,8 +487,8 @@ TEST(ShippedFullGraphTest, StallSelfLoopsWeigh30AndTheOnceDisabledEdgesExist) {
     ASSERT_TRUE(e.has_value()) << stall;
     EXPECT_EQ(g.edge(*e).base_weight, 30.0) << stall;
   }
-  // The release's commented-out edges (reference-juggle.md §1.3) and the chest stall's way in
-  // and out.
+  // The edges the reference implementation left commented out (configs/graphs/full.textproto
+  // lists them) and the chest stall's way in and out.
   const std::vector<std::pair<std::string, std::string>> enabled = {
       {"left_foot_down", "left_foot_stall"}, {"left_foot_up", "chest_down"},
       {"chest_up", "left_knee_down"},        {"chest_up", "right_knee_down"},

@@ -1,6 +1,6 @@
 // Kinematic reference poses (the PD targets) of the control-graph nodes, as functions of the
-// phase. Generators follow the release (reference-juggle.md §2.4); keyframes are authored in
-// the config. Poses use DeepMimic's y-up joint frames (x forward, y up, z = right).
+// phase. Generators follow the reference implementation's (leg swing, head dip, chest lean;
+// docs/control_graph.md); keyframes are authored in the config. Poses use DeepMimic's y-up joint frames (x forward, y up, z = right).
 #ifndef JUGGLE_ENVS_SOCCER_JUGGLE_REFERENCE_POSE_H_
 #define JUGGLE_ENVS_SOCCER_JUGGLE_REFERENCE_POSE_H_
 

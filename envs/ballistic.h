@@ -1,5 +1,7 @@
-// A ball in free flight under gravity alone (the models have no air drag): where and when it
-// comes down through a height, and its apex. Pure functions, allocation-free.
+// A ball in free flight under gravity alone (the models have no air drag): when it comes down
+// through a height, where, and its apex. The one home of these formulas for every family
+// (soccer: the kick feedback and the kick reward; toss: a throw's landing; the planner's kick
+// outcomes). Pure functions, allocation-free.
 #ifndef JUGGLE_ENVS_BALLISTIC_H_
 #define JUGGLE_ENVS_BALLISTIC_H_
 
@@ -7,6 +9,13 @@
 #include <cmath>
 
 namespace juggle {
+
+// Seconds until a ball with vertical velocity vz, under gravity g > 0, is `drop` metres below
+// its current height on its way down: the later root of drop + vz·t − g·t²/2 = 0. A negative
+// drop is a height above the ball; NaN when the flight never reaches it.
+inline double SecondsToFall(double vz, double drop, double g) {
+  return (vz + std::sqrt(vz * vz + 2 * g * drop)) / g;
+}
 
 struct BallisticCrossing {
   double t = 0;         // s from now (0 if the ball is already below the height)
@@ -19,8 +28,7 @@ struct BallisticCrossing {
 inline BallisticCrossing DescendingCrossing(const double pos[3], const double vel[3], double g,
                                             double h) {
   const double drop = pos[2] - h;
-  const double vz = vel[2];
-  const double t = drop <= 0 ? 0.0 : (vz + std::sqrt(vz * vz + 2 * g * drop)) / g;
+  const double t = drop <= 0 ? 0.0 : SecondsToFall(vel[2], drop, g);
   return {t, pos[0] + vel[0] * t, pos[1] + vel[1] * t};
 }
 

@@ -70,9 +70,6 @@ class Env {
   // Named numbers about the episode that just ended (after the step that ended it), e.g. a
   // throw's release errors. The evaluation averages each over the episodes that report it.
   virtual void AppendEpisodeMetrics(std::vector<NamedValue>* out) const {}
-  // The version of the policy that acts in this env from now on (the trainer's iteration):
-  // curricula that anneal with training read it. Evaluation never sets it. Default: ignored.
-  virtual void SetPolicyVersion(int64_t version) {}
   // The family's annotation channels of the current state, in the order of
   // EnvSpec::annotation_channels() (soccer: node, phase; toss: hand modes). Recorded with
   // every trajectory sample (record/trajectory.h).

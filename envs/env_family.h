@@ -32,8 +32,8 @@ class EnvFamily {
   virtual absl::StatusOr<std::shared_ptr<const EnvSpec>> CreateSpec(
       const LoadedConfig& config, const std::string& model_mjb) const = 0;
   // Makes `run` an evaluation config: episodes may last `max_seconds` of simulated time (0: the
-  // config's limit) and training-only start curricula (restarts from recorded states, random
-  // phases) are off, so every evaluation starts from the task's start distribution.
+  // config's limit) and training-only start curricula (soccer: random start phases) are off,
+  // so every evaluation starts from the task's start distribution.
   // REQUIRES: `run` selects this family and was prepared; max_seconds >= 0.
   virtual void ConfigureForEvaluation(double max_seconds, config::RunConfig* run) const = 0;
   // Sets a constant world-frame force `force` (N, x y z) on the family's balls, for robustness

@@ -52,10 +52,6 @@ EnvPool::~EnvPool() {
   for (std::thread& t : threads_) t.join();
 }
 
-void EnvPool::SetPolicyVersion(int64_t version) {
-  for (std::unique_ptr<Env>& env : envs_) env->SetPolicyVersion(version);
-}
-
 void EnvPool::Reset() {
   for (int i = 0; i < num_envs(); ++i) {
     envs_[i]->Reset(walk_);

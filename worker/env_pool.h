@@ -50,8 +50,6 @@ class EnvPool {
 
   const PoolStep& output() const { return out_; }
   AdaptiveWalk* walk() { return &walk_; }
-  // Tells every env which policy version acts next (Env::SetPolicyVersion).
-  void SetPolicyVersion(int64_t version);
   void set_apply_events_locally(bool v) { apply_events_locally_ = v; }
   // Counters over the episodes finished since the last call.
   EpisodeCounters TakeStats();

@@ -183,7 +183,6 @@ class Session {
           EigenPolicy::Create(run.model(), *params, obs_dim, pool->act_dim());
       if (!policy.ok()) return policy.status();
       if (absl::Status s = pool->walk()->SetCounts(snap->edge_counts); !s.ok()) return s;
-      pool->SetPolicyVersion(snap->version);
       *version_seen = snap->version;
 
       // One contribution: an unroll of every env with this policy.

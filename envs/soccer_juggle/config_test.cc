@@ -69,6 +69,28 @@ TEST(SoccerJuggleConfigTest, ValidInlineGraphLoads) {
   EXPECT_EQ(loaded->config_path, kFile);
 }
 
+// Removed levers (docs/learning.md, "Removed levers"): their field numbers are reserved and
+// their names are not, so an old config that still sets one fails at its line, naming it.
+TEST(SoccerJuggleConfigTest, RemovedLeverFieldsFailAtTheirLineNamingTheField) {
+  struct Removed {
+    std::string setting, field;
+  };
+  const std::vector<Removed> removed = {
+      {"action_mode: PD_TARGET_OFFSET", "action_mode"},
+      {"ball_assist { kp: 20 kd: 4 }", "ball_assist"},
+      {"start { recorded_start_fraction: 0.3 }", "recorded_start_fraction"},
+      {"start { recorded_start_capacity: 64 }", "recorded_start_capacity"},
+      {"start { recorded_start_min_juggles: 1 }", "recorded_start_min_juggles"}};
+  for (const Removed& r : removed) {
+    const std::string text = WithGraph(ValidBody(), absl::StrCat("env {\n", r.setting, "\n}\n"));
+    const absl::StatusOr<LoadedConfig> loaded = ParseRunConfig(text, kFile);
+    ASSERT_EQ(loaded.status().code(), absl::StatusCode::kInvalidArgument) << r.field;
+    EXPECT_THAT(std::string(loaded.status().message()), StartsWith(LineOf(text, r.field)));
+    EXPECT_THAT(std::string(loaded.status().message()),
+                HasSubstr(absl::StrCat("has no field named \"", r.field, "\"")));
+  }
+}
+
 TEST(SoccerJuggleConfigTest, UnknownFieldIsATextFormatErrorAtItsLine) {
   const std::string text =
       WithGraph(Node("down", "DOWN", "initial: true colour: \"red\"") + Node("up", "UP") +
@@ -465,8 +487,8 @@ TEST(ShippedFullGraphTest, StallSelfLoopsWeigh30AndTheOnceDisabledEdgesExist) {
     ASSERT_TRUE(e.has_value()) << stall;
     EXPECT_EQ(g.edge(*e).base_weight, 30.0) << stall;
   }
-  // The release's commented-out edges (reference-juggle.md §1.3) and the chest stall's way in
-  // and out.
+  // The edges the reference implementation left commented out (configs/graphs/full.textproto
+  // lists them) and the chest stall's way in and out.
   const std::vector<std::pair<std::string, std::string>> enabled = {
       {"left_foot_down", "left_foot_stall"}, {"left_foot_up", "chest_down"},
       {"chest_up", "left_knee_down"},        {"chest_up", "right_knee_down"},

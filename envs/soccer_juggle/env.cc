@@ -5,6 +5,7 @@
 
 #include "common/status_macros.h"
 #include "envs/soccer_juggle/reference_pose.h"
+#include "envs/soccer_juggle/start_state.h"
 
 namespace juggle::soccer_juggle {
 
@@ -14,19 +15,12 @@ namespace {
 constexpr int kWatchedWarnings[] = {mjWARN_BADQACC, mjWARN_BADQPOS, mjWARN_BADQVEL,
                                     mjWARN_CONTACTFULL, mjWARN_CNSTRFULL};
 
-// sin²(θ/2) of the rotation between unit quaternions a and b.
-double RotationSin2(const double* a, const double* b) {
-  const double dot = mju_dot(a, b, 4);
-  return std::max(0.0, 1.0 - dot * dot);
-}
-
 }  // namespace
 
 JuggleEnv::JuggleEnv(std::shared_ptr<const JuggleSpec> spec, Rng rng)
-    : spec_(std::move(spec)), model_(spec_->model()), data_(mj_makeData(model_)) {
+    : spec_(std::move(spec)), model_(spec_->model()), data_(mj_makeData(model_)), base_(*spec_) {
   s_.rng = rng;
   s_.events.reserve(8);
-  if (spec_->env().reference_feedforward() != 0) id_data_.reset(mj_makeData(model_));
 }
 
 std::unique_ptr<Env> JuggleSpec::NewEnv(Rng rng) const {
@@ -53,129 +47,26 @@ absl::Status JuggleEnv::Restore(const EnvSnapshot& snapshot) {
 
 void JuggleEnv::Reset(const AdaptiveWalk& walk) {
   s_.events.clear();
-  const config::StartVariation& start = spec_->env().start();
-  if (start.recorded_start_fraction() > 0 && !recorded_starts_.empty() &&
-      s_.rng.Uniform() < start.recorded_start_fraction()) {
-    StartFrom(recorded_starts_[s_.rng.UniformInt(recorded_starts_.size())]);
-    return;
-  }
   spec_->cursor().Reset(walk, &s_.rng, &s_.cursor);
-  PlaceAtReference();
-}
-
-JuggleEnv::RecordedStart JuggleEnv::TakeRecordedStart() const {
-  RecordedStart s;
-  s.qpos.assign(data_->qpos, data_->qpos + model_->nq);
-  s.qvel.assign(data_->qvel, data_->qvel + model_->nv);
-  s.cursor = s_.cursor;
-  return s;
-}
-
-void JuggleEnv::StartFrom(const RecordedStart& s) {
-  s_.steps = 0;
-  s_.kick_touched = s_.kick_rewarded = false;
-  candidate_.reset();
-  mj_resetData(model_, data_.get());
-  mju_copy(data_->qpos, s.qpos.data(), model_->nq);
-  mju_copy(data_->qvel, s.qvel.data(), model_->nv);
-  s_.cursor = s.cursor;
-  s_.cursor.entered_by = -1;  // the episode's first node
-  s_.cursor.completions = 0;
-  s_.cursor.juggles = 0;
-  s_.swing_adjust = {};
-  ComputeReferencePose(*spec_, s_.cursor.current, s_.cursor.phase, &s_.reference, s_.swing_adjust);
-  s_.target = s_.reference;
-  PerturbStart(spec_->env().start());
-  mj_forward(model_, data_.get());
-}
-
-void JuggleEnv::RecordStartCandidates(bool entered_down, const StepResult& result) {
-  const config::StartVariation& start = spec_->env().start();
-  if (start.recorded_start_fraction() <= 0) return;
-  if (entered_down && result.outcome == Outcome::kRunning &&
-      s_.cursor.juggles >= start.recorded_start_min_juggles()) {
-    candidate_ = TakeRecordedStart();
-  }
-  if (!result.terminated() || !candidate_) return;
-  const size_t capacity = static_cast<size_t>(std::max(1, start.recorded_start_capacity()));
-  if (recorded_starts_.size() < capacity) {
-    recorded_starts_.push_back(std::move(*candidate_));
-  } else {
-    recorded_starts_[next_recorded_] = std::move(*candidate_);
-    next_recorded_ = (next_recorded_ + 1) % capacity;
-  }
-  candidate_.reset();
+  StartEpisode();
 }
 
 bool JuggleEnv::ResetAt(int node, const AdaptiveWalk& walk) {
   s_.events.clear();
   spec_->cursor().ResetAt(node, walk, &s_.rng, &s_.cursor);
-  PlaceAtReference();
+  StartEpisode();
   return true;
 }
 
-void JuggleEnv::PlaceAtReference() {
+void JuggleEnv::StartEpisode() {
   s_.steps = 0;
   s_.kick_touched = s_.kick_rewarded = false;
-  candidate_.reset();
-  mj_resetData(model_, data_.get());
-  const config::StartVariation& start = spec_->env().start();
-  // A random phase of the initial DOWN node: the fall is already under way.
-  double fall_s = 0;
-  if (start.random_phase_fraction() > 0 &&
-      spec_->graph().node(s_.cursor.current).stage == config::DOWN &&
-      s_.rng.Uniform() < start.random_phase_fraction()) {
-    s_.cursor.phase = s_.rng.Uniform(0, start.max_phase());
-    fall_s = s_.cursor.phase / s_.cursor.phase_speed * spec_->control_dt();
-  }
   s_.swing_adjust = {};
-  ComputeReferencePose(*spec_, s_.cursor.current, s_.cursor.phase, &s_.reference, s_.swing_adjust);
-  s_.target = s_.reference;
-  mju_copy(data_->qpos, s_.reference.data(), kCharacterNq);
-  const BallReference ball = spec_->cursor().DesiredBall(s_.cursor, s_.cursor.phase);
-  double* ball_qpos = data_->qpos + spec_->ball_qpos();
-  ball_qpos[0] = s_.reference[0] + ball.x;
-  ball_qpos[1] = s_.reference[1] + ball.y;
-  ball_qpos[2] = ball.z;
-  ball_qpos[3] = 1;
-  ball_qpos[4] = ball_qpos[5] = ball_qpos[6] = 0;
-  mju_zero(data_->qvel, model_->nv);
-  data_->qvel[spec_->ball_dof() + 2] = -spec_->env().gravity() * fall_s;
-  PerturbStart(start);
-  mj_forward(model_, data_.get());
+  s_.reward = {};
+  PlaceAtStart(*spec_, &s_.rng, &s_.cursor, &s_.reference, data_.get());
 }
 
-void JuggleEnv::PerturbStart(const config::StartVariation& start) {
-  double* qpos = data_->qpos;
-  double* qvel = data_->qvel;
-  auto noise = [this](double amplitude) {
-    return amplitude > 0 ? s_.rng.Uniform(-amplitude, amplitude) : 0.0;
-  };
-  double* ball = qpos + spec_->ball_qpos();
-  double* ball_vel = qvel + spec_->ball_dof();
-  for (int c = 0; c < 3; ++c) ball[c] += noise(start.ball_position());
-  for (int c = 0; c < 3; ++c) ball_vel[c] += noise(start.ball_velocity());
-  for (int j = 0; j < kNumJoints; ++j) {
-    const ActuatedJoint& joint = spec_->joint(j);
-    if (joint.dofs == 3) {
-      double rotation[3];
-      for (double& r : rotation) r = noise(start.joint_angle());
-      mju_quatIntegrate(qpos + joint.qpos_adr, rotation, 1.0);
-    } else {
-      qpos[joint.qpos_adr] += noise(start.joint_angle());
-    }
-    for (int d = 0; d < joint.dofs; ++d) qvel[joint.dof_adr + d] += noise(start.joint_speed());
-  }
-}
-
-double JuggleEnv::assist_strength() const {
-  if (!spec_->env().has_ball_assist()) return 0;
-  const config::BallAssist& a = spec_->env().ball_assist();
-  if (a.anneal_iterations() <= 0) return 0;
-  return std::clamp(1.0 - static_cast<double>(s_.policy_version) / a.anneal_iterations(), 0.0, 1.0);
-}
-
-void JuggleEnv::ApplyTorques(const double* feedforward, double phase) {
+void JuggleEnv::ApplyTorques(const double* feedforward) {
   const double h = model_->opt.timestep;
   const double* qpos = data_->qpos;
   const double* qvel = data_->qvel;
@@ -186,12 +77,12 @@ void JuggleEnv::ApplyTorques(const double* feedforward, double phase) {
     if (joint.dofs == 3) {
       // Stable PD: kp·(err − h·q̇); the damping kd·q̇ is the joint's implicit damping.
       double err[3];
-      mju_subQuat(err, s_.target.data() + joint.qpos_adr, qpos + joint.qpos_adr);
+      mju_subQuat(err, s_.reference.data() + joint.qpos_adr, qpos + joint.qpos_adr);
       for (int d = 0; d < 3; ++d) {
         tau[dof + d] = joint.kp * (err[d] - h * qvel[dof + d]) + feedforward[dof + d];
       }
     } else {
-      const double err = s_.target[joint.qpos_adr] - qpos[joint.qpos_adr];
+      const double err = s_.reference[joint.qpos_adr] - qpos[joint.qpos_adr];
       tau[dof] = joint.kp * (err - h * qvel[dof]) + feedforward[dof];
     }
   }
@@ -200,106 +91,6 @@ void JuggleEnv::ApplyTorques(const double* feedforward, double phase) {
   xfrc[0] = force.x();
   xfrc[1] = force.y();
   xfrc[2] = force.z();
-  if (const double strength = assist_strength(); strength > 0) {
-    const config::BallAssist& a = spec_->env().ball_assist();
-    const double* ball = data_->qpos + spec_->ball_qpos();
-    const double* v = data_->qvel + spec_->ball_dof();
-    const BallReference ball_ref = spec_->cursor().DesiredBall(s_.cursor, phase);
-    const double target[3] = {qpos[0] + ball_ref.x, qpos[1] + ball_ref.y, ball_ref.z};
-    // Horizontal: spring and damper (the reference's horizontal velocity is the root's, ~0).
-    // Vertical: spring and damper on the errors from the reference flight's height and
-    // vertical velocity, so a free ball on its reference parabola feels nothing.
-    for (int c = 0; c < 2; ++c) xfrc[c] += strength * (-a.kp() * (ball[c] - target[c]) - a.kd() * v[c]);
-    if (a.vertical()) {
-      const double vz_ref = spec_->cursor().DesiredBallVelocity(s_.cursor, phase).z;
-      xfrc[2] += strength * (-a.kp() * (ball[2] - target[2]) - a.kd() * (v[2] - vz_ref));
-    }
-  }
-}
-
-void JuggleEnv::AddReferenceFeedforward(double phase, double* feedforward) {
-  // Reference pose, velocity and acceleration by central differences over ± half a control
-  // step; the character is lifted out of contact and its root held still (qacc 0).
-  constexpr double kLift = 100;  // m
-  const int nq = model_->nq, nv = model_->nv;
-  const double dt = 0.5 * spec_->control_dt();
-  const double dphase = 0.5 * s_.cursor.phase_speed;
-  mjData* d = id_data_.get();
-  mjMARKSTACK;
-  mjtNum* q_minus = mj_stackAlloc(d, nq);
-  mjtNum* q_plus = mj_stackAlloc(d, nq);
-  mjtNum* v_minus = mj_stackAlloc(d, nv);
-  mjtNum* v_plus = mj_stackAlloc(d, nv);
-  CharacterPose pose;
-  auto load = [&](const CharacterPose& p, mjtNum* qpos) {
-    mju_copy(qpos, data_->qpos, nq);  // the ball stays where it is, far below the character
-    mju_copy(qpos, p.data(), kCharacterNq);
-    qpos[2] += kLift;
-  };
-  load(s_.reference, d->qpos);
-  ComputeReferencePose(*spec_, s_.cursor.current, phase - dphase, &pose, s_.swing_adjust);
-  load(pose, q_minus);
-  ComputeReferencePose(*spec_, s_.cursor.current, phase + dphase, &pose, s_.swing_adjust);
-  load(pose, q_plus);
-  mj_differentiatePos(model_, v_minus, dt, q_minus, d->qpos);
-  mj_differentiatePos(model_, v_plus, dt, d->qpos, q_plus);
-  for (int i = 0; i < nv; ++i) {
-    d->qvel[i] = 0.5 * (v_minus[i] + v_plus[i]);
-    d->qacc[i] = (v_plus[i] - v_minus[i]) / dt;
-  }
-  mju_zero(d->qvel, 6);
-  mju_zero(d->qacc, 6);
-  mju_zero(d->qvel + spec_->ball_dof(), 6);
-  mju_zero(d->qacc + spec_->ball_dof(), 6);
-  mj_inverse(model_, d);
-  const double gain = spec_->env().reference_feedforward();
-  const double h = model_->opt.timestep;
-  for (int j = 0; j < kNumJoints; ++j) {
-    const ActuatedJoint& joint = spec_->joint(j);
-    for (int k = joint.dof_adr; k < joint.dof_adr + joint.dofs; ++k) {
-      // qfrc_inverse includes the damping drag kd·q̇; kp·h·q̇ is the stable PD's own drag.
-      feedforward[k] += gain * (d->qfrc_inverse[k] + joint.kp * h * d->qvel[k]);
-    }
-  }
-  mjFREESTACK;
-}
-
-void JuggleEnv::AddStanceBalance(double* feedforward) {
-  const config::StanceBalance& b = spec_->env().stance_balance();
-  const config::ReferencePose& ref = spec_->graph().node(s_.cursor.current).spec.pose();
-  if (!ref.has_leg_swing()) return;
-  const bool kick_left = ref.leg_swing().side() == config::LEFT;
-  const ActuatedJoint& hip = spec_->joint(kick_left ? kRightHip : kLeftHip);
-  const ActuatedJoint& ankle = spec_->joint(kick_left ? kRightAnkle : kLeftAnkle);
-  const int foot = model_->dof_bodyid[ankle.dof_adr];
-  // Each term is clamped to the joint's feed-forward range, as a policy action would be.
-  auto add = [&](const ActuatedJoint& joint, const double tau[3]) {
-    const double limit = spec_->env().action_torque() * joint.torque_scale;
-    for (int i = 0; i < 3; ++i) {
-      feedforward[joint.dof_adr + i] += std::clamp(tau[i], -limit, limit);
-    }
-  };
-  double tau_ankle[3] = {0, 0, 0}, tau_hip[3] = {0, 0, 0};
-  if (b.com_kp() != 0 || b.com_kd() != 0) {
-    mj_subtreeVel(model_, data_.get());  // COM velocity of the character (the root's subtree)
-    const int root = spec_->root_body();
-    const double* com = data_->subtree_com + 3 * root;
-    const double* vel = data_->subtree_linvel + 3 * root;
-    const double* pos = data_->xpos + 3 * foot;
-    const double ex = com[0] - pos[0] - b.com_x(), ey = com[1] - pos[1] - b.com_y();
-    const double world[3] = {-(b.com_kp() * ey + b.com_kd() * vel[1]),
-                             b.com_kp() * ex + b.com_kd() * vel[0], 0};
-    mju_mulMatTVec(tau_ankle, data_->xmat + 9 * foot, world, 3, 3);  // into the foot frame
-  }
-  if (b.pelvis_kp() != 0 || b.pelvis_kd() != 0 || b.yaw_kp() != 0 || b.yaw_kd() != 0) {
-    double tilt[3];
-    mju_subQuat(tilt, data_->qpos + 3, kUprightQuat);
-    const double* w = data_->qvel + 3;
-    for (int i : {0, 2}) tau_hip[i] = b.pelvis_kp() * tilt[i] + b.pelvis_kd() * w[i];
-    tau_hip[1] = b.yaw_kp() * tilt[1] + b.yaw_kd() * w[1];  // about the root's vertical (y)
-  }
-  add(ankle, tau_ankle);
-  add(hip, tau_hip);
 }
 
 bool JuggleEnv::Diverged() const {
@@ -373,125 +164,43 @@ Outcome JuggleEnv::CheckTermination(const BallReference& ball_ref) const {
   return Outcome::kRunning;
 }
 
-float JuggleEnv::ComputeReward(const BallReference& ball_ref) const {
-  const config::RewardConfig& w = spec_->env().reward();
-  const double* qpos = data_->qpos;
-  const double* qvel = data_->qvel;
-  double joint_err = 0;
-  for (int j = 0; j < kNumJoints; ++j) {
-    const ActuatedJoint& joint = spec_->joint(j);
-    const int adr = joint.qpos_adr;
-    if (joint.dofs == 3) {
-      joint_err += RotationSin2(qpos + adr, s_.reference.data() + adr);
-    } else {
-      const double d = qpos[adr] - s_.reference[adr];
-      joint_err += d * d;
-    }
-  }
-  const double dz = qpos[2] - s_.reference[2];
-  const double pos_err = qvel[0] * qvel[0] + qvel[1] * qvel[1] + dz * dz;
-  const double ori_err = RotationSin2(qpos + 3, s_.reference.data() + 3);
-  const double* ball = qpos + spec_->ball_qpos();
-  const double bx = ball_ref.x - (ball[0] - qpos[0]);
-  const double by = ball_ref.y - (ball[1] - qpos[1]);
-  const double bz = ball_ref.z - ball[2];
-  const double ball_err = bx * bx + by * by + w.ball_z_weight() * bz * bz;
-  const double r = w.w_position() * std::exp(-pos_err) +
-                   w.w_orientation() * std::exp(-w.orientation_k() * ori_err) +
-                   w.w_joint() * std::exp(-w.joint_k() * joint_err) +
-                   w.w_ball() * std::exp(-ball_err);
-  return static_cast<float>(w.scale() * r);
-}
-
-void JuggleEnv::UpdateSwingAdjust() {
-  if (!spec_->env().has_kick_feedback()) return;
-  const GraphNode& node = spec_->graph().node(s_.cursor.current);
-  if (node.stage != config::DOWN || s_.kick_touched || !node.spec.pose().has_leg_swing()) return;
-  const double* qpos = data_->qpos;
-  const double* ball = qpos + spec_->ball_qpos();
-  const double* ball_vel = data_->qvel + spec_->ball_dof();
-  const double g = spec_->env().gravity();
-  const double drop = ball[2] - node.spec.contact_height();
-  if (drop <= 0) return;  // at the contact height already: hold
-  const double vz = ball_vel[2];
-  const double t = (vz + std::sqrt(vz * vz + 2 * g * drop)) / g;  // free fall to the height
-  const double ex = ball[0] + ball_vel[0] * t - qpos[0] - node.spec.ball_target().x();
-  const double ey = ball[1] + ball_vel[1] * t - qpos[1] - node.spec.ball_target().y();
-  const double late = t + spec_->cursor().SecondsFromContact(s_.cursor, s_.cursor.phase);
-  const config::KickFeedback& f = spec_->env().kick_feedback();
-  const bool left = node.spec.pose().leg_swing().side() == config::LEFT;
-  s_.swing_adjust.hip = f.hip_per_m() * ex;
-  s_.swing_adjust.knee = f.knee_per_m() * ex;
-  s_.swing_adjust.abduction = f.abduction_per_m() * ey * (left ? 1 : -1);
-  const double cycle_s = spec_->control_dt() / s_.cursor.phase_speed;
-  s_.swing_adjust.phase = -f.timing() * late / cycle_s;
-}
-
-float JuggleEnv::KickReward() {
+float JuggleEnv::TrackKick() {
   if (s_.touched_this_step) {
     s_.kick_touched = true;
     return 0;
   }
-  const config::RewardConfig& w = spec_->env().reward();
-  const double* ball = data_->qpos + spec_->ball_qpos();
-  const double* ball_vel = data_->qvel + spec_->ball_dof();
-  if (!s_.kick_touched || s_.kick_rewarded || ball_vel[2] <= 0 || w.w_kick() == 0) return 0;
+  const double ball_vz = data_->qvel[spec_->ball_dof() + 2];
+  if (!s_.kick_touched || s_.kick_rewarded || ball_vz <= 0 || spec_->env().reward().w_kick() == 0) {
+    return 0;
+  }
   s_.kick_rewarded = true;
-  // The DOWN node the ball is sent to: the next one after the current node.
-  const CursorState& c = s_.cursor;
-  int target = c.next;
-  if (spec_->graph().node(c.current).stage == config::DOWN) target = c.next_next;
-  if (spec_->graph().node(target).stage != config::DOWN) return 0;  // stalls: no ballistic target
-  const config::NodeSpec& node = spec_->graph().node(target).spec;
-  const double g = spec_->env().gravity();
-  const double vz = ball_vel[2];
-  const double apex = ball[2] + vz * vz / (2 * g);
-  const double drop = std::max(0.0, ball[2] - node.contact_height());
-  const double t_land = (vz + std::sqrt(vz * vz + 2 * g * drop)) / g;
-  const double* root = data_->qpos;
-  const double dx = ball[0] + ball_vel[0] * t_land - root[0] - node.ball_target().x();
-  const double dy = ball[1] + ball_vel[1] * t_land - root[1] - node.ball_target().y();
-  const double de = apex - NominalApexHeight(node, g);
-  return static_cast<float>(
-      w.w_kick() * std::exp(-w.kick_apex_k() * de * de - w.kick_landing_k() * (dx * dx + dy * dy)));
+  return KickReward(*spec_, *data_, s_.cursor);
 }
 
 StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
   s_.events.clear();
   s_.touched_this_step = false;
   const double phase0 = s_.cursor.phase;
-  UpdateSwingAdjust();
+  base_.UpdateSwingAdjust(*data_, s_.cursor, s_.kick_touched, &s_.swing_adjust);
   ComputeReferencePose(*spec_, s_.cursor.current, phase0, &s_.reference, s_.swing_adjust);
   const BallReference ball_ref = spec_->cursor().DesiredBall(s_.cursor, phase0);
 
   double feedforward[kCharacterNv] = {0};
   const double unit = spec_->env().action_torque();
-  const bool target_offsets = spec_->env().action_mode() == config::PD_TARGET_OFFSET;
-  s_.target = s_.reference;
   for (int j = 0; j < kNumJoints; ++j) {
     const ActuatedJoint& joint = spec_->joint(j);
-    double a[3];
     for (int d = 0; d < joint.dofs; ++d) {
-      a[d] = unit * joint.torque_scale *
-             std::clamp(static_cast<double>(action[joint.dof_adr + d - 6]), -1.0, 1.0);
-      if (!target_offsets) feedforward[joint.dof_adr + d] = a[d];
-    }
-    if (!target_offsets) continue;
-    // The same torque authority through the PD: offset = τ / kp.
-    for (int d = 0; d < joint.dofs; ++d) a[d] /= joint.kp;
-    if (joint.dofs == 3) {
-      mju_quatIntegrate(s_.target.data() + joint.qpos_adr, a, 1.0);
-    } else {
-      s_.target[joint.qpos_adr] += a[0];
+      feedforward[joint.dof_adr + d] =
+          unit * joint.torque_scale *
+          std::clamp(static_cast<double>(action[joint.dof_adr + d - 6]), -1.0, 1.0);
     }
   }
-  if (id_data_ != nullptr) AddReferenceFeedforward(phase0, feedforward);
-  if (spec_->env().has_stance_balance()) AddStanceBalance(feedforward);
+  base_.AddFeedforward(s_.cursor, s_.reference, s_.swing_adjust, data_.get(), feedforward);
 
   StepResult result;
   const int substeps = spec_->env().substeps();
   for (int k = 0; k < substeps && result.outcome == Outcome::kRunning; ++k) {
-    ApplyTorques(feedforward, phase0 + s_.cursor.phase_speed * k / substeps);
+    ApplyTorques(feedforward);
     for (int w : kWatchedWarnings) data_->warning[w].number = 0;
     mj_step(model_, data_.get());
     if (Diverged()) {
@@ -501,23 +210,26 @@ StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
     result.outcome = CheckBallContacts(phase0 + s_.cursor.phase_speed * (k + 1) / substeps);
   }
 
-  bool entered_down = false;
   if (result.outcome == Outcome::kRunning) {
     const int before = s_.cursor.current;
     spec_->cursor().Advance(walk, &s_.rng, &s_.cursor, &s_.events);
-    entered_down = s_.cursor.current != before &&
-                   spec_->graph().node(s_.cursor.current).stage == config::DOWN;
-    if (entered_down) s_.kick_touched = s_.kick_rewarded = false;  // a new cycle
+    if (s_.cursor.current != before &&
+        spec_->graph().node(s_.cursor.current).stage == config::DOWN) {
+      s_.kick_touched = s_.kick_rewarded = false;  // a new cycle
+    }
     result.outcome = CheckTermination(ball_ref);
   }
-  result.reward = result.outcome == Outcome::kDiverged ? 0.0f : ComputeReward(ball_ref);
-  if (result.outcome == Outcome::kRunning) result.reward += KickReward();
+  s_.reward = {};
+  if (result.outcome != Outcome::kDiverged) {
+    s_.reward = TrackingReward(*spec_, *data_, s_.reference, ball_ref);
+  }
+  if (result.outcome == Outcome::kRunning) s_.reward.kick = TrackKick();
+  result.reward = s_.reward.Total();
   ++s_.steps;
   if (result.outcome == Outcome::kRunning && s_.steps >= spec_->env().max_episode_steps()) {
     result.outcome = Outcome::kTimeLimit;
   }
   if (result.terminated()) spec_->cursor().Fail(s_.cursor, &s_.events);
-  RecordStartCandidates(entered_down, result);
   return result;
 }
 

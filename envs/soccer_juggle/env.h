@@ -1,51 +1,53 @@
 // One soccer-juggling environment: a humanoid and a ball in MuJoCo, driven by stable PD
-// tracking of the control graph's reference pose plus the policy's feed-forward torques.
+// tracking of the control graph's reference pose plus the policy's feed-forward torques and
+// the base controller's (base_controller.h).
 //
 // Control step (50 Hz) = `substeps` physics steps (400 Hz). Order within Step():
-//   1. reference pose and ball reference at the current (pre-step) phase;
+//   1. the kick feedback's swing change, then the reference pose and ball reference at the
+//      current (pre-step) phase; the policy's and the base controller's feed-forward torques;
 //   2. per substep: PD + feed-forward torques into qfrc_applied, mj_step, divergence check,
 //      ball-contact checks (allowed bodies, timing window, ball height);
 //   3. advance the graph cursor (transitions, edge events);
-//   4. reward (post-step state vs the step-1 reference) and termination checks.
-// The env does not reset itself; EnvPool does. Thread-compatible: one thread at a time.
+//   4. termination checks and the reward (reward.h: the post-step state vs the step-1
+//      reference, and the kick term).
+// Episodes start as start_state.h says. The env does not reset itself; EnvPool does.
+// Thread-compatible: one thread at a time.
 #ifndef JUGGLE_ENVS_SOCCER_JUGGLE_ENV_H_
 #define JUGGLE_ENVS_SOCCER_JUGGLE_ENV_H_
 
-#include <cstdint>
 #include <memory>
-#include <optional>
 #include <vector>
 
 #include <mujoco/mujoco.h>
 
 #include "common/adaptive_walk.h"
-#include "envs/soccer_juggle/graph_cursor.h"
 #include "common/rng.h"
 #include "envs/env.h"
 #include "envs/env_snapshot.h"
 #include "envs/mujoco_model.h"
+#include "envs/soccer_juggle/base_controller.h"
+#include "envs/soccer_juggle/graph_cursor.h"
 #include "envs/soccer_juggle/outcomes.h"
 #include "envs/soccer_juggle/reference_pose.h"
+#include "envs/soccer_juggle/reward.h"
 #include "envs/soccer_juggle/spec.h"
 
 namespace juggle::soccer_juggle {
 
 // The env's own variables of an episode (the physics is in its mjData). Copyable: a snapshot
-// is this plus the physics. The recorded-start ring (env.start) is not part of it: it only
-// chooses later episodes' starts.
+// is this plus the physics.
 struct JuggleEnvState {
   Rng rng{0};
   CursorState cursor;
-  CharacterPose reference{};
-  CharacterPose target{};  // the PD target: the reference, moved by PD_TARGET_OFFSET actions
+  CharacterPose reference{};  // the PD target
   SwingAdjust swing_adjust;  // env.kick_feedback's change of the current leg swing
   std::vector<EdgeEvent> events;
   int steps = 0;
-  int64_t policy_version = 0;
   // The current cycle's kick: the ball touched an allowed body, and the kick was rewarded.
   bool kick_touched = false;
   bool kick_rewarded = false;
   bool touched_this_step = false;
+  RewardTerms reward;  // the last step's reward, term by term (zero after a reset)
 };
 
 class JuggleSnapshot final : public EnvSnapshot {
@@ -60,9 +62,8 @@ class JuggleEnv : public juggle::Env {
   JuggleEnv(const JuggleEnv&) = delete;
   JuggleEnv& operator=(const JuggleEnv&) = delete;
 
-  // Starts an episode at a random initial node: character at the reference pose, ball at its
-  // apex, both at rest, then varied by env().start() (noise, optionally a random phase). Events
-  // are cleared.
+  // Starts an episode at a random initial node (start_state.h: character at the reference
+  // pose, ball at its apex, both at rest, then varied by env().start()). Events are cleared.
   void Reset(const AdaptiveWalk& walk) override;
   // Starts an episode at DOWN node `node` (REQUIRES: a DOWN node). Returns true.
   bool ResetAt(int node, const AdaptiveWalk& walk) override;
@@ -86,10 +87,6 @@ class JuggleEnv : public juggle::Env {
   // Simulator state, for tests and tools (render, record). Mutating it is the caller's risk.
   mjData* data() override { return data_.get(); }
   const mjData* data() const override { return data_.get(); }
-  // Anneals env().ball_assist().
-  void SetPolicyVersion(int64_t version) override { s_.policy_version = version; }
-  // The ball assist's strength now, in [0, 1] (0 without an assist).
-  double assist_strength() const;
   // node, phase (JuggleSpec::annotation_channels).
   void AppendAnnotations(std::vector<double>* out) const override;
   // The episode's exact state; Restore continues it bit for bit (envs/env_snapshot.h).
@@ -102,52 +99,26 @@ class JuggleEnv : public juggle::Env {
   const CharacterPose& reference_pose() const { return s_.reference; }
 
  private:
-  // PD + feed-forward torques and the external forces on the ball (ball_force, the assist
-  // toward the ball reference at `phase`, the substep's own phase).
-  void ApplyTorques(const double* feedforward, double phase);
-  // Adds env.reference_feedforward × the inverse dynamics of the reference at `phase`.
-  void AddReferenceFeedforward(double phase, double* feedforward);
-  // Adds env.stance_balance's torques on the stance leg of a leg-swing node.
-  void AddStanceBalance(double* feedforward);
+  // The episode's counters and kick restart from zero; the physics at the start of the
+  // cursor's node (PlaceAtStart).
+  void StartEpisode();
+  // PD + feed-forward torques and the constant force on the ball (env.ball_force).
+  void ApplyTorques(const double* feedforward);
   // Also notes an allowed touch of the ball in s_.touched_this_step.
   Outcome CheckBallContacts(double substep_phase);
   Outcome CheckTermination(const BallReference& ball_ref) const;
-  float ComputeReward(const BallReference& ball_ref) const;
-  // reward.w_kick's one-time reward when the ball has just left the foot going up (0 otherwise);
-  // tracks the kick of the current cycle.
-  float KickReward();
-  // env.kick_feedback: recomputes s_.swing_adjust from the ball's free flight while the current
-  // leg-swing DOWN node has not touched the ball; holds it otherwise.
-  void UpdateSwingAdjust();
+  // Follows the current cycle's kick — a touch this step sets kick_touched — and returns reward
+  // term 5 at its release (the first step after the touch with the ball going up; once per kick,
+  // and only with reward.w_kick on), 0 otherwise.
+  float TrackKick();
   bool Diverged() const;
-  // Character at the reference pose of the cursor's node and phase (a random phase of a DOWN
-  // node when start.random_phase_fraction draws it), ball on its reference path, both moved by
-  // the start variation.
-  void PlaceAtReference();
-  // Adds env().start()'s noise to the ball and the actuated joints.
-  void PerturbStart(const config::StartVariation& start);
-  // Recorded starts (env().start().recorded_start_fraction): a state to start from.
-  struct RecordedStart {
-    std::vector<double> qpos, qvel;
-    CursorState cursor;
-  };
-  RecordedStart TakeRecordedStart() const;
-  // Starts the episode from `s` (steps, juggles and the kick restart from zero).
-  void StartFrom(const RecordedStart& s);
-  // Keeps a snapshot at the start of each DOWN node (after enough juggles); when the episode
-  // fails, its last one joins the recorded starts.
-  void RecordStartCandidates(bool entered_down, const StepResult& result);
 
   std::shared_ptr<const JuggleSpec> spec_;
   const mjModel* model_;
   MjDataPtr data_;
-  MjDataPtr id_data_;  // scratch for AddReferenceFeedforward; null when it is off
+  BaseController base_;
   // Everything of the episode beside the physics: what a snapshot copies.
   JuggleEnvState s_;
-  // Recorded starts: the latest candidate of this episode and the ring of failed ones.
-  std::optional<RecordedStart> candidate_;
-  std::vector<RecordedStart> recorded_starts_;
-  size_t next_recorded_ = 0;
 };
 
 }  // namespace juggle::soccer_juggle

@@ -75,8 +75,6 @@ class SoccerJuggleFamily final : public EnvFamily {
       env->set_max_episode_steps(static_cast<int>(std::ceil(max_seconds / control_dt - 1e-9)));
     }
     env->mutable_start()->set_random_phase_fraction(0);
-    env->mutable_start()->set_recorded_start_fraction(0);
-    env->clear_ball_assist();
   }
   absl::Status SetConstantBallForce(const double force[3], config::RunConfig* run) const override {
     config::Vec3* f = run->mutable_soccer_juggle()->mutable_env()->mutable_ball_force();

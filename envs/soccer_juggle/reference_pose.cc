@@ -7,6 +7,11 @@ namespace juggle::soccer_juggle {
 
 const double kUprightQuat[4] = {M_SQRT1_2, M_SQRT1_2, 0, 0};
 
+double RotationSin2(const double* a, const double* b) {
+  const double dot = mju_dot(a, b, 4);
+  return std::max(0.0, 1.0 - dot * dot);
+}
+
 void SetBallJointRotation(const JuggleSpec& spec, JointId j, const double rotvec[3],
                           CharacterPose* pose) {
   double* q = pose->data() + spec.joint(j).qpos_adr;

@@ -1,6 +1,6 @@
 // Kinematic reference poses (the PD targets) of the control-graph nodes, as functions of the
-// phase. Generators follow the release (reference-juggle.md §2.4); keyframes are authored in
-// the config. Poses use DeepMimic's y-up joint frames (x forward, y up, z = right).
+// phase. Generators follow the reference implementation's (leg swing, head dip, chest lean;
+// docs/control_graph.md); keyframes are authored in the config. Poses use DeepMimic's y-up joint frames (x forward, y up, z = right).
 #ifndef JUGGLE_ENVS_SOCCER_JUGGLE_REFERENCE_POSE_H_
 #define JUGGLE_ENVS_SOCCER_JUGGLE_REFERENCE_POSE_H_
 
@@ -34,6 +34,9 @@ void ComputeReferencePose(const JuggleSpec& spec, int node, double phase, Charac
 
 // The upright-forward root orientation (w, x, y, z) = (√½, √½, 0, 0).
 extern const double kUprightQuat[4];
+
+// sin²(θ/2) of the rotation θ between unit quaternions a and b (sign-safe: q and −q agree).
+double RotationSin2(const double* a, const double* b);
 
 }  // namespace juggle::soccer_juggle
 

@@ -18,7 +18,8 @@ const char* const kJointNames[kNumJoints] = {
 
 namespace {
 
-// The release's gains and feed-forward scales (reference-juggle.md §3.2).
+// The release's gains and feed-forward scales (the reference implementation's;
+// docs/environment.md, "Control").
 struct DefaultGains {
   double kp, kd, scale;
 };
@@ -207,7 +208,7 @@ absl::Status JuggleSpecBuilder::ResolveRestPose(JuggleSpec* s) {
   }
   const config::EnvConfig& env = s->env();
   if (env.rest_pose_size() == 0) {
-    // Release arm pose: elbows bent 1.57, shoulders abducted 0.7 about x (§2.4).
+    // The release's arm pose: elbows bent 1.57, shoulders abducted 0.7 about x.
     SetHinge(*s, kRightElbow, 1.57, &pose);
     SetHinge(*s, kLeftElbow, 1.57, &pose);
     SetBallJointAxisRotation(*s, kRightShoulder, 0, -0.7, &pose);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "envs/ballistic.h"
+
 namespace juggle::toss {
 namespace {
 
@@ -223,10 +225,8 @@ Vec2 TossWorld::ball_velocity(int ball) const {
 }
 
 BallisticLanding PredictLanding(Vec2 position, Vec2 velocity, double z, double g) {
-  const double disc = velocity.z * velocity.z + 2 * g * (position.z - z);
-  if (disc < 0) return {};
-  const double t = (velocity.z + std::sqrt(disc)) / g;
-  if (t < 0) return {};
+  const double t = SecondsToFall(velocity.z, position.z - z, g);
+  if (!(t >= 0)) return {};  // never comes down through z (NaN: never reaches it)
   return {position.x + velocity.x * t, t};
 }
 

@@ -23,12 +23,17 @@ struct BallisticCrossing {
 };
 
 // The descending crossing of height `h` by a ball at (x, y, z) with velocity (vx, vy, vz)
-// under gravity g > 0 (the later root of z + vz·t − g·t²/2 = h). A ball below h gives t = 0
-// at its current position.
+// under gravity g > 0 (the later root of z + vz·t − g·t²/2 = h). A ball below h that rises
+// through it crosses on its way back down; one below h that is falling or never reaches h
+// gives t = 0 at its current position.
 inline BallisticCrossing DescendingCrossing(const double pos[3], const double vel[3], double g,
                                             double h) {
   const double drop = pos[2] - h;
-  const double t = drop <= 0 ? 0.0 : SecondsToFall(vel[2], drop, g);
+  double t = 0.0;
+  if (drop > 0 || vel[2] > 0) {
+    const double later = SecondsToFall(vel[2], drop, g);  // NaN: h is never reached
+    if (std::isfinite(later)) t = std::max(later, 0.0);
+  }
   return {t, pos[0] + vel[0] * t, pos[1] + vel[1] * t};
 }
 

@@ -84,14 +84,28 @@ TEST(BallisticTest, DescendingCrossingAndApexOfAFreeBallSteppedInMuJoCo) {
   EXPECT_NEAR(apex, highest, 1e-6);
 }
 
-TEST(BallisticTest, ABallBelowTheHeightCrossesNowWhereItIs) {
+TEST(BallisticTest, ABallBelowTheHeightThatNeverCrossesItCrossesNowWhereItIs) {
   const double pos[3] = {0.1, 0.2, 0.3};
-  const double vel[3] = {1.0, -1.0, 2.0};
-  const BallisticCrossing c = DescendingCrossing(pos, vel, kG, 0.5);
-  EXPECT_EQ(c.t, 0.0);
-  EXPECT_EQ(c.x, 0.1);
-  EXPECT_EQ(c.y, 0.2);
+  for (double vz : {-1.0, 0.0, 1.0}) {  // 1 m/s rises 5 cm: never reaches 0.5 m
+    const double vel[3] = {1.0, -1.0, vz};
+    const BallisticCrossing c = DescendingCrossing(pos, vel, kG, 0.5);
+    EXPECT_EQ(c.t, 0.0) << vz;
+    EXPECT_EQ(c.x, 0.1) << vz;
+    EXPECT_EQ(c.y, 0.2) << vz;
+  }
   EXPECT_EQ(ApexHeight(0.3, -1.0, kG), 0.3) << "coming down: the apex is behind it";
+}
+
+TEST(BallisticTest, ABallRisingThroughTheHeightCrossesOnItsWayDown) {
+  // Just kicked from 0.45 m at 4 m/s: up through 0.5 m, apex, down through 0.5 m again.
+  const double pos[3] = {0.0, 0.0, 0.45};
+  const double vel[3] = {0.5, 0.1, 4.0};
+  const BallisticCrossing c = DescendingCrossing(pos, vel, kG, 0.5);
+  // Independently: the flight is symmetric about its apex at vz/g.
+  const double up = (vel[2] - std::sqrt(vel[2] * vel[2] - 2 * kG * 0.05)) / kG;
+  EXPECT_NEAR(c.t, 2 * vel[2] / kG - up, 1e-12);
+  EXPECT_NEAR(pos[2] + vel[2] * c.t - 0.5 * kG * c.t * c.t, 0.5, 1e-12);
+  EXPECT_NEAR(c.x, 0.5 * c.t, 1e-12);
 }
 
 }  // namespace

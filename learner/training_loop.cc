@@ -280,6 +280,9 @@ absl::Status TrainingLoop::MaybeEvaluate(int64_t iteration) {
 }
 
 absl::Status TrainingLoop::Checkpoint() {
+  // The same iteration again (a run that ends on a checkpoint iteration): already saved.
+  if (d_.trainer->iteration() == last_checkpoint_iteration_) return absl::OkStatus();
+  last_checkpoint_iteration_ = d_.trainer->iteration();
   SetPhase(LoopPhase::kCheckpointing);
   absl::StatusOr<std::string> path = d_.checkpoint();
   SetPhase(LoopPhase::kWaitingForData);

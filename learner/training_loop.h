@@ -100,6 +100,7 @@ class TrainingLoop {
   SyncRound round_;
   std::vector<int> reported_slots_;
   int64_t evicted_reported_ = 0, ignored_reported_ = 0;
+  int64_t last_checkpoint_iteration_ = -1;  // the final checkpoint skips a repeat of it
   Clock::time_point last_end_;
   WalkEventTotals walk_totals_;                      // since the learner started
   double batch_lag_ = 0;                             // mean policy lag of the last trained batch

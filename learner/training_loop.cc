@@ -282,11 +282,11 @@ absl::Status TrainingLoop::MaybeEvaluate(int64_t iteration) {
 absl::Status TrainingLoop::Checkpoint() {
   // The same iteration again (a run that ends on a checkpoint iteration): already saved.
   if (d_.trainer->iteration() == last_checkpoint_iteration_) return absl::OkStatus();
-  last_checkpoint_iteration_ = d_.trainer->iteration();
   SetPhase(LoopPhase::kCheckpointing);
   absl::StatusOr<std::string> path = d_.checkpoint();
   SetPhase(LoopPhase::kWaitingForData);
-  if (!path.ok()) return path.status();
+  if (!path.ok()) return path.status();  // the final checkpoint tries again
+  last_checkpoint_iteration_ = d_.trainer->iteration();
   runlog::CheckpointRecord record;
   record.set_event("walk");
   record.set_iteration(static_cast<int32_t>(d_.trainer->iteration()));

@@ -70,7 +70,7 @@ TEST(EvalCliTest, PrintsTheNodeTableAndWritesItAsJsonLines) {
   EXPECT_THAT(log, ::testing::ContainsRegex("right_foot_up +3 +0 +0.000"));
   const std::string json = ReadAll(dir + "/eval.jsonl");
   const std::vector<nlohmann::json> lines = JsonLines(json);
-  ASSERT_EQ(lines.size(), 3u);
+  ASSERT_EQ(lines.size(), 6u);  // summary, two nodes, three episodes
   EXPECT_EQ(lines[0]["table"], "summary");
   EXPECT_EQ(lines[0]["episodes"], 3);
   EXPECT_EQ(lines[1], nlohmann::json::parse(
@@ -79,6 +79,15 @@ TEST(EvalCliTest, PrintsTheNodeTableAndWritesItAsJsonLines) {
   EXPECT_EQ(lines[2]["node"], "right_foot_up");
   EXPECT_EQ(lines[2]["visits"], 3);
   EXPECT_EQ(lines[2]["completions"], 0);
+  double mean_juggles = 0;
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(lines[3 + i]["table"], "episode");
+    EXPECT_EQ(lines[3 + i]["episode"], i);
+    EXPECT_GT(lines[3 + i]["seconds"].get<double>(), 0.0);
+    EXPECT_NE(lines[3 + i]["outcome"], "running");
+    mean_juggles += lines[3 + i]["juggles"].get<double>() / 3;
+  }
+  EXPECT_DOUBLE_EQ(lines[0]["mean_juggles"].get<double>(), mean_juggles);
   std::system(("rm -rf " + dir).c_str());
 }
 

@@ -2,10 +2,10 @@
 """Per-kick statistics of a right-foot soccer recording: how far each kick's ball flight is from
 what the next contact needs (docs/learning.md, "Where it stands").
 
-usage: scripts/analysis/kick_stats.py TRAJECTORY [--apex 1.4] [--contact 0.5] [--target_x 0.6]
+usage: scripts/analysis/kick_stats.py TRAJECTORY [TRAJECTORY ...] [--apex 1.4] [--contact 0.5] [--target_x 0.6]
                              [--target_y -0.1] [--window 0.06]
 
-TRAJECTORY is a `juggle eval --record=FILE` or `juggle render --record=FILE` recording of a
+Each TRAJECTORY is a `juggle eval --record=FILE` or `juggle render --record=FILE` recording of a
 graph whose nodes all have the same apex and contact height (right_foot*, default values). For
 kick k of every episode (k = 1, 2, ...) it measures, from the ball's recorded flight after the
 contact until it falls back through the contact height:
@@ -85,20 +85,23 @@ def kicks(channels, records, nq, args):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    parser.add_argument('trajectory')
+    parser.add_argument('trajectory', nargs='+', help='recordings, pooled')
     parser.add_argument('--apex', type=float, default=1.4)
     parser.add_argument('--contact', type=float, default=0.5)
     parser.add_argument('--target_x', type=float, default=0.6)
     parser.add_argument('--target_y', type=float, default=-0.1)
     parser.add_argument('--window', type=float, default=0.06, help='contact window (s)')
     args = parser.parse_args()
-    channels, records, header = load(args.trajectory)
-    if 'phase' not in channels or header.get('family') != 'soccer_juggle':
-        sys.exit(f'{args.trajectory}: needs a soccer_juggle recording with a phase channel')
     by_kick = {}
-    for row in kicks(channels, records, int(header['nq']), args):
-        by_kick.setdefault(row[0], []).append(row[1:])
-    for k in sorted(by_kick)[:3]:
+    for path in args.trajectory:
+        channels, records, header = load(path)
+        if 'phase' not in channels or header.get('family') != 'soccer_juggle':
+            sys.exit(f'{path}: needs a soccer_juggle recording with a phase channel')
+        for row in kicks(channels, records, int(header['nq']), args):
+            # Kicks 1-3 on their own (the first ones set up the rest), later ones pooled.
+            key = row[0] if row[0] <= 3 else '4+'
+            by_kick.setdefault(key, []).append(row[1:])
+    for k in sorted(by_kick, key=lambda k: 4 if k == '4+' else k):
         rows = by_kick[k]
         done = [r for r in rows if r[0] is not None]
         print(f'kick {k}: {len(rows)} kicks, {len(rows) - len(done)} not returned to the contact '

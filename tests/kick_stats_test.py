@@ -61,6 +61,9 @@ def main():
         write(path, [T_CONTACT + flight + 0.1, T_CONTACT + V_OUT / G])
         out = subprocess.run([sys.executable, SCRIPT, path], capture_output=True, text=True,
                              check=True).stdout
+        # Two recordings are pooled: each kick counted twice, the errors unchanged.
+        pooled = subprocess.run([sys.executable, SCRIPT, path, path], capture_output=True,
+                                text=True, check=True).stdout
     print(out)
     failures = []
 
@@ -76,6 +79,10 @@ def main():
     expect('time error', field(out, 'crossing time error', 'mean'), flight - CYCLE, 0.003)
     if 'returned within ±60 ms of the nominal contact: 1 of 2' not in out:
         failures.append('expected 1 of 2 kicks inside the window')
+    if 'kick 1: 4 kicks, 2 not returned' not in pooled:
+        failures.append('expected two pooled recordings to give "kick 1: 4 kicks, 2 not returned"')
+    elif field(pooled, 'apex error', 'mean') != field(out, 'apex error', 'mean'):
+        failures.append('pooling the same recording twice changed the mean apex error')
     for f in failures:
         print('FAIL:', f)
     sys.exit(1 if failures else 0)

@@ -20,12 +20,18 @@ COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#1
 
 def read_run(path, x_key):
     evals, train = [], []
-    with open(os.path.join(path, "metrics.jsonl")) as f:
-        for line in f:
+    summed_s = 0.0  # runs older than `train_s`: the iterations' own seconds, summed
+    metrics = os.path.join(path, "metrics.jsonl")
+    with open(metrics) as f:
+        for number, line in enumerate(f, 1):
             d = json.loads(line)
             if d.get("event") not in (None, "eval"):
                 continue  # run, walk and other records
-            x = d["train_s"] / 60 if x_key == "minutes" else d["samples"] / 1e6
+            summed_s += d.get("iteration_s", 0.0)
+            if x_key == "minutes" and d.get("event") is None and "train_s" not in d and "iteration_s" not in d:
+                sys.exit(f"{metrics}:{number}: neither train_s nor iteration_s: no wall-clock axis")
+            seconds = d.get("train_s", summed_s)
+            x = seconds / 60 if x_key == "minutes" else d["samples"] / 1e6
             if d.get("event") == "eval":
                 evals.append((x, d["mean_juggles"]))
             else:

@@ -38,18 +38,22 @@ class HashController final : public Controller {
   int obs_dim_, act_dim_;
 };
 
-TEST(EpisodeRunnerTest, BatchedEpisodesEqualTheSameEpisodesRunAlone) {
+// Episodes first .. first + n - 1 of seed 77 on foot_variable_height under the hash controller.
+absl::StatusOr<EpisodeReport> HashEpisodes(int n, int first = 0) {
   auto spec = Spec("foot_variable_height");
-  ASSERT_NE(spec, nullptr);
+  if (spec == nullptr) return absl::InternalError("foot_variable_height did not load");
   HashController controller(spec->obs_dim(), spec->act_dim());
-  EpisodeOptions batch;
-  batch.episodes = 4;
-  batch.seed = 77;
-  absl::StatusOr<EpisodeReport> together = RunEpisodes(spec, &controller, batch);
+  EpisodeOptions o;
+  o.episodes = n;
+  o.seed = 77;
+  o.first_episode = first;
+  return RunEpisodes(spec, &controller, o);
+}
+
+TEST(EpisodeRunnerTest, BatchedEpisodesEqualTheSameEpisodesRunAlone) {
+  absl::StatusOr<EpisodeReport> together = HashEpisodes(4);
   ASSERT_TRUE(together.ok()) << together.status();
-  EpisodeOptions alone = batch;
-  alone.episodes = 1;
-  absl::StatusOr<EpisodeReport> first = RunEpisodes(spec, &controller, alone);
+  absl::StatusOr<EpisodeReport> first = HashEpisodes(1);
   ASSERT_TRUE(first.ok());
   EXPECT_EQ(first->episodes[0].steps, together->episodes[0].steps);
   EXPECT_EQ(first->episodes[0].return_sum, together->episodes[0].return_sum);
@@ -57,18 +61,9 @@ TEST(EpisodeRunnerTest, BatchedEpisodesEqualTheSameEpisodesRunAlone) {
 }
 
 TEST(EpisodeRunnerTest, AnEvaluationSplitIntoPartsHasTheEpisodesOfTheWhole) {
-  auto spec = Spec("foot_variable_height");
-  ASSERT_NE(spec, nullptr);
-  HashController controller(spec->obs_dim(), spec->act_dim());
-  EpisodeOptions whole;
-  whole.episodes = 4;
-  whole.seed = 77;
-  absl::StatusOr<EpisodeReport> all = RunEpisodes(spec, &controller, whole);
+  absl::StatusOr<EpisodeReport> all = HashEpisodes(4);
   ASSERT_TRUE(all.ok()) << all.status();
-  EpisodeOptions part = whole;
-  part.episodes = 2;
-  part.first_episode = 2;
-  absl::StatusOr<EpisodeReport> tail = RunEpisodes(spec, &controller, part);
+  absl::StatusOr<EpisodeReport> tail = HashEpisodes(2, /*first=*/2);
   ASSERT_TRUE(tail.ok()) << tail.status();
   for (int i = 0; i < 2; ++i) {
     EXPECT_EQ(tail->episodes[i].steps, all->episodes[2 + i].steps) << i;
@@ -76,9 +71,7 @@ TEST(EpisodeRunnerTest, AnEvaluationSplitIntoPartsHasTheEpisodesOfTheWhole) {
   }
   // The parts differ from the whole's first episodes (the streams are not reused).
   EXPECT_NE(tail->episodes[0].return_sum, all->episodes[0].return_sum);
-  part.first_episode = -1;
-  EXPECT_EQ(RunEpisodes(spec, &controller, part).status().code(),
-            absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(HashEpisodes(2, /*first=*/-1).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
 TEST(EpisodeRunnerTest, ZeroActionRightFootEpisodesEndBallLostAfterTheFirstDescent) {

@@ -5,7 +5,6 @@
 #include <vector>
 
 #include "common/testing/temp_dir.h"
-#include "envs/registry.h"
 #include "gtest/gtest.h"
 #include "learner/learner_server.h"
 #include "learner/testing/recording_observer.h"
@@ -16,19 +15,10 @@ namespace {
 
 // The iterations of the checkpoint records of a run of `iterations` with `every`.
 std::vector<int> CheckpointIterations(int iterations, int every) {
-  absl::StatusOr<LoadedConfig> config = LoadRunConfig("tests/data/tiny_right_foot.textproto");
-  EXPECT_TRUE(config.ok()) << config.status();
-  if (!config.ok()) return {};
-  config->run.mutable_service()->set_checkpoint_every(every);
-  config->run.mutable_evaluation()->set_every_minutes(0);
   const std::string dir = MakeTempDir("juggle_ckpt_records_");
+  LearnerOptions o = TinyRunOptions(dir, iterations, /*evaluate_every=*/0);
+  o.config.run.mutable_service()->set_checkpoint_every(every);
   RecordingObserver recorded;
-  LearnerOptions o;
-  o.config = *config;
-  o.run_dir = dir;
-  o.port = 0;
-  o.listen_all_interfaces = false;
-  o.max_iterations = iterations;
   o.observers.push_back(&recorded);
   auto server = LearnerServer::Start(std::move(o));
   EXPECT_TRUE(server.ok()) << server.status();

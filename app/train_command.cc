@@ -8,6 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "app/commands.h"
 #include "app/learner_flags.h"
+#include "app/planner_labeller.h"
 #include "app/signals.h"
 #include "learner/console_reporter.h"
 #include "worker/worker_client.h"
@@ -67,6 +68,7 @@ CommandBody AddTrainCommand(CLI::App* cmd) {
         o.requested_slot = w;
         o.stop = &workers_stop;
         o.verbose = false;
+        o.labeller_factory = MakePlannerLabeller;
         const absl::Status s = RunWorker(o);
         if (!s.ok()) {
           std::fprintf(stderr, "worker %d: %s\n", w, std::string(s.message()).c_str());

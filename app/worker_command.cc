@@ -4,6 +4,7 @@
 
 #include "app/command.h"
 #include "app/commands.h"
+#include "app/planner_labeller.h"
 #include "app/security_flags.h"
 #include "app/signals.h"
 #include "worker/health_probe.h"
@@ -47,6 +48,7 @@ CommandBody AddWorkerCommand(CLI::App* cmd) {
       return 0;
     }
     o->stop = InstallStopSignals();
+    o->labeller_factory = MakePlannerLabeller;
     const absl::Status status = RunWorker(*o);
     if (!status.ok()) return Fail(status);
     std::printf("worker: stopped\n");

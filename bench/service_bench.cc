@@ -224,7 +224,7 @@ absl::Status RunLocalBench(const LocalBenchOptions& o) {
   for (int it = 0; it <= iterations; ++it) {
     const auto t0 = Clock::now();
     auto policy = EigenPolicy::Create(run.model(), trainer.ExportPolicy(), obs_dim, kNumActions);
-    collector.Collect(*policy, &batch);
+    if (!collector.Collect(*policy, &batch).ok()) return absl::InternalError("collect failed");
     const auto t1 = Clock::now();
     if (!trainer.Update(batch).ok()) return absl::InternalError("update failed");
     if (it == 0) continue;  // warm-up

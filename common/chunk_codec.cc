@@ -23,16 +23,19 @@ std::vector<rpc::TrajectoryChunk> EncodeContribution(const Contribution& c, uint
                                                      int64_t sequence, size_t max_bytes) {
   const UnrollBatch& b = c.batch;
   const int U = b.num_unrolls, T = b.unroll_length, D = b.obs_dim, A = b.act_dim;
-  const size_t per_unroll = size_t(T) * (D + A + 4) * 4 + size_t(D) * 4;
+  const size_t per_unroll = size_t(T) * (D + A * (b.has_labels() ? 2 : 1) + 4) * 4 + size_t(D) * 4;
   const int per_chunk = std::max<int>(1, static_cast<int>(max_bytes / std::max<size_t>(per_unroll, 1)));
   const int parts = (U + per_chunk - 1) / per_chunk;
   std::vector<rpc::TrajectoryChunk> chunks(parts);
   // Index of the first truncated observation of each unroll.
   std::vector<size_t> trunc_start(U + 1, 0);
+  // And of the first label row.
+  std::vector<size_t> label_start(U + 1, 0);
   for (int u = 0; u < U; ++u) {
     int n = 0;
     for (int t = 0; t < T; ++t) n += b.truncated[size_t(u) * T + t];
     trunc_start[u + 1] = trunc_start[u] + n;
+    label_start[u + 1] = label_start[u] + (b.has_labels() && b.labelled[u] ? 1 : 0);
   }
   for (int p = 0; p < parts; ++p) {
     rpc::TrajectoryChunk& ch = chunks[p];
@@ -56,6 +59,14 @@ std::vector<rpc::TrajectoryChunk> EncodeContribution(const Contribution& c, uint
     CopyRange(b.truncated_obs, trunc_start[u0] * D, trunc_start[u1] * D, ch.mutable_truncated_obs());
     CopyRange(b.bootstrap_obs, size_t(u0) * D, size_t(u1) * D, ch.mutable_bootstrap_obs());
     CopyRange(c.node, s0, s1, ch.mutable_node());
+    if (b.has_labels()) {
+      ch.set_labelled(std::string(b.labelled.begin() + u0, b.labelled.begin() + u1));
+      const size_t row = size_t(T) * A;
+      CopyRange(b.labels, label_start[u0] * row, label_start[u1] * row, ch.mutable_labels());
+      if (!b.expert_driven.empty()) {
+        ch.set_expert_driven(std::string(b.expert_driven.begin() + u0, b.expert_driven.begin() + u1));
+      }
+    }
   }
   // Events and episode statistics travel with the last part.
   rpc::TrajectoryChunk& last = chunks.back();
@@ -69,6 +80,9 @@ std::vector<rpc::TrajectoryChunk> EncodeContribution(const Contribution& c, uint
   last.set_completions_sum(c.stats.completions_sum);
   last.set_juggles_sum(c.stats.juggles_sum);
   for (int64_t o : c.stats.outcomes) last.add_outcomes(o);
+  last.set_expert_episodes(c.expert_stats.episodes);
+  last.set_expert_juggles_sum(c.expert_stats.juggles_sum);
+  last.set_expert_length_sum(c.expert_stats.length_sum);
   return chunks;
 }
 
@@ -101,6 +115,19 @@ absl::StatusOr<Contribution> DecodeChunk(const rpc::TrajectoryChunk& ch, int obs
   b.truncated_obs.assign(ch.truncated_obs().begin(), ch.truncated_obs().end());
   b.bootstrap_obs.assign(ch.bootstrap_obs().begin(), ch.bootstrap_obs().end());
   b.policy_version.assign(std::max(0, b.num_unrolls), ch.policy_version());
+  // Label sizes against the masks before the labels are copied.
+  if (!ch.labelled().empty() && int64_t(ch.labelled().size()) == b.num_unrolls) {
+    int64_t rows = 0;
+    for (char l : ch.labelled()) rows += l == 1;
+    if (rows * b.unroll_length * b.act_dim != ch.labels_size()) {
+      return invalid(absl::StrCat("chunk field 'labels' has ", ch.labels_size(),
+                                  " entries, expected ", rows * b.unroll_length * b.act_dim,
+                                  " (", rows, " labelled unrolls)"));
+    }
+  }
+  b.labelled.assign(ch.labelled().begin(), ch.labelled().end());
+  b.labels.assign(ch.labels().begin(), ch.labels().end());
+  b.expert_driven.assign(ch.expert_driven().begin(), ch.expert_driven().end());
   // Shapes, flags and finiteness; the version is checked by the learner against its own.
   RETURN_IF_ERROR(ValidateUnrollBatch(b, obs_dim, act_dim, ch.policy_version(), 0));
   if (ch.node_size() != b.num_samples()) {
@@ -128,7 +155,9 @@ absl::StatusOr<Contribution> DecodeChunk(const rpc::TrajectoryChunk& ch, int obs
     c.events.push_back({ev.edge(i), static_cast<EdgeEventType>(ev.type(i))});
   }
   bool negative = ch.episodes() < 0 || ch.episode_length_sum() < 0 || ch.completions_sum() < 0 ||
-                  ch.juggles_sum() < 0 || ch.outcomes_size() > kMaxOutcomes;
+                  ch.juggles_sum() < 0 || ch.outcomes_size() > kMaxOutcomes ||
+                  ch.expert_episodes() < 0 || ch.expert_juggles_sum() < 0 ||
+                  ch.expert_length_sum() < 0;
   for (int64_t o : ch.outcomes()) negative |= o < 0;
   if (!std::isfinite(ch.episode_return_sum()) || negative) {
     return invalid("chunk episode statistics are invalid");
@@ -139,6 +168,9 @@ absl::StatusOr<Contribution> DecodeChunk(const rpc::TrajectoryChunk& ch, int obs
   c.stats.completions_sum = ch.completions_sum();
   c.stats.juggles_sum = ch.juggles_sum();
   c.stats.outcomes.assign(ch.outcomes().begin(), ch.outcomes().end());
+  c.expert_stats.episodes = ch.expert_episodes();
+  c.expert_stats.juggles_sum = ch.expert_juggles_sum();
+  c.expert_stats.length_sum = ch.expert_length_sum();
   return c;
 }
 
@@ -161,9 +193,23 @@ void AppendContribution(Contribution* into, const Contribution& part) {
   append(&a.truncated_obs, b.truncated_obs);
   append(&a.bootstrap_obs, b.bootstrap_obs);
   append(&a.policy_version, b.policy_version);
+  // Labels: a part without them is all unlabelled; masks are filled in when only one side has them.
+  if (a.has_labels() || b.has_labels()) {
+    const int before = a.num_unrolls - b.num_unrolls;
+    auto mask = [](const std::vector<uint8_t>& m, int n) {
+      return m.empty() ? std::vector<uint8_t>(n, 0) : m;
+    };
+    std::vector<uint8_t> labelled = mask(a.labelled, before), driven = mask(a.expert_driven, before);
+    append(&labelled, mask(b.labelled, b.num_unrolls));
+    append(&driven, mask(b.expert_driven, b.num_unrolls));
+    a.labelled = std::move(labelled);
+    a.expert_driven = std::move(driven);
+    append(&a.labels, b.labels);
+  }
   append(&into->node, part.node);
   append(&into->events, part.events);
   into->stats.Add(part.stats);
+  into->expert_stats.Add(part.expert_stats);
 }
 
 }  // namespace juggle

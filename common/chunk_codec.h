@@ -20,6 +20,8 @@ struct Contribution {
   std::vector<int32_t> node;      // [U, T]
   std::vector<EdgeEvent> events;
   EpisodeCounters stats;
+  // Episodes the expert drove (episodes, length_sum and juggles_sum are carried).
+  EpisodeCounters expert_stats;
 };
 
 // Splits `c` into chunks of at most ~max_bytes payload each (at least one unroll per chunk).
@@ -28,7 +30,8 @@ std::vector<rpc::TrajectoryChunk> EncodeContribution(const Contribution& c, uint
 
 // Decodes one chunk. INVALID_ARGUMENT (naming the field) for inconsistent sizes, flags other
 // than 0/1, non-finite values, node ids outside [0, num_nodes), edge events outside
-// [0, num_edges) or of unknown type, obs/act dims other than expected.
+// [0, num_edges) or of unknown type, obs/act dims other than expected, labels that disagree with
+// their masks or are not finite.
 absl::StatusOr<Contribution> DecodeChunk(const rpc::TrajectoryChunk& chunk, int obs_dim,
                                          int act_dim, int num_nodes, int num_edges);
 

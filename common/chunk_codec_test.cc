@@ -1,6 +1,7 @@
 #include "common/chunk_codec.h"
 
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <string>
@@ -83,6 +84,30 @@ void ExpectSameContribution(const Contribution& got, const Contribution& want) {
   EXPECT_EQ(got.stats.length_sum, want.stats.length_sum);
   EXPECT_EQ(got.stats.completions_sum, want.stats.completions_sum);
   EXPECT_EQ(got.stats.outcomes, want.stats.outcomes);
+  EXPECT_EQ(g.labelled, w.labelled);
+  EXPECT_EQ(g.labels, w.labels);
+  EXPECT_EQ(g.expert_driven, w.expert_driven);
+  EXPECT_EQ(got.expert_stats.episodes, want.expert_stats.episodes);
+  EXPECT_EQ(got.expert_stats.juggles_sum, want.expert_stats.juggles_sum);
+  EXPECT_EQ(got.expert_stats.length_sum, want.expert_stats.length_sum);
+}
+
+// RandomContribution with expert labels: unrolls 0 (expert-driven), 2 and 3 labelled.
+Contribution LabelledContribution() {
+  Contribution c = RandomContribution();
+  UnrollBatch& b = c.batch;
+  b.labelled = {1, 0, 1, 1, 0};
+  b.expert_driven = {1, 0, 0, 0, 0};
+  std::mt19937 rng(777);
+  std::uniform_real_distribution<float> uni(-1.0f, 1.0f);
+  b.labels.resize(size_t(3) * kT * kA);
+  for (float& x : b.labels) x = uni(rng);
+  b.labels[5] = std::numeric_limits<float>::denorm_min();  // bit-exact, even the odd values
+  b.labels[6] = -0.0f;
+  c.expert_stats.episodes = 2;
+  c.expert_stats.juggles_sum = 31;
+  c.expert_stats.length_sum = 900;
+  return c;
 }
 
 Contribution DecodeAll(const std::vector<rpc::TrajectoryChunk>& chunks) {
@@ -137,6 +162,101 @@ TEST(ChunkCodecTest, BudgetBelowOneUnrollStillSendsOneUnrollPerPart) {
   ASSERT_EQ(chunks.size(), size_t(kU));
   for (const rpc::TrajectoryChunk& ch : chunks) EXPECT_EQ(ch.num_unrolls(), 1);
   ExpectSameContribution(DecodeAll(chunks), c);
+}
+
+TEST(ChunkCodecTest, LabelsSurviveTheWireBitExactInSeveralParts) {
+  const Contribution c = LabelledContribution();
+  ASSERT_TRUE(ValidateUnrollBatch(c.batch, kD, kA, kVersion, 0).ok());
+  for (size_t budget : {size_t(1), 2 * kUnrollBytes, size_t(1) << 20}) {
+    const std::vector<rpc::TrajectoryChunk> chunks = EncodeContribution(c, kIncarnation, 0, budget);
+    const Contribution got = DecodeAll(chunks);
+    ExpectSameContribution(got, c);
+    // Bit for bit: -0.0 and denormals included.
+    ASSERT_EQ(got.batch.labels.size(), c.batch.labels.size());
+    EXPECT_EQ(std::memcmp(got.batch.labels.data(), c.batch.labels.data(),
+                          c.batch.labels.size() * sizeof(float)), 0);
+  }
+}
+
+TEST(ChunkCodecTest, PartsWithAndWithoutLabelsAppendToConsistentMasks) {
+  Contribution unlabelled = RandomContribution();
+  const Contribution labelled = LabelledContribution();
+  Contribution all;
+  AppendContribution(&all, unlabelled);
+  AppendContribution(&all, labelled);
+  ASSERT_EQ(all.batch.num_unrolls, 2 * kU);
+  EXPECT_EQ(all.batch.labelled, (std::vector<uint8_t>{0, 0, 0, 0, 0, 1, 0, 1, 1, 0}));
+  EXPECT_EQ(all.batch.expert_driven, (std::vector<uint8_t>{0, 0, 0, 0, 0, 1, 0, 0, 0, 0}));
+  EXPECT_EQ(all.batch.labels, labelled.batch.labels);
+  EXPECT_TRUE(ValidateUnrollBatch(all.batch, kD, kA, kVersion, 0).ok());
+}
+
+rpc::TrajectoryChunk GoodLabelledChunk() {
+  return EncodeContribution(LabelledContribution(), kIncarnation, 0, size_t(1) << 20).at(0);
+}
+
+void ExpectInvalid(const rpc::TrajectoryChunk& ch, const std::string& message);
+
+TEST(ChunkCodecTest, RejectsLabelsOfTheWrongSize) {
+  rpc::TrajectoryChunk ch = GoodLabelledChunk();
+  ch.add_labels(0.5f);
+  ExpectInvalid(ch, "'labels' has 55 entries, expected 54 (3 labelled unrolls)");
+}
+
+TEST(ChunkCodecTest, RejectsNonFiniteLabel) {
+  rpc::TrajectoryChunk ch = GoodLabelledChunk();
+  ch.set_labels(7, std::numeric_limits<float>::infinity());
+  ExpectInvalid(ch, "'labels' has a non-finite value at index 7");
+}
+
+TEST(ChunkCodecTest, RejectsLabelMaskOfTheWrongSize) {
+  rpc::TrajectoryChunk ch = GoodLabelledChunk();
+  ch.set_labelled(std::string(kU + 1, '\0'));
+  ExpectInvalid(ch, "'labelled' has 6 entries, expected 5");
+}
+
+TEST(ChunkCodecTest, RejectsLabelFlagOtherThanZeroOrOne) {
+  rpc::TrajectoryChunk ch = GoodLabelledChunk();
+  std::string mask = ch.labelled();
+  mask[1] = 2;
+  ch.set_labelled(mask);
+  ExpectInvalid(ch, "'labelled' has a flag other than 0 or 1");
+}
+
+TEST(ChunkCodecTest, RejectsExpertDrivenUnrollWithoutLabels) {
+  rpc::TrajectoryChunk ch = GoodLabelledChunk();
+  ch.set_expert_driven(std::string("\0\1\0\0\0", kU));
+  ExpectInvalid(ch, "unroll 1 is expert-driven but carries no labels");
+}
+
+TEST(ChunkCodecTest, RejectsLabelsWithoutAMask) {
+  rpc::TrajectoryChunk ch = GoodLabelledChunk();
+  ch.clear_labelled();
+  ExpectInvalid(ch, "labels or expert_driven but no labelled mask");
+}
+
+TEST(ChunkCodecTest, RejectsNegativeExpertEpisodeCounts) {
+  rpc::TrajectoryChunk ch = GoodLabelledChunk();
+  ch.set_expert_juggles_sum(-1);
+  ExpectInvalid(ch, "episode statistics are invalid");
+}
+
+TEST(ChunkCodecTest, BatchWithoutExpertUnrollsKeepsTheOthersAndTheirLabels) {
+  const Contribution c = LabelledContribution();
+  const UnrollBatch& b = c.batch;
+  const UnrollBatch s = WithoutExpertUnrolls(b);
+  ASSERT_TRUE(ValidateUnrollBatch(s, kD, kA, kVersion, 0).ok());
+  ASSERT_EQ(s.num_unrolls, kU - 1);
+  // Unrolls 1..4 in order; unroll 0 held one truncated step, so truncated_obs loses one row.
+  const size_t T = kT;
+  EXPECT_EQ(s.obs, std::vector<float>(b.obs.begin() + T * kD, b.obs.end()));
+  EXPECT_EQ(s.rewards, std::vector<float>(b.rewards.begin() + T, b.rewards.end()));
+  EXPECT_EQ(s.truncated_obs, std::vector<float>(b.truncated_obs.begin() + kD, b.truncated_obs.end()));
+  EXPECT_EQ(s.bootstrap_obs, std::vector<float>(b.bootstrap_obs.begin() + kD, b.bootstrap_obs.end()));
+  EXPECT_EQ(s.labelled, (std::vector<uint8_t>{0, 1, 1, 0}));
+  // The labels of unrolls 2 and 3 (label rows 1 and 2).
+  EXPECT_EQ(s.labels, std::vector<float>(b.labels.begin() + T * kA, b.labels.end()));
+  EXPECT_EQ(s.num_labelled(), 2);
 }
 
 // One valid single-part chunk to corrupt.

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "common/status_macros.h"
 
 namespace juggle {
 namespace {
@@ -25,11 +26,48 @@ absl::Status CheckFinite(const char* name, const std::vector<float>& v) {
   return absl::OkStatus();
 }
 
+absl::Status ValidateLabels(const UnrollBatch& b) {
+  if (b.labelled.empty()) {
+    if (!b.labels.empty() || !b.expert_driven.empty()) {
+      return absl::InvalidArgumentError("unroll batch has labels or expert_driven but no labelled mask");
+    }
+    return absl::OkStatus();
+  }
+  RETURN_IF_ERROR(CheckSize("labelled", b.labelled.size(), b.num_unrolls));
+  int labelled = 0;
+  for (uint8_t l : b.labelled) {
+    if (l > 1) return absl::InvalidArgumentError("unroll batch field 'labelled' has a flag other than 0 or 1");
+    labelled += l;
+  }
+  RETURN_IF_ERROR(CheckSize("labels", b.labels.size(),
+                            int64_t(labelled) * b.unroll_length * b.act_dim));
+  RETURN_IF_ERROR(CheckFinite("labels", b.labels));
+  if (!b.expert_driven.empty()) {
+    RETURN_IF_ERROR(CheckSize("expert_driven", b.expert_driven.size(), b.num_unrolls));
+    for (int u = 0; u < b.num_unrolls; ++u) {
+      if (b.expert_driven[u] > 1) {
+        return absl::InvalidArgumentError("unroll batch field 'expert_driven' has a flag other than 0 or 1");
+      }
+      if (b.expert_driven[u] && !b.labelled[u]) {
+        return absl::InvalidArgumentError(
+            absl::StrCat("unroll ", u, " is expert-driven but carries no labels"));
+      }
+    }
+  }
+  return absl::OkStatus();
+}
+
 }  // namespace
 
 int UnrollBatch::num_truncated() const {
   int n = 0;
   for (uint8_t t : truncated) n += t != 0;
+  return n;
+}
+
+int UnrollBatch::num_labelled() const {
+  int n = 0;
+  for (uint8_t l : labelled) n += l != 0;
   return n;
 }
 
@@ -74,6 +112,7 @@ absl::Status ValidateUnrollBatch(const UnrollBatch& b, int obs_dim, int act_dim,
                                 {"bootstrap_obs", &b.bootstrap_obs}}) {
     if (absl::Status c = CheckFinite(name, *v); !c.ok()) return c;
   }
+  RETURN_IF_ERROR(ValidateLabels(b));
   for (int u = 0; u < b.num_unrolls; ++u) {
     const int64_t v = b.policy_version[u];
     if (v > current_version) {
@@ -87,6 +126,45 @@ absl::Status ValidateUnrollBatch(const UnrollBatch& b, int obs_dim, int act_dim,
     }
   }
   return absl::OkStatus();
+}
+
+UnrollBatch WithoutExpertUnrolls(const UnrollBatch& b) {
+  UnrollBatch out;
+  out.unroll_length = b.unroll_length;
+  out.obs_dim = b.obs_dim;
+  out.act_dim = b.act_dim;
+  const size_t T = b.unroll_length, D = b.obs_dim, A = b.act_dim;
+  const bool labels = b.has_labels();
+  size_t trunc = 0, label_row = 0;
+  for (int u = 0; u < b.num_unrolls; ++u) {
+    const size_t s0 = u * T, s1 = (u + 1) * T;
+    size_t unroll_truncated = 0;
+    for (size_t i = s0; i < s1; ++i) unroll_truncated += b.truncated[i];
+    const bool is_labelled = labels && b.labelled[u];
+    if (!b.is_expert_driven(u)) {
+      auto append = [](auto* to, const auto& from, size_t begin, size_t end) {
+        to->insert(to->end(), from.begin() + begin, from.begin() + end);
+      };
+      ++out.num_unrolls;
+      append(&out.obs, b.obs, s0 * D, s1 * D);
+      append(&out.actions, b.actions, s0 * A, s1 * A);
+      append(&out.log_probs, b.log_probs, s0, s1);
+      append(&out.rewards, b.rewards, s0, s1);
+      append(&out.done, b.done, s0, s1);
+      append(&out.truncated, b.truncated, s0, s1);
+      append(&out.truncated_obs, b.truncated_obs, trunc * D, (trunc + unroll_truncated) * D);
+      append(&out.bootstrap_obs, b.bootstrap_obs, u * D, (u + 1) * D);
+      out.policy_version.push_back(b.policy_version[u]);
+      if (labels) {
+        out.labelled.push_back(b.labelled[u]);
+        if (is_labelled) append(&out.labels, b.labels, label_row * T * A, (label_row + 1) * T * A);
+        out.expert_driven.push_back(0);
+      }
+    }
+    trunc += unroll_truncated;
+    label_row += is_labelled;
+  }
+  return out;
 }
 
 }  // namespace juggle

@@ -93,6 +93,18 @@ void DeclareLearnerMetrics(Metrics* m) {
              "Mixture-of-experts specialization (paper Eq. 4) on a sample of the last batch.");
   m->Declare("juggle_moe_gate_utilization", "gauge",
              "Mixture-of-experts utilization (paper Eq. 4; 1/K = all experts used equally).");
+  // Planner-guided training (proto/imitation.proto).
+  m->Declare("juggle_imitation_loss", "gauge",
+             "Mean squared label error of the actor on the demonstrations, last update.");
+  m->Declare("juggle_imitation_weight", "gauge",
+             "Weight of the imitation term in the actor loss (0 while only cloning).");
+  m->Declare("juggle_labelled_share", "gauge",
+             "Labelled samples / samples received, last iteration.");
+  m->Declare("juggle_demo_buffer_states", "gauge", "States in the demonstration buffer.");
+  m->Declare("juggle_demo_labels_total", "counter",
+             "Labelled states added to the demonstration buffer (evicted = this - buffer).");
+  m->Declare("juggle_expert_juggles_per_episode", "gauge",
+             "Juggles per episode of the expert-driven envs, last iteration with one.");
   // The adaptive walk (labels: the edge's nodes; bounded by the graph).
   m->Declare("juggle_walk_edge_weight", "gauge",
              "Adaptive-walk count of each control-graph edge (sampling weight).");
@@ -141,6 +153,13 @@ void RecordIteration(const runlog::IterationRecord& r, Metrics* m) {
   m->Set("juggle_value_loss", r.value_loss());
   m->Set("juggle_approx_kl", r.approx_kl());
   m->Set("juggle_learning_rate", r.actor_lr());
+  m->Set("juggle_imitation_loss", r.imitation_loss());
+  m->Set("juggle_imitation_weight", r.imitation_weight());
+  m->Set("juggle_labelled_share", r.labelled_share());
+  m->Set("juggle_demo_buffer_states", r.demo_buffer());
+  if (r.expert_episodes() > 0) {
+    m->Set("juggle_expert_juggles_per_episode", r.expert_juggles_per_episode());
+  }
   if (r.has_gate_specialization()) {
     m->Set("juggle_moe_gate_specialization", r.gate_specialization());
     m->Set("juggle_moe_gate_utilization", r.gate_utilization());

@@ -19,6 +19,7 @@
 #include "google/protobuf/text_format.h"
 #include "learner/checkpoint.h"
 #include "learner/contribution_assembler.h"
+#include "learner/demo_buffer.h"
 #include "learner/dashboard_state.h"
 #include "learner/http_routes.h"
 #include "learner/in_run_eval.h"
@@ -39,6 +40,7 @@ struct LearnerServer::State {
   WorkerBootstrap bootstrap;
   std::unique_ptr<PpoTrainer> trainer;
   std::unique_ptr<AdaptiveWalk> walk;
+  std::unique_ptr<DemoBuffer> demos;  // planner-guided training only
   RunProgress progress;
   std::unique_ptr<WorkerRegistry> registry;
   std::unique_ptr<BoundedQueue<ChunkPart>> queue;
@@ -117,6 +119,11 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
                                             s->bootstrap.obs_dim, s->bootstrap.act_dim,
                                             config.run.seed());
   s->walk = std::make_unique<AdaptiveWalk>(config.graph.get());
+  if (config.run.imitation().label_envs() > 0) {
+    // Not checkpointed: a resumed run refills it from fresh labels (docs/learning.md).
+    s->demos = std::make_unique<DemoBuffer>(config.run.imitation().buffer_size(),
+                                            s->bootstrap.obs_dim, s->bootstrap.act_dim);
+  }
   std::error_code error;
   std::filesystem::create_directories(s->options.run_dir, error);
   if (error) {
@@ -237,6 +244,8 @@ absl::Status LearnerServer::Train(const std::atomic<bool>* stop) {
   deps.obs_dim = s.bootstrap.obs_dim;
   deps.act_dim = s.bootstrap.act_dim;
   deps.discard_data = s.options.discard_data;
+  deps.imitation = &run.imitation();
+  deps.demos = s.demos.get();
   deps.observers = {s.run_log.get(), s.metrics_observer.get(), s.dashboard.get()};
   deps.observers.insert(deps.observers.end(), s.options.observers.begin(),
                         s.options.observers.end());

@@ -14,6 +14,7 @@
 #include "absl/strings/str_split.h"
 #include "common/status_macros.h"
 #include "learner/advantages.h"
+#include "learner/demo_buffer.h"
 #include "learner/networks.h"
 #include "learner/obs_normalizer.h"
 
@@ -24,6 +25,7 @@ struct PpoTrainer::Impl {
   std::shared_ptr<ActorCritic> net;
   std::unique_ptr<torch::optim::Adam> actor_opt, critic_opt;
   ObsNormalizer normalizer;
+  std::unique_ptr<torch::optim::Adam> clone_opt;  // pretraining's, kept across iterations
 
   std::vector<torch::Tensor> ActorParams() const {
     std::vector<torch::Tensor> p = net->actor->parameters();
@@ -48,6 +50,17 @@ std::string ArchiveBytes(const std::function<void(torch::serialize::OutputArchiv
 
 void ClipGradients(const std::vector<torch::Tensor>& params, double max_norm) {
   if (max_norm > 0) torch::nn::utils::clip_grad_norm_(params, max_norm);
+}
+
+// A random minibatch of `n` demonstration rows: (observations, labels), views copied out.
+std::pair<torch::Tensor, torch::Tensor> DemoMinibatch(const DemoBuffer& demos, int64_t n) {
+  const int64_t size = demos.size();
+  const torch::Tensor all_obs = torch::from_blob(const_cast<float*>(demos.obs()),
+                                                 {size, demos.obs_dim()}, torch::kFloat32);
+  const torch::Tensor all_labels = torch::from_blob(const_cast<float*>(demos.labels()),
+                                                    {size, demos.act_dim()}, torch::kFloat32);
+  const torch::Tensor idx = torch::randint(size, {n}, torch::kLong);
+  return {all_obs.index_select(0, idx), all_labels.index_select(0, idx)};
 }
 
 }  // namespace
@@ -87,8 +100,24 @@ std::vector<float> PpoTrainer::ActorGates(const float* obs, int64_t n, int* num_
   return std::vector<float>(g.data_ptr<float>(), g.data_ptr<float>() + g.numel());
 }
 
-absl::StatusOr<UpdateStats> PpoTrainer::Update(const UnrollBatch& batch, int64_t max_policy_lag) {
+double PpoTrainer::ImitationError(const DemoBuffer& demos, int64_t n) const {
+  n = n <= 0 ? demos.size() : std::min(n, demos.size());
+  if (n == 0) return 0;
+  torch::NoGradGuard no_grad;
+  const torch::Tensor obs = torch::from_blob(const_cast<float*>(demos.obs()),
+                                             {n, demos.obs_dim()}, torch::kFloat32);
+  const torch::Tensor labels = torch::from_blob(const_cast<float*>(demos.labels()),
+                                                {n, demos.act_dim()}, torch::kFloat32);
+  return (impl_->net->Mean(obs) - labels).pow(2).mean().item<double>();
+}
+
+absl::StatusOr<UpdateStats> PpoTrainer::Update(const UnrollBatch& batch, int64_t max_policy_lag,
+                                               const ImitationTerm& imitation) {
   RETURN_IF_ERROR(ValidateUnrollBatch(batch, obs_dim_, act_dim_, version_, max_policy_lag));
+  const bool has_demos = imitation.demos != nullptr && imitation.demos->size() > 0;
+  if (has_demos && (imitation.demos->obs_dim() != obs_dim_ || imitation.demos->act_dim() != act_dim_)) {
+    return absl::InvalidArgumentError("the demonstrations' dimensions differ from the policy's");
+  }
   ActorCritic& net = *impl_->net;
   const int64_t n = batch.num_samples();
   const torch::Tensor obs = FromVector(batch.obs, {n, obs_dim_});
@@ -162,7 +191,36 @@ absl::StatusOr<UpdateStats> PpoTrainer::Update(const UnrollBatch& batch, int64_t
     advantages = (advantages - advantages.mean()) / (advantages.std() + 1e-8);
   }
 
-  // Actor: clipped surrogate + action-magnitude regularizer.
+  // Pretraining: the actor only clones the demonstrations.
+  if (imitation.clone_only) {
+    stats.cloned_only = true;
+    if (has_demos) {
+      if (!impl_->clone_opt) {
+        impl_->clone_opt = std::make_unique<torch::optim::Adam>(
+            impl_->net->actor->parameters(), torch::optim::AdamOptions(imitation.clone_lr));
+      }
+      for (auto& g : impl_->clone_opt->param_groups()) {
+        static_cast<torch::optim::AdamOptions&>(g.options()).lr(imitation.clone_lr);
+      }
+      for (int step = 0; step < imitation.clone_steps; ++step) {
+        auto [demo_obs, demo_labels] =
+            DemoMinibatch(*imitation.demos, std::max(1, imitation.clone_minibatch));
+        const torch::Tensor loss = (net.Mean(demo_obs) - demo_labels).pow(2).mean();
+        impl_->clone_opt->zero_grad();
+        loss.backward();
+        ClipGradients(net.actor->parameters(), ppo_.max_grad_norm());
+        impl_->clone_opt->step();
+        stats.imitation_loss += loss.item<double>();
+      }
+      if (imitation.clone_steps > 0) stats.imitation_loss /= imitation.clone_steps;
+    }
+    FinishUpdate(batch);
+    return stats;
+  }
+
+  // Actor: clipped surrogate + action-magnitude regularizer (+ the imitation term).
+  const double weight = has_demos ? imitation.weight : 0;
+  stats.imitation_weight = weight;
   updates = 0;
   const double clip = ppo_.clip();
   const bool adaptive_lr = ppo_.desired_kl() > 0;
@@ -182,8 +240,13 @@ absl::StatusOr<UpdateStats> PpoTrainer::Update(const UnrollBatch& batch, int64_t
       const torch::Tensor ratio = torch::exp(log_prob - old);
       const torch::Tensor surrogate =
           torch::min(ratio * adv, torch::clamp(ratio, 1 - clip, 1 + clip) * adv);
-      const torch::Tensor loss =
-          -surrogate.mean() + ppo_.action_reg() * mean.pow(2).mean();
+      torch::Tensor loss = -surrogate.mean() + ppo_.action_reg() * mean.pow(2).mean();
+      if (weight > 0) {
+        auto [demo_obs, demo_labels] = DemoMinibatch(*imitation.demos, idx.size(0));
+        const torch::Tensor clone = (net.Mean(demo_obs) - demo_labels).pow(2).mean();
+        stats.imitation_loss += clone.item<double>();
+        loss = loss + weight * clone;
+      }
       impl_->actor_opt->zero_grad();
       loss.backward();
       ClipGradients(impl_->ActorParams(), ppo_.max_grad_norm());
@@ -199,12 +262,20 @@ absl::StatusOr<UpdateStats> PpoTrainer::Update(const UnrollBatch& batch, int64_t
     stats.policy_loss /= updates;
     stats.approx_kl /= updates;
     stats.clip_fraction /= updates;
+    stats.imitation_loss /= updates;
   }
 
   if (!adaptive_lr) {
     actor_lr_ = actor_lr_ > ppo_.min_actor_lr() ? actor_lr_ * ppo_.lr_decay() : ppo_.min_actor_lr();
     actor_lr_ = std::max(actor_lr_, ppo_.min_actor_lr());
   }
+  FinishUpdate(batch);
+  return stats;
+}
+
+void PpoTrainer::FinishUpdate(const UnrollBatch& batch) {
+  ActorCritic& net = *impl_->net;
+  const int64_t n = batch.num_samples();
   if (ppo_.normalize_observations()) {
     // After the update, so this iteration trained with the statistics the workers used.
     impl_->normalizer.Update(batch.obs.data(), n);
@@ -216,7 +287,6 @@ absl::StatusOr<UpdateStats> PpoTrainer::Update(const UnrollBatch& batch, int64_t
   }
   ++version_;
   ++iteration_;
-  return stats;
 }
 
 void PpoTrainer::AdaptLearningRate(const torch::Tensor& mean, const torch::Tensor& start_mean) {
@@ -313,7 +383,7 @@ absl::Status PpoTrainer::RestoreState(const std::map<std::string, std::string>& 
     archive.load_from(in);
     net->load(archive);
     if (sections.count("actor_opt")) {
-      Impl probe{impl_->model, net, nullptr, nullptr, ObsNormalizer(0)};
+      Impl probe{impl_->model, net, nullptr, nullptr, ObsNormalizer(0), nullptr};
       actor_opt = std::make_unique<torch::optim::Adam>(probe.ActorParams(),
                                                        torch::optim::AdamOptions(lr));
       critic_opt = std::make_unique<torch::optim::Adam>(net->critic->parameters(),
@@ -338,6 +408,7 @@ absl::Status PpoTrainer::RestoreState(const std::map<std::string, std::string>& 
     return absl::DataLossError(absl::StrCat("learner state: torch RNG: ", e.what_without_backtrace()));
   }
   impl_->net = net;
+  impl_->clone_opt.reset();  // it held the old network's parameters
   impl_->actor_opt = std::move(actor_opt);
   impl_->critic_opt = std::move(critic_opt);
   impl_->normalizer = std::move(normalizer);

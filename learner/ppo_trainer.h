@@ -23,6 +23,22 @@ class Tensor;  // libtorch stays out of this header
 
 namespace juggle {
 
+class DemoBuffer;
+
+// Planner-guided training's part of an update (docs/learning.md, "Planner-guided training").
+struct ImitationTerm {
+  const DemoBuffer* demos = nullptr;  // null or empty: no imitation
+  // Pretraining: the actor learns only by cloning (clone_steps Adam steps at clone_lr on
+  // minibatches of clone_minibatch buffer rows); the critic trains on the batch as in PPO.
+  bool clone_only = false;
+  int clone_steps = 0;
+  int clone_minibatch = 0;
+  double clone_lr = 0;
+  // Otherwise: PPO's actor loss + weight × the squared error of the mean action against the
+  // label (averaged over actions) on a buffer minibatch as large as PPO's.
+  double weight = 0;
+};
+
 struct UpdateStats {
   double value_loss = 0;
   double policy_loss = 0;
@@ -31,6 +47,11 @@ struct UpdateStats {
   double mean_advantage = 0;
   double actor_lr = 0;
   int64_t samples = 0;
+  // The imitation term: mean squared label error of the minibatches it saw (before their
+  // steps; 0 without demonstrations), its weight, and whether the actor only cloned.
+  double imitation_loss = 0;
+  double imitation_weight = 0;
+  bool cloned_only = false;
 };
 
 class PpoTrainer {
@@ -43,7 +64,13 @@ class PpoTrainer {
   // One PPO iteration on `batch`. The batch is validated first (see ValidateUnrollBatch; the
   // allowed lag is `max_policy_lag`); on error nothing is changed. On success the policy
   // version and the iteration advance by one.
-  absl::StatusOr<UpdateStats> Update(const UnrollBatch& batch, int64_t max_policy_lag = 0);
+  // With `imitation`, the actor also (or, pretraining, only) learns from the demonstrations;
+  // the learning-rate decay waits while it only clones.
+  absl::StatusOr<UpdateStats> Update(const UnrollBatch& batch, int64_t max_policy_lag = 0,
+                                     const ImitationTerm& imitation = {});
+  // The mean squared label error of the current actor on the demonstrations' rows [0, n)
+  // (n ≤ 0: all), no gradient: the student's error against its teacher.
+  double ImitationError(const DemoBuffer& demos, int64_t n = 0) const;
 
   // Actor + log-std + normalizer in the flat format workers load (EigenPolicy).
   FlatParameters ExportPolicy() const;
@@ -74,6 +101,9 @@ class PpoTrainer {
   // desired_kl: sets the learning rate from the KL between the iteration's starting means and
   // the current ones (minibatch rows), and applies it to both optimizers.
   void AdaptLearningRate(const at::Tensor& mean, const at::Tensor& start_mean);
+  // The end of every update: the normalizer learns the batch's observations, version and
+  // iteration advance.
+  void FinishUpdate(const UnrollBatch& batch);
   std::unique_ptr<Impl> impl_;
   config::PpoConfig ppo_;
   int obs_dim_, act_dim_;

@@ -1,10 +1,12 @@
 #include "learner/training_loop.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "absl/strings/str_cat.h"
 #include "common/eigen_policy.h"
+#include "learner/imitation_schedule.h"
 #include "learner/learner_metrics.h"
 
 namespace juggle {
@@ -206,8 +208,21 @@ absl::StatusOr<UpdateStats> TrainingLoop::Train(const Contribution& batch) {
     lag_sum += static_cast<double>(version - v);
   }
   batch_lag_ = batch.batch.num_unrolls ? lag_sum / batch.batch.num_unrolls : 0;
+  // Labels go to the demonstrations; expert-driven unrolls never reach PPO.
+  const UnrollBatch* ppo_batch = &batch.batch;
+  UnrollBatch student_only;
+  batch_labelled_ = 0;
+  if (batch.batch.has_labels()) {
+    batch_labelled_ = int64_t(batch.batch.num_labelled()) * batch.batch.unroll_length;
+    if (d_.demos != nullptr) {
+      d_.metrics->Add("juggle_demo_labels_total", d_.demos->AddLabelled(batch.batch));
+    }
+    student_only = WithoutExpertUnrolls(batch.batch);
+    expert_samples_ += batch.batch.num_samples() - student_only.num_samples();
+    ppo_batch = &student_only;
+  }
   absl::StatusOr<UpdateStats> update = d_.trainer->Update(
-      batch.batch, d_.service->synchronous() ? 0 : d_.service->max_policy_lag());
+      *ppo_batch, d_.service->synchronous() ? 0 : d_.service->max_policy_lag(), d_.imitation ? ImitationFor(*d_.imitation, d_.trainer->iteration(), d_.demos) : ImitationTerm());
   if (!update.ok()) {
     d_.metrics->Add("juggle_unrolls_dropped_total", batch.batch.num_unrolls,
                     {{"reason", "update"}});
@@ -251,6 +266,14 @@ runlog::IterationRecord TrainingLoop::Report(const Contribution& batch, const Up
   r.set_policy_version(static_cast<int32_t>(d_.trainer->version()));
   r.set_queue_depth(static_cast<int32_t>(d_.queue->size()));
   SetOutcomeCounts(ep, d_.outcome_names, r.mutable_outcomes());
+  r.set_cloning_only(update.cloned_only);
+  r.set_imitation_loss(update.imitation_loss);
+  r.set_imitation_weight(update.imitation_weight);
+  r.set_labelled_share(samples ? double(batch_labelled_) / samples : 0);
+  r.set_demo_buffer(d_.demos ? static_cast<double>(d_.demos->size()) : 0);
+  r.set_expert_episodes(static_cast<int32_t>(batch.expert_stats.episodes));
+  r.set_expert_juggles_per_episode(batch.expert_stats.mean_juggles());
+  r.set_expert_samples(static_cast<double>(expert_samples_));
   GateStatisticsOfBatch(*d_.trainer, batch.batch, d_.gate_sample_rows, &r);
   last_end_ = t_end;
   return r;

@@ -21,6 +21,7 @@
 #include "common/bounded_queue.h"
 #include "common/metrics.h"
 #include "learner/contribution_assembler.h"
+#include "learner/demo_buffer.h"
 #include "learner/in_run_eval.h"
 #include "learner/learner_state.h"
 #include "learner/ppo_trainer.h"
@@ -62,6 +63,9 @@ class TrainingLoop {
     std::vector<TrainingObserver*> observers;
     // Rows of each batch the actor's gate statistics are computed on (0: none).
     int gate_sample_rows = 512;
+    // Planner-guided training: its settings and the demonstration buffer (null: off).
+    const config::ImitationConfig* imitation = nullptr;
+    DemoBuffer* demos = nullptr;
   };
   TrainingLoop(Deps deps, Limits limits);
 
@@ -104,6 +108,8 @@ class TrainingLoop {
   Clock::time_point last_end_;
   WalkEventTotals walk_totals_;                      // since the learner started
   double batch_lag_ = 0;                             // mean policy lag of the last trained batch
+  int64_t batch_labelled_ = 0;                       // labelled samples of the last batch
+  int64_t expert_samples_ = 0;                       // expert-driven samples since the learner started
 };
 
 }  // namespace juggle

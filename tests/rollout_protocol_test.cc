@@ -298,6 +298,19 @@ TEST_F(RolloutProtocolTest, RejectsBadChunksWithTheirCodesCountsThemAndStillTrai
          *c = empty;
        },
        kInvalidArgument, "chunk claims 2147483647 unrolls"},
+      {"labels without their unroll's worth",
+       [](rpc::TrajectoryChunk* c) {
+         c->set_labelled(std::string(1, '\1'));
+         c->mutable_labels()->Resize(c->unroll_length() * kNumActions - 1, 0.5f);
+       },
+       kInvalidArgument, "chunk field 'labels' has 2799 entries, expected 2800 (1 labelled unrolls)"},
+      {"infinite label",
+       [](rpc::TrajectoryChunk* c) {
+         c->set_labelled(std::string(1, '\1'));
+         c->mutable_labels()->Resize(c->unroll_length() * kNumActions, 0.5f);
+         c->set_labels(11, -std::numeric_limits<float>::infinity());
+       },
+       kInvalidArgument, "'labels' has a non-finite value at index 11"},
       {"unregistered incarnation",
        [](rpc::TrajectoryChunk* c) { c->set_incarnation(c->incarnation() + 1000); },
        kFailedPrecondition,
@@ -321,7 +334,7 @@ TEST_F(RolloutProtocolTest, RejectsBadChunksWithTheirCodesCountsThemAndStillTrai
   }
 
   const std::string metrics = Metrics();
-  EXPECT_THAT(metrics, HasSubstr("\njuggle_chunks_rejected_total{reason=\"invalid\"} 4\n"));
+  EXPECT_THAT(metrics, HasSubstr("\njuggle_chunks_rejected_total{reason=\"invalid\"} 6\n"));
   EXPECT_THAT(metrics, HasSubstr("\njuggle_chunks_rejected_total{reason=\"unregistered\"} 1\n"));
   EXPECT_THAT(metrics, HasSubstr("\njuggle_chunks_rejected_total{reason=\"unknown_version\"} 1\n"));
   EXPECT_THAT(metrics, Not(HasSubstr("reason=\"stale_version\"")));

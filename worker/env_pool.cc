@@ -126,17 +126,21 @@ void EnvPool::Step(const float* actions) {
   RunParallel();
   out_.events.clear();
   for (int i = 0; i < num_envs(); ++i) {
-    const std::vector<EdgeEvent>& ev = env_events_[i];
-    out_.events.insert(out_.events.end(), ev.begin(), ev.end());
+    const bool separate = i < separate_envs_;
+    EpisodeCounters& stats = separate ? separate_stats_ : stats_;
+    if (!separate) {
+      const std::vector<EdgeEvent>& ev = env_events_[i];
+      out_.events.insert(out_.events.end(), ev.begin(), ev.end());
+    }
     episode_return_[i] += out_.reward[i];
-    ++stats_.steps;
+    ++stats.steps;
     if (out_.outcome[i] != Outcome::kRunning) {
-      ++stats_.episodes;
-      stats_.return_sum += episode_return_[i];
-      stats_.length_sum += finished_length_[i];
-      stats_.completions_sum += finished_completions_[i];
-      stats_.juggles_sum += finished_juggles_[i];
-      stats_.CountOutcome(static_cast<int>(out_.outcome[i]));
+      ++stats.episodes;
+      stats.return_sum += episode_return_[i];
+      stats.length_sum += finished_length_[i];
+      stats.completions_sum += finished_completions_[i];
+      stats.juggles_sum += finished_juggles_[i];
+      stats.CountOutcome(static_cast<int>(out_.outcome[i]));
       episode_return_[i] = 0;
     }
   }
@@ -148,6 +152,12 @@ void EnvPool::Step(const float* actions) {
 EpisodeCounters EnvPool::TakeStats() {
   EpisodeCounters s = stats_;
   stats_ = EpisodeCounters();
+  return s;
+}
+
+EpisodeCounters EnvPool::TakeSeparateStats() {
+  EpisodeCounters s = separate_stats_;
+  separate_stats_ = EpisodeCounters();
   return s;
 }
 

@@ -51,8 +51,12 @@ class EnvPool {
   const PoolStep& output() const { return out_; }
   AdaptiveWalk* walk() { return &walk_; }
   void set_apply_events_locally(bool v) { apply_events_locally_ = v; }
-  // Counters over the episodes finished since the last call.
+  // Counters over the episodes finished since the last call (envs counted separately excluded).
   EpisodeCounters TakeStats();
+  // Envs [0, n) are counted separately and their edge events are left out of output().events
+  // and the walk: what an expert, not the policy, drives (planner-guided training).
+  void set_separate_envs(int n) { separate_envs_ = n; }
+  EpisodeCounters TakeSeparateStats();
 
   int num_envs() const { return static_cast<int>(envs_.size()); }
   int obs_dim() const { return spec_->obs_dim(); }
@@ -78,6 +82,8 @@ class EnvPool {
   std::vector<int> finished_juggles_;
   PoolStep out_;
   EpisodeCounters stats_;
+  int separate_envs_ = 0;
+  EpisodeCounters separate_stats_;
   bool apply_events_locally_ = true;
   const float* actions_ = nullptr;
 

@@ -2,11 +2,15 @@
 
 #include <algorithm>
 
+#include "common/status_macros.h"
+
 namespace juggle {
 namespace {
 
 // Salt separating action-noise streams from the env streams of the same (seed, worker, env).
 constexpr uint64_t kActionStreamSalt = 0x5DEECE66DULL;
+// And the expert's action noise from both.
+constexpr uint64_t kExpertStreamSalt = 0x2545F4914F6CDD1DULL;
 
 }  // namespace
 
@@ -17,10 +21,20 @@ RolloutCollector::RolloutCollector(EnvPool* pool, int unroll_length, uint64_t se
     rngs_.push_back(Rng::ForStream(seed ^ kActionStreamSalt, worker, i));
   }
   actions_.resize(size_t(pool->num_envs()) * pool->act_dim());
+  for (int i = 0; i < pool->num_envs(); ++i) {
+    expert_rngs_.push_back(Rng::ForStream(seed ^ kExpertStreamSalt, worker, i));
+  }
 }
 
-void RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* batch,
-                               std::vector<EdgeEvent>* events, std::vector<int32_t>* nodes) {
+void RolloutCollector::set_label_plan(const LabelPlan& plan) {
+  labels_ = plan;
+  if (labels_.labeller == nullptr) labels_.label_envs = labels_.expert_envs = 0;
+  pool_->set_separate_envs(labels_.expert_envs);
+}
+
+absl::Status RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* batch,
+                                       std::vector<EdgeEvent>* events,
+                                       std::vector<int32_t>* nodes) {
   if (!started_) {
     pool_->Reset();
     started_ = true;
@@ -41,6 +55,14 @@ void RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* batch,
   batch->bootstrap_obs.resize(size_t(U) * D);
   batch->policy_version.assign(U, policy.version());
   if (nodes != nullptr) nodes->assign(size_t(U) * T, 0);
+  const int L = labels_.label_envs;
+  batch->labelled.assign(L > 0 ? U : 0, 0);
+  batch->expert_driven.assign(L > 0 ? U : 0, 0);
+  batch->labels.resize(size_t(L) * T * A);
+  for (int u = 0; u < L; ++u) {
+    batch->labelled[u] = 1;
+    batch->expert_driven[u] = u < labels_.expert_envs;
+  }
 
   // Truncated final observations arrive step by step but must be stored in (u, t) order.
   std::vector<std::vector<float>> truncated_per_env(U);
@@ -53,6 +75,20 @@ void RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* batch,
                 batch->obs.begin() + i * D);
       batch->log_probs[i] = policy.Sample(mean.row(u).data(), &rngs_[u],
                                           &actions_[size_t(u) * A]);
+      if (u < L) {
+        // Labelled unrolls are the first L, so unroll u's label rows start at u·T·A.
+        float* label = &batch->labels[i * A];
+        RETURN_IF_ERROR(labels_.labeller->Label(pool_->env(u), label));
+        if (u < labels_.expert_envs) {
+          // The expert acts (DART noise on top); the student's log-probability is not used
+          // for such unrolls (they never reach PPO).
+          for (int a = 0; a < A; ++a) {
+            const double noise = labels_.expert_noise * expert_rngs_[u].Normal();
+            actions_[size_t(u) * A + a] = std::clamp(float(label[a] + noise), -1.0f, 1.0f);
+          }
+          batch->log_probs[i] = 0;
+        }
+      }
       std::copy(actions_.begin() + size_t(u) * A,
                 actions_.begin() + size_t(u + 1) * A,
                 batch->actions.begin() + i * A);
@@ -76,6 +112,7 @@ void RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* batch,
     batch->truncated_obs.insert(batch->truncated_obs.end(), v.begin(), v.end());
   }
   std::copy(pool_->output().obs.begin(), pool_->output().obs.end(), batch->bootstrap_obs.begin());
+  return absl::OkStatus();
 }
 
 }  // namespace juggle

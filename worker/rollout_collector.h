@@ -11,6 +11,7 @@
 #include "common/rng.h"
 #include "common/unroll_batch.h"
 #include "worker/env_pool.h"
+#include "worker/labeller.h"
 
 namespace juggle {
 
@@ -20,10 +21,15 @@ class RolloutCollector {
   // derived from (seed, worker, i).
   RolloutCollector(EnvPool* pool, int unroll_length, uint64_t seed, uint64_t worker = 0);
 
+  // Expert labels from now on (REQUIRES: the labeller outlives the collector, label_envs ≤ the
+  // pool's envs, expert_envs ≤ label_envs). The expert-driven envs are counted apart by the pool
+  // (EnvPool::set_separate_envs) and their unrolls are flagged in the batch.
+  void set_label_plan(const LabelPlan& plan);
+
   // Runs unroll_length steps of every env with `policy` and writes them into `batch` (policy
   // version stamped from the policy). Edge events of these steps are appended to `events` if
-  // given. The first call resets the pool.
-  void Collect(const EigenPolicy& policy, UnrollBatch* batch,
+  // given. The first call resets the pool. Errors: the labeller's (the batch is then partial).
+  absl::Status Collect(const EigenPolicy& policy, UnrollBatch* batch,
                std::vector<EdgeEvent>* events = nullptr, std::vector<int32_t>* nodes = nullptr);
 
  private:
@@ -31,6 +37,8 @@ class RolloutCollector {
   int unroll_length_;
   std::vector<Rng> rngs_;
   std::vector<float> actions_;
+  LabelPlan labels_;
+  std::vector<Rng> expert_rngs_;  // noise of expert-driven actions, one stream per env
   bool started_ = false;
 };
 

@@ -11,6 +11,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "common/chunk_codec.h"
+#include "common/status_macros.h"
 #include "common/eigen_policy.h"
 #include "common/flat_parameters.h"
 #include "envs/registry.h"
@@ -120,6 +121,27 @@ class Session {
     if (!pool.ok()) return Fatal(pool.status());
     (*pool)->set_apply_events_locally(false);  // the learner owns the edge counts
     RolloutCollector collector(pool->get(), reg.unroll_length(), run.seed(), reg.slot());
+    std::unique_ptr<Labeller> labeller;
+    if (const config::ImitationConfig& im = run.imitation(); im.label_envs() > 0) {
+      if (!o_.labeller_factory) {
+        return Fatal(absl::FailedPreconditionError(
+            "the run asks for expert labels (imitation.label_envs) but this worker has no expert"));
+      }
+      absl::StatusOr<std::unique_ptr<Labeller>> made = o_.labeller_factory(*spec, *config, reg.slot());
+      if (!made.ok()) return Fatal(made.status());
+      labeller = std::move(*made);
+      if (im.expert_envs() >= o_.num_envs) {
+        return Fatal(absl::InvalidArgumentError(absl::StrCat(
+            "imitation.expert_envs (", im.expert_envs(), ") leaves none of this worker's ",
+            o_.num_envs, " envs to the policy")));
+      }
+      LabelPlan plan;
+      plan.labeller = labeller.get();
+      plan.label_envs = std::min(im.label_envs(), o_.num_envs);
+      plan.expert_envs = std::min(im.expert_envs(), plan.label_envs);
+      plan.expert_noise = im.expert_noise();
+      collector.set_label_plan(plan);
+    }
     if (o_.verbose) {
       std::printf("worker: registered as slot %d (incarnation %lx), %d envs on %d threads, %s mode\n",
                   reg.slot(), static_cast<unsigned long>(incarnation_), o_.num_envs,
@@ -188,9 +210,11 @@ class Session {
       // One contribution: an unroll of every env with this policy.
       const auto t0 = Clock::now();
       contribution.events.clear();
-      collector->Collect(*policy, &contribution.batch, &contribution.events, &contribution.node);
+      RETURN_IF_ERROR(collector->Collect(*policy, &contribution.batch, &contribution.events,
+                                         &contribution.node));
       if (o_.stop->load()) break;
       contribution.stats = pool->TakeStats();
+      contribution.expert_stats = pool->TakeSeparateStats();
       *steps_per_s = contribution.batch.num_samples() /
                      std::max(1e-9, std::chrono::duration<double>(Clock::now() - t0).count());
 

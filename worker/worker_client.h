@@ -12,6 +12,7 @@
 
 #include "absl/status/status.h"
 #include "common/transport_security.h"
+#include "worker/labeller.h"
 
 namespace juggle {
 
@@ -26,6 +27,9 @@ struct WorkerOptions {
   double give_up_after_s = 0;
   // Token and TLS towards the learner (common/transport_security.h).
   TransportSecurity security;
+  // Builds the expert when the run's config asks for labels (ImitationConfig.label_envs > 0);
+  // a run that asks for labels on a worker without one fails to start there (fatal).
+  LabellerFactory labeller_factory;
 };
 
 // Runs until *stop (OK) or give_up_after_s without a learner (UNAVAILABLE).

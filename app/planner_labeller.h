@@ -1,0 +1,20 @@
+// The planner as the worker's expert (worker/labeller.h): one receding-horizon planner per
+// labelled env (planner/soccer_planner.h), all sharing one rollout pool of planner.threads
+// threads. Env k of worker w plans on random stream w·65536 + k, so labels are reproducible
+// from (run seed, worker, env). Thread-compatible.
+#ifndef JUGGLE_APP_PLANNER_LABELLER_H_
+#define JUGGLE_APP_PLANNER_LABELLER_H_
+
+#include "worker/labeller.h"
+
+namespace juggle {
+
+// The factory juggle-worker and local training hand to their workers. Errors: the planner's
+// config check (ValidatePlannerConfig), a family the planner cannot drive.
+absl::StatusOr<std::unique_ptr<Labeller>> MakePlannerLabeller(std::shared_ptr<const EnvSpec> spec,
+                                                              const LoadedConfig& config,
+                                                              int worker);
+
+}  // namespace juggle
+
+#endif  // JUGGLE_APP_PLANNER_LABELLER_H_

@@ -1,0 +1,45 @@
+// The learner's demonstration buffer (planner-guided training, docs/learning.md): the newest
+// `capacity` (observation, expert label) pairs from the labelled unrolls of the batches,
+// oldest out. Memory grows to capacity × (obs_dim + act_dim) floats and then stays flat. Its
+// accounts reconcile: added = size + evicted. Thread-compatible.
+#ifndef JUGGLE_LEARNER_DEMO_BUFFER_H_
+#define JUGGLE_LEARNER_DEMO_BUFFER_H_
+
+#include <cstdint>
+#include <vector>
+
+#include "common/unroll_batch.h"
+
+namespace juggle {
+
+class DemoBuffer {
+ public:
+  DemoBuffer(int64_t capacity, int obs_dim, int act_dim);
+
+  // Adds every step of `batch`'s labelled unrolls (REQUIRES: a validated batch of these dims);
+  // returns the pairs added.
+  int64_t AddLabelled(const UnrollBatch& batch);
+
+  int64_t size() const { return size_; }
+  int64_t capacity() const { return capacity_; }
+  int64_t added() const { return added_; }
+  int64_t evicted() const { return added_ - size_; }
+  // Row-major [size, obs_dim] and [size, act_dim], row i of one matching row i of the other
+  // (rows are in no particular order).
+  const float* obs() const { return obs_.data(); }
+  const float* labels() const { return labels_.data(); }
+  int obs_dim() const { return obs_dim_; }
+  int act_dim() const { return act_dim_; }
+
+ private:
+  int64_t capacity_;
+  int obs_dim_, act_dim_;
+  std::vector<float> obs_, labels_;
+  int64_t size_ = 0;
+  int64_t next_ = 0;  // the row the next pair goes to once full
+  int64_t added_ = 0;
+};
+
+}  // namespace juggle
+
+#endif  // JUGGLE_LEARNER_DEMO_BUFFER_H_

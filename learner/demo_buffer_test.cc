@@ -1,0 +1,85 @@
+#include "learner/demo_buffer.h"
+
+#include <set>
+#include <vector>
+
+#include "gtest/gtest.h"
+
+namespace juggle {
+namespace {
+
+constexpr int kD = 3, kA = 2, kT = 4;
+
+// `unrolls` unrolls of kT steps; unroll u is labelled when u is odd. Observation row i (over
+// the whole batch) starts with `first + i`, and its label (if any) with -(first + i).
+UnrollBatch Batch(int unrolls, float first) {
+  UnrollBatch b;
+  b.num_unrolls = unrolls;
+  b.unroll_length = kT;
+  b.obs_dim = kD;
+  b.act_dim = kA;
+  b.obs.assign(size_t(unrolls) * kT * kD, 0);
+  for (int i = 0; i < unrolls * kT; ++i) b.obs[size_t(i) * kD] = first + i;
+  b.labelled.assign(unrolls, 0);
+  for (int u = 1; u < unrolls; u += 2) {
+    b.labelled[u] = 1;
+    for (int t = 0; t < kT; ++t) {
+      b.labels.push_back(-(first + u * kT + t));
+      b.labels.push_back(0.5f);
+    }
+  }
+  return b;
+}
+
+// The observation keys (first entries) the buffer holds, checking that each row's label
+// belongs to its observation.
+std::set<float> Keys(const DemoBuffer& d) {
+  std::set<float> keys;
+  for (int64_t i = 0; i < d.size(); ++i) {
+    const float key = d.obs()[i * kD];
+    EXPECT_EQ(d.labels()[i * kA], -key) << "row " << i;
+    keys.insert(key);
+  }
+  return keys;
+}
+
+TEST(DemoBufferTest, AddsOnlyTheLabelledUnrollsWithTheirOwnLabels) {
+  DemoBuffer d(100, kD, kA);
+  EXPECT_EQ(d.AddLabelled(Batch(4, 0)), 2 * kT);  // unrolls 1 and 3
+  EXPECT_EQ(Keys(d), (std::set<float>{4, 5, 6, 7, 12, 13, 14, 15}));
+}
+
+TEST(DemoBufferTest, BatchWithoutLabelsAddsNothing) {
+  DemoBuffer d(100, kD, kA);
+  UnrollBatch b = Batch(2, 0);
+  b.labelled.clear();
+  b.labels.clear();
+  EXPECT_EQ(d.AddLabelled(b), 0);
+  EXPECT_EQ(d.size(), 0);
+}
+
+TEST(DemoBufferTest, StaysWithinItsBoundKeepingTheNewestAndReconciles) {
+  DemoBuffer d(10, kD, kA);
+  float first = 0;
+  const float* storage = nullptr;
+  for (int round = 0; round < 20; ++round, first += 1000) {
+    d.AddLabelled(Batch(4, first));  // 8 labelled states per batch
+    EXPECT_LE(d.size(), 10);
+    EXPECT_EQ(d.added(), d.size() + d.evicted());
+    if (round == 1) storage = d.obs();
+    // Memory stays flat: the storage never moves once the bound is reached.
+    if (round > 1) {
+      EXPECT_EQ(d.obs(), storage);
+    }
+  }
+  EXPECT_EQ(d.size(), 10);
+  EXPECT_EQ(d.added(), 160);
+  EXPECT_EQ(d.evicted(), 150);
+  // The newest 10: the last batch's 8 and the previous batch's last 2.
+  const float last = 19000, previous = 18000;
+  EXPECT_EQ(Keys(d), (std::set<float>{previous + 14, previous + 15, last + 4, last + 5, last + 6,
+                                      last + 7, last + 12, last + 13, last + 14, last + 15}));
+}
+
+}  // namespace
+}  // namespace juggle

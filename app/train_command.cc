@@ -8,7 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "app/commands.h"
 #include "app/learner_flags.h"
-#include "app/planner_labeller.h"
+#include "planner/planner_labeller.h"
 #include "app/signals.h"
 #include "learner/console_reporter.h"
 #include "worker/worker_client.h"

@@ -4,7 +4,7 @@
 
 #include "app/command.h"
 #include "app/commands.h"
-#include "app/planner_labeller.h"
+#include "planner/planner_labeller.h"
 #include "app/security_flags.h"
 #include "app/signals.h"
 #include "worker/health_probe.h"

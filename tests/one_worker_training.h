@@ -38,7 +38,9 @@ inline LearnerOptions TinyRunOptions(const std::string& run_dir, int iterations,
   return o;
 }
 
-inline absl::Status TrainWithOneWorker(LearnerServer& server) {
+// `labeller_factory`: the worker's expert for runs that ask for labels (none by default).
+inline absl::Status TrainWithOneWorker(LearnerServer& server,
+                                       LabellerFactory labeller_factory = nullptr) {
   std::atomic<bool> stop{false}, workers_stop{false};
   std::thread worker([&] {
     WorkerOptions wo;
@@ -48,6 +50,7 @@ inline absl::Status TrainWithOneWorker(LearnerServer& server) {
     wo.requested_slot = 0;
     wo.stop = &workers_stop;
     wo.verbose = false;
+    wo.labeller_factory = labeller_factory;
     RunWorker(wo).IgnoreError();
   });
   const absl::Status trained = server.Train(&stop);

@@ -11,9 +11,17 @@
 #include "common/rng.h"
 #include "common/unroll_batch.h"
 #include "worker/env_pool.h"
-#include "worker/labeller.h"
+#include "envs/labeller.h"
 
 namespace juggle {
+
+// Which envs of a worker's pool the expert labels and which it drives (ImitationConfig).
+struct LabelPlan {
+  Labeller* labeller = nullptr;  // null: no labels
+  int label_envs = 0;            // envs [0, label_envs) get a label every step
+  int expert_envs = 0;           // of those, [0, expert_envs) act with the label (+ noise)
+  double expert_noise = 0;       // std of the Gaussian noise on expert-driven actions
+};
 
 class RolloutCollector {
  public:

@@ -12,7 +12,7 @@
 
 #include "absl/status/status.h"
 #include "common/transport_security.h"
-#include "worker/labeller.h"
+#include "envs/labeller.h"
 
 namespace juggle {
 

@@ -1,9 +1,10 @@
 // The expert of planner-guided training as a worker sees it (docs/learning.md, "Planner-guided
 // training"): the action it would take in an env's current state, in the policy's own action
-// units. The worker links no planner; the app hands it a factory (app/labeller_factory.h).
+// units. Envs and workers know only this interface; the planner implements it
+// (planner/planner_labeller.h) and the app hands workers its factory.
 // Thread-compatible: the collector calls it from one thread, between pool steps.
-#ifndef JUGGLE_WORKER_LABELLER_H_
-#define JUGGLE_WORKER_LABELLER_H_
+#ifndef JUGGLE_ENVS_LABELLER_H_
+#define JUGGLE_ENVS_LABELLER_H_
 
 #include <functional>
 #include <memory>
@@ -28,14 +29,6 @@ class Labeller {
 using LabellerFactory = std::function<absl::StatusOr<std::unique_ptr<Labeller>>(
     std::shared_ptr<const EnvSpec> spec, const LoadedConfig& config, int worker)>;
 
-// Which envs of a worker's pool the expert labels and which it drives (ImitationConfig).
-struct LabelPlan {
-  Labeller* labeller = nullptr;  // null: no labels
-  int label_envs = 0;            // envs [0, label_envs) get a label every step
-  int expert_envs = 0;           // of those, [0, expert_envs) act with the label (+ noise)
-  double expert_noise = 0;       // std of the Gaussian noise on expert-driven actions
-};
-
 }  // namespace juggle
 
-#endif  // JUGGLE_WORKER_LABELLER_H_
+#endif  // JUGGLE_ENVS_LABELLER_H_

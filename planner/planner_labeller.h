@@ -1,11 +1,11 @@
-// The planner as the worker's expert (worker/labeller.h): one receding-horizon planner per
+// The planner as the worker's expert (envs/labeller.h): one receding-horizon planner per
 // labelled env (planner/soccer_planner.h), all sharing one rollout pool of planner.threads
 // threads. Env k of worker w plans on random stream w·65536 + k, so labels are reproducible
 // from (run seed, worker, env). Thread-compatible.
-#ifndef JUGGLE_APP_PLANNER_LABELLER_H_
-#define JUGGLE_APP_PLANNER_LABELLER_H_
+#ifndef JUGGLE_PLANNER_PLANNER_LABELLER_H_
+#define JUGGLE_PLANNER_PLANNER_LABELLER_H_
 
-#include "worker/labeller.h"
+#include "envs/labeller.h"
 
 namespace juggle {
 
@@ -17,4 +17,4 @@ absl::StatusOr<std::unique_ptr<Labeller>> MakePlannerLabeller(std::shared_ptr<co
 
 }  // namespace juggle
 
-#endif  // JUGGLE_APP_PLANNER_LABELLER_H_
+#endif  // JUGGLE_PLANNER_PLANNER_LABELLER_H_

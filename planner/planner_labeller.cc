@@ -1,4 +1,4 @@
-#include "app/planner_labeller.h"
+#include "planner/planner_labeller.h"
 
 #include <memory>
 #include <utility>

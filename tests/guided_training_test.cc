@@ -1,0 +1,90 @@
+// Planner-guided training end to end (learner + one worker over loopback, the real planner
+// labelling real envs): labels reach the demonstration buffer, expert-driven unrolls stay out
+// of PPO's samples, pretraining clones and then PPO runs with the scheduled weight, and the run
+// log carries it all.
+#include <string>
+
+#include "common/testing/temp_dir.h"
+#include "gtest/gtest.h"
+#include "learner/learner_server.h"
+#include "learner/run_log.h"
+#include "planner/planner_labeller.h"
+#include "tests/one_worker_training.h"
+
+namespace juggle {
+namespace {
+
+constexpr int kIterations = 3, kT = 20, kEnvs = 4;  // tests/data/tiny_right_foot.textproto
+
+LearnerOptions GuidedOptions(const std::string& dir) {
+  LearnerOptions o = TinyRunOptions(dir, kIterations, /*evaluate_every=*/0);
+  config::ImitationConfig* im = o.config.run.mutable_imitation();
+  im->set_label_envs(2);
+  im->set_expert_envs(1);
+  im->set_pretrain_iterations(2);
+  im->set_min_buffer(1);
+  im->set_clone_steps(3);
+  im->set_clone_minibatch(16);
+  im->set_weight(0.5);
+  im->set_decay(0.9);
+  // A small, fast planner: the test checks the plumbing, not the labels' quality.
+  config::PlannerConfig* p = o.config.run.mutable_planner();
+  p->set_samples(4);
+  p->set_iterations(1);
+  p->set_horizon_steps(8);
+  p->set_body_knot_steps(0);
+  p->set_threads(1);
+  return o;
+}
+
+TEST(GuidedTrainingTest, LabelsFillTheBufferAndPretrainingHandsOverToPpoWithImitation) {
+  const std::string dir = MakeTempDir("juggle_guided_training_");
+  auto server = LearnerServer::Start(GuidedOptions(dir));
+  ASSERT_TRUE(server.ok()) << server.status();
+  ASSERT_TRUE(TrainWithOneWorker(**server, MakePlannerLabeller).ok());
+
+  absl::StatusOr<RunLog> log = ReadRunLog(RunLogPath(dir));
+  ASSERT_TRUE(log.ok()) << log.status();
+  int iterations = 0;
+  for (const runlog::RunLogRecord& r : log->records) {
+    if (!r.has_iteration()) continue;
+    const runlog::IterationRecord& it = r.iteration();
+    ++iterations;
+    SCOPED_TRACE(it.iteration());
+    // Every iteration: 2 labelled unrolls of 4, one of them the expert's.
+    EXPECT_DOUBLE_EQ(it.labelled_share(), 2.0 / kEnvs);
+    EXPECT_EQ(it.demo_buffer(), 2.0 * kT * it.iteration());
+    EXPECT_EQ(it.expert_samples(), double(kT) * it.iteration());
+    EXPECT_GT(it.imitation_loss(), 0);
+    if (it.iteration() <= 2) {
+      EXPECT_TRUE(it.cloning_only());
+      EXPECT_EQ(it.imitation_weight(), 0);
+    } else {
+      EXPECT_FALSE(it.cloning_only());
+      EXPECT_DOUBLE_EQ(it.imitation_weight(), 0.5);
+    }
+  }
+  EXPECT_EQ(iterations, kIterations);
+  EXPECT_EQ((*server)->metrics().Get("juggle_demo_labels_total"), 2.0 * kT * kIterations);
+}
+
+TEST(GuidedTrainingTest, AWorkerWithoutAnExpertRefusesARunThatAsksForLabels) {
+  const std::string dir = MakeTempDir("juggle_guided_refused_");
+  LearnerOptions o = GuidedOptions(dir);
+  auto server = LearnerServer::Start(o);
+  ASSERT_TRUE(server.ok()) << server.status();
+  std::atomic<bool> stop{false};
+  WorkerOptions wo;
+  wo.learner_address = absl::StrCat("127.0.0.1:", (*server)->port());
+  wo.num_envs = kEnvs;
+  wo.num_threads = 1;
+  wo.stop = &stop;
+  wo.verbose = false;
+  const absl::Status s = RunWorker(wo);
+  EXPECT_EQ(s.code(), absl::StatusCode::kFailedPrecondition) << s;
+  EXPECT_NE(s.message().find("imitation.label_envs"), std::string::npos) << s;
+  (*server)->Shutdown();
+}
+
+}  // namespace
+}  // namespace juggle

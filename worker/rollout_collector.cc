@@ -67,6 +67,7 @@ absl::Status RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* b
   // Truncated final observations arrive step by step but must be stored in (u, t) order.
   std::vector<std::vector<float>> truncated_per_env(U);
   for (int t = 0; t < T; ++t) {
+    if (stop_ != nullptr && stop_->load()) return absl::CancelledError("stopped mid-unroll");
     const PoolStep& out = pool_->output();
     const RowMatrix mean = policy.MeanActions(out.obs.data(), U);
     for (int u = 0; u < U; ++u) {

@@ -4,6 +4,7 @@
 #ifndef JUGGLE_WORKER_ROLLOUT_COLLECTOR_H_
 #define JUGGLE_WORKER_ROLLOUT_COLLECTOR_H_
 
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -33,6 +34,9 @@ class RolloutCollector {
   // pool's envs, expert_envs ≤ label_envs). The expert-driven envs are counted apart by the pool
   // (EnvPool::set_separate_envs) and their unrolls are flagged in the batch.
   void set_label_plan(const LabelPlan& plan);
+  // Once *stop is set, Collect returns CANCELLED at its next step (the batch is then partial
+  // and must be dropped): a labelled contribution can take minutes.
+  void set_stop(const std::atomic<bool>* stop) { stop_ = stop; }
 
   // Runs unroll_length steps of every env with `policy` and writes them into `batch` (policy
   // version stamped from the policy). Edge events of these steps are appended to `events` if
@@ -46,6 +50,7 @@ class RolloutCollector {
   std::vector<Rng> rngs_;
   std::vector<float> actions_;
   LabelPlan labels_;
+  const std::atomic<bool>* stop_ = nullptr;
   std::vector<Rng> expert_rngs_;  // noise of expert-driven actions, one stream per env
   bool started_ = false;
 };

@@ -121,6 +121,7 @@ class Session {
     if (!pool.ok()) return Fatal(pool.status());
     (*pool)->set_apply_events_locally(false);  // the learner owns the edge counts
     RolloutCollector collector(pool->get(), reg.unroll_length(), run.seed(), reg.slot());
+    collector.set_stop(o_.stop);
     std::unique_ptr<Labeller> labeller;
     if (const config::ImitationConfig& im = run.imitation(); im.label_envs() > 0) {
       if (!o_.labeller_factory) {
@@ -210,9 +211,10 @@ class Session {
       // One contribution: an unroll of every env with this policy.
       const auto t0 = Clock::now();
       contribution.events.clear();
-      RETURN_IF_ERROR(collector->Collect(*policy, &contribution.batch, &contribution.events,
-                                         &contribution.node));
-      if (o_.stop->load()) break;
+      const absl::Status collected = collector->Collect(*policy, &contribution.batch,
+                                                        &contribution.events, &contribution.node);
+      if (o_.stop->load()) break;  // a contribution cut short is dropped
+      RETURN_IF_ERROR(collected);
       contribution.stats = pool->TakeStats();
       contribution.expert_stats = pool->TakeSeparateStats();
       *steps_per_s = contribution.batch.num_samples() /

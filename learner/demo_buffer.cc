@@ -5,7 +5,21 @@
 namespace juggle {
 
 DemoBuffer::DemoBuffer(int64_t capacity, int obs_dim, int act_dim)
-    : capacity_(std::max<int64_t>(1, capacity)), obs_dim_(obs_dim), act_dim_(act_dim) {}
+    : capacity_(std::max<int64_t>(1, capacity)),
+      obs_dim_(obs_dim),
+      act_dim_(act_dim),
+      label_sum_(act_dim, 0.0),
+      label_sum_sq_(act_dim, 0.0) {}
+
+std::vector<double> DemoBuffer::LabelVariance() const {
+  std::vector<double> var(act_dim_, 0.0);
+  if (size_ == 0) return var;
+  for (int a = 0; a < act_dim_; ++a) {
+    const double mean = label_sum_[a] / size_;
+    var[a] = std::max(0.0, label_sum_sq_[a] / size_ - mean * mean);
+  }
+  return var;
+}
 
 int64_t DemoBuffer::AddLabelled(const UnrollBatch& b) {
   if (!b.has_labels()) return 0;
@@ -28,6 +42,15 @@ int64_t DemoBuffer::AddLabelled(const UnrollBatch& b) {
       } else {
         at = next_;
         next_ = (next_ + 1) % capacity_;
+        for (int a = 0; a < act_dim_; ++a) {  // the evicted row leaves the sums
+          const double x = labels_[at * act_dim_ + a];
+          label_sum_[a] -= x;
+          label_sum_sq_[a] -= x * x;
+        }
+      }
+      for (int a = 0; a < act_dim_; ++a) {
+        label_sum_[a] += l[a];
+        label_sum_sq_[a] += double(l[a]) * l[a];
       }
       std::copy(o, o + obs_dim_, obs_.begin() + at * obs_dim_);
       std::copy(l, l + act_dim_, labels_.begin() + at * act_dim_);

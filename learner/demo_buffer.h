@@ -28,6 +28,8 @@ class DemoBuffer {
   // (rows are in no particular order).
   const float* obs() const { return obs_.data(); }
   const float* labels() const { return labels_.data(); }
+  // Per action: the variance of the labels it holds (population; 0 when empty).
+  std::vector<double> LabelVariance() const;
   int obs_dim() const { return obs_dim_; }
   int act_dim() const { return act_dim_; }
 
@@ -38,6 +40,7 @@ class DemoBuffer {
   int64_t size_ = 0;
   int64_t next_ = 0;  // the row the next pair goes to once full
   int64_t added_ = 0;
+  std::vector<double> label_sum_, label_sum_sq_;  // per action, over the rows held
 };
 
 }  // namespace juggle

@@ -1,5 +1,6 @@
 #include "learner/demo_buffer.h"
 
+#include <cmath>
 #include <set>
 #include <vector>
 
@@ -79,6 +80,20 @@ TEST(DemoBufferTest, StaysWithinItsBoundKeepingTheNewestAndReconciles) {
   const float last = 19000, previous = 18000;
   EXPECT_EQ(Keys(d), (std::set<float>{previous + 14, previous + 15, last + 4, last + 5, last + 6,
                                       last + 7, last + 12, last + 13, last + 14, last + 15}));
+}
+
+TEST(DemoBufferTest, LabelVarianceMatchesADirectComputationOverTheRowsHeld) {
+  DemoBuffer d(10, kD, kA);
+  for (int round = 0; round < 7; ++round) d.AddLabelled(Batch(4, 100.0f * round));
+  ASSERT_EQ(d.size(), 10);
+  for (int a = 0; a < kA; ++a) {
+    double sum = 0, sum_sq = 0;
+    for (int64_t i = 0; i < d.size(); ++i) sum += d.labels()[i * kA + a];
+    const double mean = sum / d.size();
+    for (int64_t i = 0; i < d.size(); ++i) sum_sq += std::pow(d.labels()[i * kA + a] - mean, 2);
+    EXPECT_NEAR(d.LabelVariance()[a], sum_sq / d.size(), 1e-6 * (1 + sum_sq / d.size())) << a;
+  }
+  EXPECT_EQ(d.LabelVariance()[1], 0);  // the second label is always 0.5
 }
 
 }  // namespace

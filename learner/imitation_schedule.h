@@ -1,7 +1,8 @@
 // When and how strongly the policy imitates its teacher (proto/imitation.proto): pretraining
 // (cloning only) for the first pretrain_iterations learner iterations, then PPO with the
 // imitation weight × decay^k (k: iterations since pretraining) above its floor. Cloning needs
-// min_buffer demonstrations; until then a pretraining iteration trains only the critic.
+// min_buffer demonstrations; until then a pretraining iteration trains only the critic. The
+// label error of each action is weighted by 1 / max(its label variance, min_label_std²).
 #ifndef JUGGLE_LEARNER_IMITATION_SCHEDULE_H_
 #define JUGGLE_LEARNER_IMITATION_SCHEDULE_H_
 

@@ -145,6 +145,19 @@ TEST(ImitationTest, ScheduleClonesThenDecaysTheWeightToItsFloor) {
     EXPECT_EQ(t.weight, 0);
     EXPECT_EQ(t.demos, &demos);
   }
+  // Label errors in units of each action's label spread, floored at min_label_std.
+  im.set_min_label_std(0.08);
+  const std::vector<double> var = demos.LabelVariance();
+  const std::vector<float> w = ImitationFor(im, 3, &demos).action_weights;
+  ASSERT_EQ(w.size(), 2u);
+  for (int a = 0; a < 2; ++a) {
+    EXPECT_GT(var[a], 0.0064);
+    EXPECT_FLOAT_EQ(w[a], float(1 / var[a]));
+  }
+  im.set_min_label_std(10);  // a floor above every spread: weights 1/100
+  EXPECT_FLOAT_EQ(ImitationFor(im, 3, &demos).action_weights[0], 0.01f);
+  im.set_min_label_std(0);
+  EXPECT_TRUE(ImitationFor(im, 3, &demos).action_weights.empty());
   EXPECT_EQ(ImitationFor(im, 3, &demos).weight, 2);
   EXPECT_FALSE(ImitationFor(im, 3, &demos).clone_only);
   EXPECT_EQ(ImitationFor(im, 4, &demos).weight, 1);

@@ -63,6 +63,13 @@ std::pair<torch::Tensor, torch::Tensor> DemoMinibatch(const DemoBuffer& demos, i
   return {all_obs.index_select(0, idx), all_labels.index_select(0, idx)};
 }
 
+// The weighted label error of `mean` against `labels` (ImitationTerm::action_weights).
+torch::Tensor LabelError(const torch::Tensor& mean, const torch::Tensor& labels,
+                         const torch::Tensor& weights) {
+  const torch::Tensor sq = (mean - labels).pow(2);
+  return weights.defined() ? (sq * weights).mean() : sq.mean();
+}
+
 }  // namespace
 
 PpoTrainer::PpoTrainer(const config::ModelConfig& model, const config::PpoConfig& ppo,
@@ -115,6 +122,13 @@ absl::StatusOr<UpdateStats> PpoTrainer::Update(const UnrollBatch& batch, int64_t
                                                const ImitationTerm& imitation) {
   RETURN_IF_ERROR(ValidateUnrollBatch(batch, obs_dim_, act_dim_, version_, max_policy_lag));
   const bool has_demos = imitation.demos != nullptr && imitation.demos->size() > 0;
+  torch::Tensor label_weights;  // undefined: unweighted
+  if (!imitation.action_weights.empty()) {
+    if (static_cast<int>(imitation.action_weights.size()) != act_dim_) {
+      return absl::InvalidArgumentError("imitation action weights do not match the actions");
+    }
+    label_weights = FromVector(imitation.action_weights, {act_dim_});
+  }
   if (has_demos && (imitation.demos->obs_dim() != obs_dim_ || imitation.demos->act_dim() != act_dim_)) {
     return absl::InvalidArgumentError("the demonstrations' dimensions differ from the policy's");
   }
@@ -205,7 +219,7 @@ absl::StatusOr<UpdateStats> PpoTrainer::Update(const UnrollBatch& batch, int64_t
       for (int step = 0; step < imitation.clone_steps; ++step) {
         auto [demo_obs, demo_labels] =
             DemoMinibatch(*imitation.demos, std::max(1, imitation.clone_minibatch));
-        const torch::Tensor loss = (net.Mean(demo_obs) - demo_labels).pow(2).mean();
+        const torch::Tensor loss = LabelError(net.Mean(demo_obs), demo_labels, label_weights);
         impl_->clone_opt->zero_grad();
         loss.backward();
         ClipGradients(net.actor->parameters(), ppo_.max_grad_norm());
@@ -243,7 +257,7 @@ absl::StatusOr<UpdateStats> PpoTrainer::Update(const UnrollBatch& batch, int64_t
       torch::Tensor loss = -surrogate.mean() + ppo_.action_reg() * mean.pow(2).mean();
       if (weight > 0) {
         auto [demo_obs, demo_labels] = DemoMinibatch(*imitation.demos, idx.size(0));
-        const torch::Tensor clone = (net.Mean(demo_obs) - demo_labels).pow(2).mean();
+        const torch::Tensor clone = LabelError(net.Mean(demo_obs), demo_labels, label_weights);
         stats.imitation_loss += clone.item<double>();
         loss = loss + weight * clone;
       }

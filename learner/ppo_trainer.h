@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "absl/status/statusor.h"
 #include "common/flat_parameters.h"
@@ -28,6 +29,9 @@ class DemoBuffer;
 // Planner-guided training's part of an update (docs/learning.md, "Planner-guided training").
 struct ImitationTerm {
   const DemoBuffer* demos = nullptr;  // null or empty: no imitation
+  // The label error is Σ_a w_a (mean_a − label_a)² / act_dim, averaged over rows, with w_a
+  // these weights (empty: all 1).
+  std::vector<float> action_weights;
   // Pretraining: the actor learns only by cloning (clone_steps Adam steps at clone_lr on
   // minibatches of clone_minibatch buffer rows); the critic trains on the batch as in PPO.
   bool clone_only = false;

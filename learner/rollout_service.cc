@@ -118,7 +118,9 @@ grpc::Status RolloutService::GetPolicy(grpc::ServerContext* ctx, const rpc::Poli
     return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
                         absl::StrCat("more than ", d_.max_concurrent_calls, " policy long-polls waiting"));
   }
-  const auto deadline = std::min(ctx->deadline(),
+  // Answer (with the current snapshot, if nothing newer came) a little before the caller's
+  // deadline: an answer at the deadline itself reaches a caller that has given up.
+  const auto deadline = std::min(ctx->deadline() - std::chrono::seconds(2),
                                  std::chrono::system_clock::now() + std::chrono::seconds(30));
   const auto steady_deadline = Clock::now() + (deadline - std::chrono::system_clock::now());
   std::shared_ptr<const PolicySnapshot> snap =

@@ -81,6 +81,9 @@
   lineChart('chart-ppo', [{ label: 'value loss' }, { label: 'approx KL', axis: 'y2' }, { label: 'learning rate', axis: 'y2' }],
             { logY: true, logY2: true });
   lineChart('chart-gates', [{ label: 'specialization' }, { label: 'utilization', axis: 'y2' }]);
+  lineChart('chart-teacher', [{ label: 'expert juggles / episode', color: '#2e7d32' },
+                              { label: 'student juggles / episode', color: '#1565c0' },
+                              { label: 'imitation loss', axis: 'y2', color: '#c62828' }]);
   lineChart('chart-rate', [{ label: 'samples/s' }, { label: 'sim-s/s', axis: 'y2' }]);
   lineChart('chart-split', [{ label: 'wait', color: '#ef6c00', fillTo: 'origin', stack: 's' },
                             { label: 'update', color: '#1565c0', fillTo: '-1', stack: 's' }], { stacked: true });
@@ -108,6 +111,13 @@
     const gated = p.filter((r) => r.gate_specialization !== undefined);
     setSeries(charts['chart-gates'], 0, gated.map((r) => ({ x: r.iteration, y: r.gate_specialization })));
     setSeries(charts['chart-gates'], 1, gated.map((r) => ({ x: r.iteration, y: r.gate_utilization })));
+    // Planner-guided training: teacher and student side by side (points without expert episodes skipped).
+    setSeries(charts['chart-teacher'], 0, p.filter((r) => r.expert_episodes > 0)
+      .map((r) => ({ x: r.iteration, y: r.expert_juggles_per_episode })));
+    setSeries(charts['chart-teacher'], 1, p.filter((r) => r.demo_buffer > 0)
+      .map((r) => ({ x: r.iteration, y: r.juggles_per_episode })));
+    setSeries(charts['chart-teacher'], 2, xy((r) => positive(r.imitation_loss)));
+    document.getElementById('teacher-figure').hidden = !p.some((r) => r.demo_buffer > 0);
     setSeries(charts['chart-rate'], 0, xy((r) => r.samples_per_s));
     setSeries(charts['chart-rate'], 1, xy((r) => r.sim_s_per_s));
     setSeries(charts['chart-split'], 0, xy((r) => r.wait_s));
@@ -124,7 +134,7 @@
       }),
     }));
     for (const id of ['chart-return', 'chart-juggles', 'chart-length', 'chart-outcomes', 'chart-ppo',
-                      'chart-gates', 'chart-rate', 'chart-split']) charts[id].update('none');
+                      'chart-gates', 'chart-teacher', 'chart-rate', 'chart-split']) charts[id].update('none');
   }
 
   function renderEvaluations() {

@@ -249,11 +249,17 @@ class Session {
       const bool wait_for_next = reg.synchronous() && all_accepted;
       if (wait_for_next || latest > snap->version || !all_accepted) {
         const int64_t have = snap->version;
+        absl::StatusOr<Snapshot> next;
         do {
-          snap = FetchPolicy(stub_.get(), o_.security.token, incarnation_,
+          next = FetchPolicy(stub_.get(), o_.security.token, incarnation_,
                              wait_for_next ? have : -1, 20);
-          if (!snap.ok()) return snap.status();
-        } while (wait_for_next && snap->version <= have && !o_.stop->load() && !*unknown);
+          // A long update (cloning, a slow machine) outlasts one long-poll: poll again.
+          if (!next.ok() && next.status().code() != absl::StatusCode::kDeadlineExceeded) {
+            return next.status();
+          }
+        } while (wait_for_next && (!next.ok() || next->version <= have) && !o_.stop->load() &&
+                 !*unknown);
+        if (next.ok()) snap = std::move(next);
       }
     }
     stream->WritesDone();

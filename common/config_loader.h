@@ -35,6 +35,12 @@ struct LoadedConfig {
   std::string policy_file;
 };
 
+// What a recording names as its config (record/trajectory.h): the policy file the config came
+// stored in, if any (replays load that stored copy again), else config_path.
+inline const std::string& RecordedConfigName(const LoadedConfig& config) {
+  return config.policy_file.empty() ? config.config_path : config.policy_file;
+}
+
 // Parses `text` (from `path`) into a RunConfig and checks the sections every family shares.
 // A `base_config` is loaded first (relative to `path`'s folder, recursively) and this file's
 // fields laid over it (common/config_merge.h); errors name the file that set the field, and a

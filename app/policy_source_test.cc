@@ -25,8 +25,22 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
 
-// The shipped right-foot policy: format 1, exported from the repository root (ctest's folder).
+// The shipped right-foot policy (format 2).
 constexpr char kShippedPolicy[] = "policies/right_foot/kick_fb_30min.jglpolicy";
+
+// The shipped policy as it was before format 2: the bare protobuf without the model, its config
+// naming the model relative to configs/learning/kick_fb.textproto (so it loads from the
+// repository root, ctest's folder). Written to <dir>/old.jglpolicy.
+std::string WriteOldFormatPolicy(const std::string& dir) {
+  absl::StatusOr<PolicyFile> shipped = ReadPolicyFile(kShippedPolicy);
+  EXPECT_TRUE(shipped.ok()) << shipped.status();
+  config::ExportedPolicy old = shipped.ok() ? shipped->policy : config::ExportedPolicy();
+  old.clear_model_mjb();
+  old.clear_mujoco_version();
+  const std::string path = dir + "/old.jglpolicy";
+  EXPECT_TRUE(WriteFile(path, old.SerializeAsString()).ok());
+  return path;
+}
 
 // The policy's mean actions, every one of them kept.
 class RecordingController final : public Controller {
@@ -61,19 +75,30 @@ Rollout RollOut(const PolicySource& source) {
 }
 
 TEST(PolicySourceTest, AnOldFormatPolicyLoadsWithANoteSayingHowToUpgradeIt) {
-  absl::StatusOr<PolicySource> source = LoadPolicySource(kShippedPolicy, "");
+  const std::string dir = MakeTempDir("juggle_policy_old_");
+  const std::string path = WriteOldFormatPolicy(dir);
+  absl::StatusOr<PolicySource> source = LoadPolicySource(path, "");
   ASSERT_TRUE(source.ok()) << source.status();
   EXPECT_EQ(source->note,
-            std::string("note: ") + kShippedPolicy +
+            "note: " + path +
                 " is an old-format policy that names its model relative to "
                 "configs/learning/kick_fb.textproto (so it loads only from the folder it was "
                 "exported in); re-export it to make it self-contained: juggle export-policy "
-                "--checkpoint=" + kShippedPolicy + " --out=NEW");
+                "--checkpoint=" + path + " --out=NEW");
   EXPECT_TRUE(source->config.model_mjb.empty());
+  fs::remove_all(dir);
+}
+
+TEST(PolicySourceTest, TheShippedPolicyIsSelfContained) {
+  absl::StatusOr<PolicySource> source = LoadPolicySource(kShippedPolicy, "");
+  ASSERT_TRUE(source.ok()) << source.status();
+  EXPECT_EQ(source->note, "");
+  EXPECT_FALSE(source->config.model_mjb.empty());
 }
 
 TEST(PolicySourceTest, AnExportedPolicyMovedElsewhereActsBitIdentically) {
-  absl::StatusOr<PolicySource> old = LoadPolicySource(kShippedPolicy, "");
+  const std::string old_dir = MakeTempDir("juggle_policy_old_");
+  absl::StatusOr<PolicySource> old = LoadPolicySource(WriteOldFormatPolicy(old_dir), "");
   ASSERT_TRUE(old.ok()) << old.status();
   const Rollout before_export = RollOut(*old);
   ASSERT_GT(before_export.actions.size(), 1000u);
@@ -104,6 +129,7 @@ TEST(PolicySourceTest, AnExportedPolicyMovedElsewhereActsBitIdentically) {
   EXPECT_TRUE(before_move.qpos == before_export.qpos);
   fs::remove_all(second);
   fs::remove_all(empty);
+  fs::remove_all(old_dir);
 }
 
 TEST(PolicySourceTest, ADamagedPolicyFileIsAnErrorNamingIt) {

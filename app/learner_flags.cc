@@ -159,8 +159,8 @@ absl::StatusOr<LearnerOptions> MakeLearnerOptions(const LearnerFlags& flags) {
     if (absl::Status s = SeedRunFromCheckpoint(flags.init_from, o.run_dir); !s.ok()) return s;
   }
   // --init_from fine-tunes under the named config; a resumed run continues under its own.
-  absl::StatusOr<LoadedConfig> config = o.resume ? ResumedConfig(o.run_dir, config_given, named, flags.seed)
-                                                 : LoadRunConfig(named);
+  absl::StatusOr<LoadedConfig> config =
+      o.resume ? ResumedConfig(o.run_dir, config_given, named, flags.seed) : LoadRunConfig(named);
   if (!config.ok()) return config.status();
   if (flags.seed >= 0) config->run.set_seed(static_cast<uint64_t>(flags.seed));
   o.config = std::move(*config);

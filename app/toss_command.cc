@@ -143,7 +143,8 @@ int Toss(const TossFlags& f) {
   if (!spec.ok()) return Fail(spec.status());
   std::optional<TrajectoryBuilder> recording;
   if (!f.record.empty()) {
-    recording.emplace(toss::TossJuggler::NewRecording(**spec, pattern->balls(), RecordedConfigName(base)));
+    recording.emplace(
+        toss::TossJuggler::NewRecording(**spec, pattern->balls(), RecordedConfigName(base)));
   }
   absl::StatusOr<toss::JuggleRunResult> r =
       toss::RunOnce(*spec, *pattern, policies, f.max_throws, f.seed,

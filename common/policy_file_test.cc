@@ -71,7 +71,8 @@ TEST(PolicyFileTest, AFlippedPayloadByteFailsTheChecksum) {
   bytes[bytes.size() - 100] ^= 0x10;
   const absl::StatusOr<PolicyFile> read = ParsePolicyFile(bytes, "flip.jglpolicy");
   EXPECT_EQ(read.status().code(), absl::StatusCode::kDataLoss);
-  EXPECT_EQ(read.status().message(), "flip.jglpolicy: exported policy corrupted: checksum mismatch");
+  EXPECT_EQ(read.status().message(),
+            "flip.jglpolicy: exported policy corrupted: checksum mismatch");
 }
 
 TEST(PolicyFileTest, AHugeClaimedSizeIsRefusedBeforeAnythingIsCopied) {
@@ -97,7 +98,8 @@ TEST(PolicyFileTest, AFormat2FileWithoutItsModelIsIncompleteAndCannotBeWritten) 
   p.clear_model_mjb();
   const absl::StatusOr<PolicyFile> read = ParsePolicyFile(SerializePolicyFile(p), "x.jglpolicy");
   EXPECT_EQ(read.status().code(), absl::StatusCode::kDataLoss);
-  EXPECT_EQ(read.status().message(), "x.jglpolicy: exported policy incomplete: it has no compiled model");
+  EXPECT_EQ(read.status().message(),
+            "x.jglpolicy: exported policy incomplete: it has no compiled model");
   const std::string path = MakeTempDir("juggle_policy_file_") + "/p.jglpolicy";
   const absl::Status written = WritePolicyFile(path, p);
   EXPECT_EQ(written.code(), absl::StatusCode::kInvalidArgument);

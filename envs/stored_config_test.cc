@@ -47,7 +47,8 @@ TEST(StoredConfigTest, LoadsTheSameEnvFromAnotherFolderAfterItsFilesAreDeleted) 
 
   const std::string elsewhere = MakeTempDir("juggle_stored_config_elsewhere_");
   ScopedWorkingDir cd(elsewhere);
-  absl::StatusOr<LoadedConfig> loaded = LoadStoredConfig(stored, "x.jglpolicy (stored)", dir + "/cfg.textproto");
+  absl::StatusOr<LoadedConfig> loaded =
+      LoadStoredConfig(stored, "x.jglpolicy (stored)", dir + "/cfg.textproto");
   ASSERT_TRUE(loaded.ok()) << loaded.status();
   EXPECT_EQ(loaded->run.seed(), 4242u);
   EXPECT_EQ(loaded->config_path, dir + "/cfg.textproto");
@@ -73,7 +74,8 @@ TEST(StoredConfigTest, RefusesATextThatNamesAFileBeforeReadingIt) {
 }
 
 TEST(StoredConfigTest, RefusesAStoredConfigWithoutItsModel) {
-  const absl::StatusOr<LoadedConfig> loaded = LoadStoredConfig({"seed: 1\n", ""}, "p (stored)", "c");
+  const absl::StatusOr<LoadedConfig> loaded =
+      LoadStoredConfig({"seed: 1\n", ""}, "p (stored)", "c");
   EXPECT_EQ(loaded.status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_THAT(loaded.status().message(), HasSubstr("has no model"));
 }

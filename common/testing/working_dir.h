@@ -20,7 +20,9 @@ class ScopedWorkingDir {
     if (::getcwd(buf, sizeof(buf)) != nullptr) previous_ = buf;
     EXPECT_EQ(::chdir(dir.c_str()), 0) << "cannot enter " << dir;
   }
-  ~ScopedWorkingDir() { EXPECT_EQ(::chdir(previous_.c_str()), 0) << "cannot return to " << previous_; }
+  ~ScopedWorkingDir() {
+    EXPECT_EQ(::chdir(previous_.c_str()), 0) << "cannot return to " << previous_;
+  }
   ScopedWorkingDir(const ScopedWorkingDir&) = delete;
   ScopedWorkingDir& operator=(const ScopedWorkingDir&) = delete;
 

@@ -165,7 +165,7 @@ int Evaluate(EvalFlags f) {
   options.seed = static_cast<uint64_t>(f.seed);
   options.first_episode = f.first_episode;
   options.record = !f.record.empty();
-  options.config_path = config.config_path;
+  options.config_path = RecordedConfigName(config);
   absl::StatusOr<EpisodeReport> report = RunEpisodes(*spec, controller.get(), options);
   if (!report.ok()) return Fail(report.status());
   if (report->trajectory) {

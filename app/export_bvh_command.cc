@@ -76,7 +76,8 @@ CommandBody AddExportBvhCommand(CLI::App* cmd) {
       ->check(AtLeast(0))
       ->capture_default_str();
   cmd->add_option("--config", f->config,
-                  "run config to load the model from (default: the one the recording names)");
+                  "run config, or exported policy (.jglpolicy: its stored config), to load "
+                  "the model from (default: the one the recording names)");
   return [f] { return ExportBvhCommand(*f); };
 }
 

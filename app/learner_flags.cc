@@ -5,14 +5,58 @@
 
 #include "absl/strings/str_cat.h"
 #include "envs/registry.h"
+#include "envs/stored_config.h"
 #include "learner/checkpoint.h"
 #include "learner/learner_state.h"
 
 namespace juggle {
 namespace {
 
+constexpr char kDefaultConfig[] = "configs/right_foot.textproto";
+
 std::string DefaultRunDir(const config::RunConfig& run) {
   return absl::StrCat("runs/", run.name().empty() ? "run" : run.name());
+}
+
+// The config a resumed run continues under. Without --config: the copy stored in its newest
+// checkpoint (`named` is not read), or, for a checkpoint written before configs were stored,
+// the default config as before. With --config: that config, as before, and a note when it
+// differs from the stored copy (its text or its compiled model). `seed` >= 0 overrides the
+// seed of either.
+absl::StatusOr<LoadedConfig> ResumedConfig(const std::string& run_dir, bool config_given,
+                                           const std::string& named, int64_t seed) {
+  absl::StatusOr<LoadedCheckpoint> parsed = LoadCheckpoint(run_dir);  // its newest readable one
+  if (!parsed.ok()) return parsed.status();
+  if (!parsed->stored.has_value()) {
+    if (!config_given) {
+      std::fprintf(stderr,
+                   "note: %s is an old-format checkpoint without a stored config: resuming "
+                   "under %s\n",
+                   parsed->path.c_str(), named.c_str());
+    }
+    return LoadRunConfig(named);
+  }
+  if (!config_given) {
+    absl::StatusOr<LoadedConfig> stored = CheckpointConfig(*parsed, nullptr);
+    if (!stored.ok()) return stored.status();
+    std::printf("resuming under the run config stored in %s (first read from %s)\n",
+                parsed->path.c_str(), stored->config_path.c_str());
+    return stored;
+  }
+  absl::StatusOr<LoadedConfig> config = LoadRunConfig(named);
+  if (!config.ok()) return config.status();
+  if (seed >= 0) config->run.set_seed(static_cast<uint64_t>(seed));
+  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*config);
+  if (!spec.ok()) return spec.status();
+  const StoredConfig now = StoreConfig(*config, **spec);
+  if (now.text != parsed->stored->text || now.model_mjb != parsed->stored->model_mjb) {
+    std::fprintf(stderr,
+                 "note: --config=%s differs from the run config stored in %s (%s): training "
+                 "continues under --config; omit --config to resume under the stored copy\n",
+                 named.c_str(), parsed->path.c_str(),
+                 now.text != parsed->stored->text ? "its settings" : "its compiled model");
+  }
+  return config;
 }
 
 // --init_from: a new run that starts from another run's checkpoint (fine-tuning under another
@@ -44,8 +88,9 @@ absl::Status SeedRunFromCheckpoint(const std::string& source, const std::string&
 }  // namespace
 
 void AddLearnerFlags(CLI::App* cmd, LearnerFlags* f) {
-  cmd->add_option("--config", f->config, "run config (protobuf text format)")
-      ->capture_default_str();
+  cmd->add_option("--config", f->config,
+                  "run config (protobuf text format; default: when resuming, the copy stored in "
+                  "the newest checkpoint, else configs/right_foot.textproto)");
   cmd->add_option("--run_dir", f->run_dir,
                   "run directory: checkpoints/ and metrics.jsonl (default runs/<name>)");
   cmd->add_flag("--resume", f->resume,
@@ -75,12 +120,16 @@ void AddLearnerFlags(CLI::App* cmd, LearnerFlags* f) {
 }
 
 absl::StatusOr<LearnerOptions> MakeLearnerOptions(const LearnerFlags& flags) {
-  absl::StatusOr<LoadedConfig> config = LoadRunConfig(flags.config);
-  if (!config.ok()) return config.status();
-  if (flags.seed >= 0) config->run.set_seed(static_cast<uint64_t>(flags.seed));
+  const bool config_given = !flags.config.empty();
+  const std::string named = config_given ? flags.config : kDefaultConfig;
   LearnerOptions o;
-  o.run_dir = flags.run_dir.empty() ? DefaultRunDir(config->run) : flags.run_dir;
-  o.config = std::move(*config);
+  o.run_dir = flags.run_dir;
+  if (o.run_dir.empty()) {
+    // The default run directory is named after the config.
+    absl::StatusOr<LoadedConfig> config = LoadRunConfig(named);
+    if (!config.ok()) return config.status();
+    o.run_dir = DefaultRunDir(config->run);
+  }
   o.resume = flags.resume;
   o.max_iterations = flags.iterations;
   o.max_minutes = flags.minutes;
@@ -108,8 +157,14 @@ absl::StatusOr<LearnerOptions> MakeLearnerOptions(const LearnerFlags& flags) {
           "--init_from starts a new run; it cannot be combined with --resume");
     }
     if (absl::Status s = SeedRunFromCheckpoint(flags.init_from, o.run_dir); !s.ok()) return s;
-    o.resume = true;  // from the copied checkpoint
   }
+  // --init_from fine-tunes under the named config; a resumed run continues under its own.
+  absl::StatusOr<LoadedConfig> config =
+      o.resume ? ResumedConfig(o.run_dir, config_given, named, flags.seed) : LoadRunConfig(named);
+  if (!config.ok()) return config.status();
+  if (flags.seed >= 0) config->run.set_seed(static_cast<uint64_t>(flags.seed));
+  o.config = std::move(*config);
+  if (!flags.init_from.empty()) o.resume = true;  // from the copied checkpoint
   return o;
 }
 

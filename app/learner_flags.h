@@ -13,7 +13,7 @@
 namespace juggle {
 
 struct LearnerFlags {
-  std::string config = "configs/right_foot.textproto";
+  std::string config;     // empty: the resumed run's stored copy, else configs/right_foot.textproto
   std::string run_dir;    // empty: runs/<config name>
   bool resume = false;
   bool resume_if_any = false;  // resume when the run directory has a checkpoint, else start
@@ -27,6 +27,8 @@ struct LearnerFlags {
 void AddLearnerFlags(CLI::App* cmd, LearnerFlags* flags);
 
 // Loads the config and prepares the run directory (copying --init_from's checkpoint into it).
+// A resumed run continues under the config stored in its newest checkpoint unless --config is
+// given (then under that one, with a note on stderr when it differs from the stored copy).
 // The learner writes the run log, <run_dir>/metrics.jsonl, itself (learner/run_log.h).
 absl::StatusOr<LearnerOptions> MakeLearnerOptions(const LearnerFlags& flags);
 

@@ -1,23 +1,55 @@
 #include "app/policy_source.h"
 
+#include <cstdio>
+
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "common/policy_file.h"
 #include "common/status_macros.h"
+#include "envs/policy_config.h"
 #include "envs/registry.h"
-#include "google/protobuf/text_format.h"
 #include "learner/learner_state.h"
 
 namespace juggle {
 namespace {
 
-absl::StatusOr<config::ExportedPolicy> ReadExportedPolicy(const std::string& path) {
-  ASSIGN_OR_RETURN(std::string bytes, ReadFile(path));
-  config::ExportedPolicy exported;
-  if (!exported.ParseFromString(bytes) || exported.parameters().empty()) {
-    return absl::DataLossError(absl::StrCat(
-        path, ": not an exported policy (write one with `juggle export-policy`)"));
+// Reads an exported policy and the config it runs under into `out`.
+absl::Status LoadExported(const std::string& path, const std::string& config_path,
+                          PolicySource* out) {
+  if (!config_path.empty()) {
+    ASSIGN_OR_RETURN(PolicyFile file, ReadPolicyFile(path));
+    out->exported = std::move(file.policy);
+    ASSIGN_OR_RETURN(out->config, LoadRunConfig(config_path));
+  } else {
+    ASSIGN_OR_RETURN(PolicyAndConfig loaded, LoadPolicyFile(path));
+    out->exported = std::move(loaded.policy);
+    out->config = std::move(loaded.config);
+    out->note = std::move(loaded.note);
   }
-  return exported;
+  // The policy alone: the config travels in out->config.
+  out->exported.clear_run_config();
+  out->exported.clear_config_path();
+  out->exported.clear_model_mjb();
+  out->exported.clear_mujoco_version();
+  return absl::OkStatus();
+}
+
+// Reads a checkpoint (file or run directory) and the config it runs under into `out`.
+absl::Status LoadFromCheckpoint(const std::string& path, const std::string& config_path,
+                                PolicySource* out) {
+  ASSIGN_OR_RETURN(LoadedCheckpoint checkpoint, LoadCheckpoint(path));
+  out->path = checkpoint.path;
+  if (!config_path.empty()) {
+    ASSIGN_OR_RETURN(out->config, LoadRunConfig(config_path));
+  } else {
+    ASSIGN_OR_RETURN(out->config, CheckpointConfig(checkpoint, &out->note));
+  }
+  ASSIGN_OR_RETURN(out->spec, CreateEnvSpec(out->config));
+  ASSIGN_OR_RETURN(out->exported,
+                   ExportPolicyFromCheckpoint(checkpoint.sections, out->config,
+                                              out->spec->obs_dim(), out->spec->act_dim()));
+  out->exported.set_source(checkpoint.path);
+  return absl::OkStatus();
 }
 
 }  // namespace
@@ -27,44 +59,32 @@ absl::StatusOr<PolicySource> LoadPolicySource(const std::string& path,
   PolicySource out;
   out.path = path;
   if (absl::EndsWith(path, ".jglpolicy")) {
-    ASSIGN_OR_RETURN(out.exported, ReadExportedPolicy(path));
-    if (!config_path.empty()) {
-      ASSIGN_OR_RETURN(out.config, LoadRunConfig(config_path));
-    } else if (!out.exported.run_config().empty()) {
-      ASSIGN_OR_RETURN(out.config,
-                       ParseRunConfig(out.exported.run_config(), out.exported.config_path()));
-    } else {
-      return absl::FailedPreconditionError(absl::StrCat(
-          path, " carries no run config (an older export): pass --config"));
-    }
+    RETURN_IF_ERROR(LoadExported(path, config_path, &out));
   } else {
-    ASSIGN_OR_RETURN(LoadedCheckpoint checkpoint, LoadCheckpoint(path));
-    out.path = checkpoint.path;
-    const std::string config_file = config_path.empty() ? checkpoint.config_path : config_path;
-    if (config_file.empty()) {
-      return absl::FailedPreconditionError(absl::StrCat(
-          checkpoint.path, " names no run config: pass --config"));
-    }
-    ASSIGN_OR_RETURN(out.config, LoadRunConfig(config_file));
-    ASSIGN_OR_RETURN(std::shared_ptr<const EnvSpec> spec, CreateEnvSpec(out.config));
-    ASSIGN_OR_RETURN(out.exported, ExportPolicyFromCheckpoint(checkpoint.sections, out.config,
-                                                              spec->obs_dim(), spec->act_dim()));
-    out.exported.set_source(checkpoint.path);
-    std::string text;
-    google::protobuf::TextFormat::PrintToString(out.config.run, &text);
-    out.exported.set_run_config(text);
-    out.exported.set_config_path(config_file);
+    RETURN_IF_ERROR(LoadFromCheckpoint(path, config_path, &out));
   }
-  ASSIGN_OR_RETURN(std::shared_ptr<const EnvSpec> spec, CreateEnvSpec(out.config));
-  if (out.exported.obs_dim() != spec->obs_dim() || out.exported.act_dim() != spec->act_dim()) {
+  if (!out.note.empty()) std::fprintf(stderr, "%s\n", out.note.c_str());
+  if (out.spec == nullptr) {
+    absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(out.config);
+    if (!spec.ok()) {
+      return absl::Status(spec.status().code(), absl::StrCat(path, ": ", spec.status().message()));
+    }
+    out.spec = *std::move(spec);
+  }
+  if (out.exported.obs_dim() != out.spec->obs_dim() ||
+      out.exported.act_dim() != out.spec->act_dim()) {
     return absl::InvalidArgumentError(absl::StrCat(
         path, ": the policy has ", out.exported.obs_dim(), " observations and ",
         out.exported.act_dim(), " actions; ", out.config.config_path, " makes an env with ",
-        spec->obs_dim(), " and ", spec->act_dim()));
+        out.spec->obs_dim(), " and ", out.spec->act_dim()));
   }
   ASSIGN_OR_RETURN(EigenPolicy policy, PolicyFromExport(out.exported));
   out.policy = std::make_shared<const EigenPolicy>(std::move(policy));
   return out;
+}
+
+config::ExportedPolicy ExportPolicySource(const PolicySource& source) {
+  return WithStoredConfig(source.exported, source.config, *source.spec);
 }
 
 }  // namespace juggle

@@ -39,7 +39,8 @@ int Render(RenderFlags f) {
     if (f.zero_action) return UsageError("--policy and --zero-action exclude each other");
     absl::StatusOr<PolicySource> source = LoadPolicySource(f.policy, o.config_path);
     if (!source.ok()) return Fail(source.status());
-    o.config_path = source->config.config_path;
+    o.config_path = RecordedConfigName(source->config);
+    o.config = source->config;
     o.policy = source->policy;
     std::printf("policy from %s\n", source->path.c_str());
   }
@@ -70,8 +71,9 @@ CommandBody AddRenderCommand(CLI::App* cmd) {
   auto f = std::make_shared<RenderFlags>();
   RenderJobOptions& o = f->job;
   cmd->add_option("--config", o.config_path,
-                  "run config (default configs/right_foot.textproto; with --policy: the "
-                  "policy's; with --replay: the recording's)");
+                  "run config, or an exported policy whose stored config to use (default "
+                  "configs/right_foot.textproto; with --policy: the policy's; with --replay: "
+                  "the recording's)");
   cmd->add_flag("--zero-action", f->zero_action,
                 "zero feed-forward torques (the default without --policy)");
   cmd->add_option("--policy,--checkpoint", f->policy,

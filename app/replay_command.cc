@@ -98,7 +98,8 @@ CommandBody AddReplayCommand(CLI::App* cmd) {
                 "(--serve: port 8000; --serve=0: a free port)")
       ->check(Between(0, 65535));
   cmd->add_option("--config", f->config,
-                  "run config to load the model from (default: the one the recording names)");
+                  "run config, or exported policy (.jglpolicy: its stored config), to load "
+                  "the model from (default: the one the recording names)");
   cmd->add_option("--episode", f->episode, "play only this episode (-1: all, one after another)")
       ->check(AtLeast(-1))
       ->capture_default_str();

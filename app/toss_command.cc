@@ -2,7 +2,6 @@
 // or the evaluation protocol (--eval, envs/toss/eval.h). Policies are checkpoints, run
 // directories or exported .jglpolicy files. The last line is key=value pairs.
 #include <cstdio>
-#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,6 +10,7 @@
 #include "absl/strings/str_split.h"
 #include "app/commands.h"
 #include "app/policy_source.h"
+#include "envs/mujoco_model.h"
 #include "envs/registry.h"
 #include "envs/toss/eval.h"
 #include "common/file_io.h"
@@ -49,19 +49,14 @@ absl::StatusOr<PolicySource> LoadTossPolicy(const std::string& path, config::Tos
   return source;
 }
 
-// The model file as an absolute, normalized path (configs in different folders may name the
-// same model differently).
-std::string ModelPath(const LoadedConfig& config) {
-  return std::filesystem::weakly_canonical(
-             ResolvePath(config.config_dir, config.run.toss().model_file()))
-      .string();
-}
-
 // The two tasks must share the body, the gains and the timing the policies were trained with.
-absl::Status CheckSameWorld(const LoadedConfig& catcher, const LoadedConfig& thrower) {
-  const config::TossConfig& a = catcher.run.toss();
-  const config::TossConfig& b = thrower.run.toss();
-  if (ModelPath(catcher) != ModelPath(thrower) || a.kp() != b.kp() || a.kd() != b.kd() ||
+// The bodies are compared as compiled models (stored with the policy or compiled from its
+// MJCF), so the same model named from different folders, or stored, compares equal.
+absl::Status CheckSameWorld(const PolicySource& catcher, const PolicySource& thrower) {
+  const config::TossConfig& a = catcher.config.run.toss();
+  const config::TossConfig& b = thrower.config.run.toss();
+  if (SaveModel(catcher.spec->model()) != SaveModel(thrower.spec->model()) ||
+      a.kp() != b.kp() || a.kd() != b.kd() ||
       a.action_scale() != b.action_scale() || a.hand_period_s() != b.hand_period_s() ||
       a.dwell_ratio() != b.dwell_ratio() || a.hand_x() != b.hand_x() || a.hand_z() != b.hand_z()) {
     return absl::FailedPreconditionError(
@@ -131,7 +126,7 @@ int Toss(const TossFlags& f) {
     if (!c.ok()) return Fail(c.status());
     absl::StatusOr<PolicySource> t = LoadTossPolicy(throw_path, config::THROW);
     if (!t.ok()) return Fail(t.status());
-    if (absl::Status s = CheckSameWorld(c->config, t->config); !s.ok()) return Fail(s);
+    if (absl::Status s = CheckSameWorld(*c, *t); !s.ok()) return Fail(s);
     catcher = *std::move(c);
     thrower = *std::move(t);
     base = catcher->config;
@@ -148,7 +143,8 @@ int Toss(const TossFlags& f) {
   if (!spec.ok()) return Fail(spec.status());
   std::optional<TrajectoryBuilder> recording;
   if (!f.record.empty()) {
-    recording.emplace(toss::TossJuggler::NewRecording(**spec, pattern->balls(), base.config_path));
+    recording.emplace(
+        toss::TossJuggler::NewRecording(**spec, pattern->balls(), RecordedConfigName(base)));
   }
   absl::StatusOr<toss::JuggleRunResult> r =
       toss::RunOnce(*spec, *pattern, policies, f.max_throws, f.seed,

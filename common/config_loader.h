@@ -26,7 +26,20 @@ struct LoadedConfig {
   // The control graph the adaptive walk runs on, validated; empty for families without one.
   std::shared_ptr<const ControlGraph> graph = std::make_shared<const ControlGraph>();
   SourceLocator graph_locator{""};  // locates fields of the graph (inline or its own file)
+  // The compiled model (mj_saveModel bytes) when the config came stored with it
+  // (envs/stored_config.h: exported policies, checkpoints): the env families load these bytes
+  // instead of compiling the model_file MJCF. Empty: compile model_file.
+  std::string model_mjb;
+  // The exported policy (.jglpolicy) this config was read from, if any: recordings name it so
+  // that a replay loads the same stored config (envs/policy_config.h, LoadConfigOrPolicy).
+  std::string policy_file;
 };
+
+// What a recording names as its config (record/trajectory.h): the policy file the config came
+// stored in, if any (replays load that stored copy again), else config_path.
+inline const std::string& RecordedConfigName(const LoadedConfig& config) {
+  return config.policy_file.empty() ? config.config_path : config.policy_file;
+}
 
 // Parses `text` (from `path`) into a RunConfig and checks the sections every family shares.
 // A `base_config` is loaded first (relative to `path`'s folder, recursively) and this file's

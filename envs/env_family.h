@@ -26,8 +26,9 @@ class EnvFamily {
   // receive one self-contained config); sets config->graph for families with a control graph.
   // Errors: INVALID_ARGUMENT / NOT_FOUND, each starting with "file:line:col: field".
   virtual absl::Status Prepare(LoadedConfig* config) const = 0;
-  // Compiles the family's MJCF (or, given non-empty `model_mjb`, loads those mj_saveModel bytes)
-  // and resolves everything against it. Errors name the config field or the MJCF problem.
+  // Compiles the family's MJCF (or, given non-empty `model_mjb` or config.model_mjb, loads those
+  // mj_saveModel bytes) and resolves everything against it. Errors name the config field or
+  // the MJCF problem.
   // REQUIRES: `config` went through Prepare.
   virtual absl::StatusOr<std::shared_ptr<const EnvSpec>> CreateSpec(
       const LoadedConfig& config, const std::string& model_mjb) const = 0;

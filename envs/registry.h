@@ -29,7 +29,8 @@ absl::StatusOr<LoadedConfig> LoadRunConfig(const std::string& path);
 // As LoadRunConfig, from text; `path` names the text in messages and anchors relative paths.
 absl::StatusOr<LoadedConfig> ParseRunConfig(const std::string& text, const std::string& path);
 
-// The family's EnvSpec for a loaded config: compiles its MJCF. Errors name the config field or
+// The family's EnvSpec for a loaded config: compiles its MJCF (or loads config.model_mjb, the
+// model a stored config carries: envs/stored_config.h). Errors name the config field or
 // the MJCF problem.
 absl::StatusOr<std::shared_ptr<const EnvSpec>> CreateEnvSpec(const LoadedConfig& config);
 // From the compiled model the learner ships (mj_saveModel bytes).

@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "absl/strings/str_cat.h"
+#include "envs/policy_config.h"
 #include "envs/registry.h"
 
 namespace juggle {
@@ -17,7 +18,7 @@ absl::StatusOr<std::shared_ptr<const EnvSpec>> LoadTrajectorySpec(
                                                "recorded in, or pass --config): ",
                                                s.message()));
   };
-  absl::StatusOr<LoadedConfig> config = LoadRunConfig(path);
+  absl::StatusOr<LoadedConfig> config = LoadConfigOrPolicy(path, nullptr);
   if (!config.ok()) return wrap(config.status());
   absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*config);
   if (!spec.ok()) return wrap(spec.status());

@@ -1,6 +1,7 @@
 // The compiled model a recording was made with, and what export/ needs to know about its
 // bodies: which are balls, which form the character. Family-free: the config named in the
-// recording's header is loaded through the registry (LoadRunConfig -> CreateEnvSpec).
+// recording's header — a run config, or an exported policy with its stored config — is loaded
+// through the registry (LoadConfigOrPolicy -> CreateEnvSpec).
 #ifndef JUGGLE_EXPORT_TRAJECTORY_MODEL_H_
 #define JUGGLE_EXPORT_TRAJECTORY_MODEL_H_
 
@@ -16,8 +17,8 @@
 
 namespace juggle {
 
-// The spec of `trajectory`'s model: `config_path` if not empty, else the recording's own
-// config path. Errors (each naming `trajectory_path` and the config): the config cannot be
+// The spec of `trajectory`'s model: `config_path` (a run config or a .jglpolicy) if not
+// empty, else the config the recording names. Errors (each naming `trajectory_path` and the config): the config cannot be
 // loaded or compiled (its status code, e.g. NOT_FOUND), or it does not match the recording
 // (FAILED_PRECONDITION: another family or another qpos size).
 absl::StatusOr<std::shared_ptr<const EnvSpec>> LoadTrajectorySpec(

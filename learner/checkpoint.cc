@@ -33,15 +33,6 @@ bool Get(const std::string& in, size_t* pos, T* v) {
 
 }  // namespace
 
-uint64_t Fnv1a64(const std::string& bytes) {
-  uint64_t h = 0xcbf29ce484222325ULL;
-  for (unsigned char c : bytes) {
-    h ^= c;
-    h *= 0x100000001b3ULL;
-  }
-  return h;
-}
-
 absl::Status WriteCheckpointFile(const std::string& path, const Sections& sections) {
   std::string payload;
   Put<uint32_t>(&payload, static_cast<uint32_t>(sections.size()));

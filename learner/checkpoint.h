@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "common/checksum.h"  // Fnv1a64, the checkpoint checksum
 
 namespace juggle {
 
@@ -23,9 +24,6 @@ absl::Status WriteCheckpointFile(const std::string& path, const Sections& sectio
 absl::StatusOr<Sections> ReadCheckpointFile(const std::string& path);
 // The same for bytes already read; `path` only names them in errors.
 absl::StatusOr<Sections> ParseCheckpoint(const std::string& bytes, const std::string& path);
-
-// 64-bit FNV-1a, the checkpoint checksum.
-uint64_t Fnv1a64(const std::string& bytes);
 
 class CheckpointDir {
  public:

@@ -156,5 +156,17 @@ TEST_F(CheckpointTest, RestoreRejectsMissingSectionsAndLeavesTheTrainerUnchanged
   EXPECT_EQ(trainer.ExportAll().values(), before);
 }
 
+TEST_F(CheckpointTest, RestoreRejectsTheStateOfOtherNetworksAndLeavesTheTrainerUnchanged) {
+  config::ModelConfig wider = testing::SmallModel();
+  for (int i = 0; i < wider.hidden_size(); ++i) wider.set_hidden(i, 2 * wider.hidden(i));
+  const Sections other = PpoTrainer(wider, testing::SmallPpo(), 2, 2, 1).SaveState();
+  PpoTrainer trainer(testing::SmallModel(), testing::SmallPpo(), 2, 2, 1);
+  const std::vector<float> before = trainer.ExportAll().values();
+  const absl::Status status = trainer.RestoreState(other);
+  EXPECT_EQ(status.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(status.message(), HasSubstr("trained under another model config"));
+  EXPECT_EQ(trainer.ExportAll().values(), before);
+}
+
 }  // namespace
 }  // namespace juggle

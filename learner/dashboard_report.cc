@@ -22,7 +22,10 @@ absl::StatusOr<runlog::CheckpointRecord> WalkFromCheckpoint(const std::string& r
   if (text == checkpoint.sections.end()) {
     return absl::FailedPreconditionError(absl::StrCat(checkpoint.path, " carries no run config"));
   }
-  ASSIGN_OR_RETURN(LoadedConfig config, ParseRunConfig(text->second, checkpoint.config_path));
+  // Older checkpoints store the text without the model: it names its model through config_path.
+  ASSIGN_OR_RETURN(LoadedConfig config,
+                   checkpoint.stored ? CheckpointConfig(checkpoint, nullptr)
+                                     : ParseRunConfig(text->second, checkpoint.config_path));
   ASSIGN_OR_RETURN(std::shared_ptr<const EnvSpec> spec, CreateEnvSpec(config));
   *info = DescribeRun(config, *spec);
   runlog::CheckpointRecord walk;

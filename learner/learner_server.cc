@@ -14,9 +14,8 @@
 #include "common/bounded_queue.h"
 #include "common/http_server.h"
 #include "common/status_macros.h"
-#include "envs/mujoco_model.h"
 #include "envs/registry.h"
-#include "google/protobuf/text_format.h"
+#include "envs/stored_config.h"
 #include "learner/checkpoint.h"
 #include "learner/contribution_assembler.h"
 #include "learner/demo_buffer.h"
@@ -74,7 +73,8 @@ struct LearnerServer::State {
   }
   absl::StatusOr<std::string> Checkpoint() {
     return checkpoints->Save(trainer->iteration(),
-                             SaveLearnerState(options.config, *trainer, *walk, progress));
+                             SaveLearnerState(bootstrap.config, options.config.config_path,
+                                              *trainer, *walk, progress));
   }
 };
 
@@ -91,8 +91,7 @@ absl::Status BuildEnv(const LoadedConfig& config,
   }
   *spec = *std::move(built);
   const config::RunConfig& run = config.run;
-  google::protobuf::TextFormat::PrintToString(run, &b->config_text);
-  b->model_mjb = SaveModel((*spec)->model());
+  b->config = StoreConfig(config, **spec);
   b->synchronous = run.service().synchronous();
   b->max_policy_lag = b->synchronous ? 0 : run.service().max_policy_lag();
   b->unroll_length = run.ppo().unroll_length();

@@ -9,17 +9,17 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_split.h"
-#include "google/protobuf/text_format.h"
+#include "envs/registry.h"
 
 namespace juggle {
 
-Sections SaveLearnerState(const LoadedConfig& config, const PpoTrainer& trainer,
-                          const AdaptiveWalk& walk, const RunProgress& progress) {
+Sections SaveLearnerState(const StoredConfig& config, const std::string& config_path,
+                          const PpoTrainer& trainer, const AdaptiveWalk& walk,
+                          const RunProgress& progress) {
   Sections s = trainer.SaveState();
-  std::string text;
-  google::protobuf::TextFormat::PrintToString(config.run, &text);
-  s["run_config"] = text;
-  s["config_path"] = config.config_path;
+  s["run_config"] = config.text;
+  s["model_mjb"] = config.model_mjb;
+  s["config_path"] = config_path;
   const std::vector<double>& counts = walk.counts();
   s["edge_counts"] = std::string(reinterpret_cast<const char*>(counts.data()),
                                  counts.size() * sizeof(double));
@@ -75,7 +75,38 @@ absl::StatusOr<LoadedCheckpoint> LoadCheckpoint(const std::string& file_or_run_d
     out.sections = std::move(*sections);
   }
   if (out.sections.count("config_path")) out.config_path = out.sections["config_path"];
+  const auto text = out.sections.find("run_config");
+  const auto model = out.sections.find("model_mjb");
+  if (text != out.sections.end() && model != out.sections.end()) {
+    out.stored = StoredConfig{text->second, model->second};
+  }
   return out;
+}
+
+absl::StatusOr<LoadedConfig> CheckpointConfig(const LoadedCheckpoint& checkpoint,
+                                              std::string* note) {
+  if (checkpoint.stored.has_value()) {
+    absl::StatusOr<LoadedConfig> config = LoadStoredConfig(
+        *checkpoint.stored, absl::StrCat(checkpoint.path, " (stored run config)"),
+        checkpoint.config_path);
+    if (!config.ok()) {
+      return absl::Status(config.status().code(),
+                          absl::StrCat(config.status().message(),
+                                       " (pass --config to load the checkpoint under a config "
+                                       "this build reads)"));
+    }
+    return config;
+  }
+  if (checkpoint.config_path.empty()) {
+    return absl::FailedPreconditionError(
+        absl::StrCat(checkpoint.path, " names no run config: pass --config"));
+  }
+  if (note != nullptr) {
+    *note = absl::StrCat("note: ", checkpoint.path, " is an old-format checkpoint that names ",
+                         checkpoint.config_path,
+                         " by path: its config and model are read from there, as they are now");
+  }
+  return LoadRunConfig(checkpoint.config_path);
 }
 
 absl::StatusOr<config::ExportedPolicy> ExportPolicyFromCheckpoint(const Sections& sections,

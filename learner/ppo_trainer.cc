@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cstring>
 #include <functional>
+#include <map>
 #include <sstream>
+#include <vector>
 
 #include <ATen/CPUGeneratorImpl.h>
 #include <torch/torch.h>
@@ -11,6 +13,7 @@
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "common/status_macros.h"
 #include "learner/advantages.h"
@@ -395,7 +398,23 @@ absl::Status PpoTrainer::RestoreState(const std::map<std::string, std::string>& 
     torch::serialize::InputArchive archive;
     std::istringstream in(sections.at("model"));
     archive.load_from(in);
+    // Loading takes the archive's shapes: a checkpoint of other networks (another model config)
+    // must fail here, not in a later export.
+    std::map<std::string, std::vector<int64_t>> shapes;
+    for (const auto& t : net->named_parameters()) shapes[t.key()] = t.value().sizes().vec();
+    for (const auto& t : net->named_buffers()) shapes[t.key()] = t.value().sizes().vec();
     net->load(archive);
+    for (const auto& group : {net->named_parameters(), net->named_buffers()}) {
+      for (const auto& t : group) {
+        if (t.value().sizes().vec() != shapes[t.key()]) {
+          return absl::InvalidArgumentError(absl::StrCat(
+              "learner state: tensor ", t.key(), " has shape [",
+              absl::StrJoin(t.value().sizes().vec(), ","), "], but this config's networks need [",
+              absl::StrJoin(shapes[t.key()], ","), "] (the checkpoint was trained under another "
+              "model config)"));
+        }
+      }
+    }
     if (sections.count("actor_opt")) {
       Impl probe{impl_->model, net, nullptr, nullptr, ObsNormalizer(0), nullptr};
       actor_opt = std::make_unique<torch::optim::Adam>(probe.ActorParams(),

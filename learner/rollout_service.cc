@@ -65,8 +65,8 @@ grpc::Status RolloutService::Register(grpc::ServerContext* ctx, const rpc::Regis
   const WorkerBootstrap& b = *d_.bootstrap;
   resp->set_slot(w.slot);
   resp->set_incarnation(w.incarnation);
-  resp->set_run_config(b.config_text);
-  resp->set_model_mjb(b.model_mjb);
+  resp->set_run_config(b.config.text);
+  resp->set_model_mjb(b.config.model_mjb);
   resp->set_synchronous(b.synchronous);
   resp->set_unroll_length(b.unroll_length);
   std::printf("worker slot %d registered (incarnation %lx, %d envs, host %s)\n", w.slot,

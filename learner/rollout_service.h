@@ -13,6 +13,7 @@
 #include "absl/status/status.h"
 #include "common/bounded_queue.h"
 #include "common/metrics.h"
+#include "envs/stored_config.h"
 #include "learner/broadcast_tracker.h"
 #include "learner/contribution_assembler.h"
 #include "learner/policy_store.h"
@@ -23,8 +24,7 @@ namespace juggle {
 
 // What every worker is told at registration, and the shapes its chunks must have. Immutable.
 struct WorkerBootstrap {
-  std::string config_text;  // RunConfig text, every file it names inlined
-  std::string model_mjb;    // the compiled model
+  StoredConfig config;      // the run config, every file it names inlined, and the model
   bool synchronous = true;
   int max_policy_lag = 0;   // versions a chunk may lag (0 in synchronous mode)
   int unroll_length = 0;

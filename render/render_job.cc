@@ -9,6 +9,7 @@
 #include "common/file_io.h"
 #include "common/status_macros.h"
 #include "envs/mujoco_model.h"
+#include "envs/policy_config.h"
 #include "envs/registry.h"
 #include "eval/controller.h"
 #include "eval/episode_runner.h"
@@ -101,7 +102,12 @@ absl::StatusOr<RenderJobReport> RunRenderJob(const RenderJobOptions& o) {
     }
     if (config_path.empty()) config_path = trajectory.config_path;
   }
-  ASSIGN_OR_RETURN(const LoadedConfig config, LoadRunConfig(config_path));
+  LoadedConfig config;
+  if (o.config.has_value()) {
+    config = *o.config;
+  } else {
+    ASSIGN_OR_RETURN(config, LoadConfigOrPolicy(config_path, nullptr));
+  }
   ASSIGN_OR_RETURN(std::shared_ptr<const EnvSpec> spec, CreateEnvSpec(config));
   const mjModel* model = spec->model();
   const ControlGraph& graph = spec->graph();

@@ -11,10 +11,12 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "common/config_loader.h"
 #include "common/eigen_policy.h"
 #include "eval/controller.h"
 #include "render/image.h"
@@ -25,8 +27,12 @@
 namespace juggle {
 
 struct RenderJobOptions {
-  // Run config. With `replay`, empty means the config named in the recording.
+  // Run config: a config file or an exported policy (its stored config, envs/policy_config.h).
+  // With `replay`, empty means the config named in the recording.
   std::string config_path;
+  // The run config itself, when the caller has loaded it (a policy's stored copy); then
+  // `config_path` only names it in reports and recordings.
+  std::optional<LoadedConfig> config;
   double seconds = 4;        // simulated seconds (live only; a replay renders all of it)
   int64_t seed = -1;         // -1: the config's seed. Env stream (seed, worker 0, env 0).
   std::string start_node;    // DOWN node every episode starts at; empty: random initial node
@@ -59,7 +65,7 @@ struct RenderJobReport {
 
 // Runs the job. Errors: INVALID_ARGUMENT for bad options (unknown output extension, nothing to
 // do, unknown or non-DOWN --node, --record with --replay, recording/config mismatch);
-// config and model errors from LoadRunConfig / CreateEnvSpec; FAILED_PRECONDITION for a
+// config and model errors from LoadConfigOrPolicy / CreateEnvSpec; FAILED_PRECONDITION for a
 // missing GL provider or ffmpeg (naming the package); PERMISSION_DENIED / NOT_FOUND for an
 // output path that cannot be written. Every output path is checked before simulating.
 absl::StatusOr<RenderJobReport> RunRenderJob(const RenderJobOptions& options);

@@ -1,6 +1,7 @@
 // `juggle eval` as a user runs it: the zero-action baseline's key=value line, and --record
 // writing every episode one after another as a replayable trajectory.
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -8,6 +9,7 @@
 #include "absl/strings/str_cat.h"
 #include "gmock/gmock.h"
 #include "common/testing/temp_dir.h"
+#include "common/testing/working_dir.h"
 #include "gtest/gtest.h"
 #include "nlohmann/json.hpp"
 #include "record/trajectory.h"
@@ -103,6 +105,26 @@ TEST(EvalCliTest, ShippedRightFootPolicyGetsTheFirstJuggleOnEveryHeldOutStart) {
   const std::string log = ReadAll(dir + "/eval.log");
   EXPECT_THAT(log, ::testing::HasSubstr(" median_juggles=1 p10_juggles=1 "));
   EXPECT_THAT(log, ::testing::ContainsRegex("mean_juggles=1\\.[0-9]+"));
+  std::system(("rm -rf " + dir).c_str());
+}
+
+// The shipped policy is self-contained: from a folder without configs or models it evaluates
+// the same, and its recording (which names the policy file) replays there too.
+TEST(EvalCliTest, ShippedPolicyRunsAndReplaysFromAnotherFolder) {
+  const std::string policy =
+      std::filesystem::absolute("policies/right_foot/kick_fb_30min.jglpolicy").string();
+  const std::string dir = MakeTempDir("juggle_eval_elsewhere_");
+  ScopedWorkingDir cd(dir);
+  testing::ChildProcess eval({"eval", "--policy=" + policy, "--episodes=2", "--record=e.traj"},
+                             dir + "/eval.log");
+  ASSERT_EQ(eval.Wait(120), 0) << ReadAll(dir + "/eval.log");
+  EXPECT_THAT(ReadAll(dir + "/eval.log"), ::testing::Not(::testing::HasSubstr("note:")));
+  absl::StatusOr<Trajectory> t = ReadTrajectory(dir + "/e.traj");
+  ASSERT_TRUE(t.ok()) << t.status();
+  EXPECT_EQ(t->config_path, policy);
+  testing::ChildProcess replay({"replay", "--trajectory=e.traj", "--out=e.html"},
+                               dir + "/replay.log");
+  ASSERT_EQ(replay.Wait(60), 0) << ReadAll(dir + "/replay.log");
   std::system(("rm -rf " + dir).c_str());
 }
 

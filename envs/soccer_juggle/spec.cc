@@ -80,6 +80,7 @@ std::vector<AnnotationChannel> JuggleSpec::annotation_channels() const {
 }
 
 absl::StatusOr<std::shared_ptr<const JuggleSpec>> JuggleSpec::Create(const LoadedConfig& config) {
+  if (!config.model_mjb.empty()) return CreateFromCompiled(config, config.model_mjb);
   const config::EnvConfig& env = config.run.soccer_juggle().env();
   ASSIGN_OR_RETURN(MjModelPtr model,
                    LoadModelXml(ResolvePath(config.config_dir, env.model_file()),

@@ -67,8 +67,9 @@ struct NodeRuntime {
 
 class JuggleSpec : public EnvSpec {
  public:
-  // Compiles the model named by the config and resolves everything against it. Errors
-  // (INVALID_ARGUMENT / NOT_FOUND) name the config file, line and field, or the MJCF error.
+  // Compiles the model named by the config (or loads config.model_mjb when the config came
+  // stored with its model) and resolves everything against it. Errors (INVALID_ARGUMENT /
+  // NOT_FOUND) name the config file, line and field, or the MJCF error.
   static absl::StatusOr<std::shared_ptr<const JuggleSpec>> Create(const LoadedConfig& config);
   // As Create, from a model compiled elsewhere (mj_saveModel bytes, as the learner ships it).
   static absl::StatusOr<std::shared_ptr<const JuggleSpec>> CreateFromCompiled(

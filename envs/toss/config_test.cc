@@ -2,6 +2,7 @@
 // workers; bad ones fail naming the file, line and field.
 #include <string>
 
+#include "common/policy_file.h"
 #include "envs/registry.h"
 #include "envs/testing/test_configs.h"
 #include "gmock/gmock.h"
@@ -75,6 +76,29 @@ TEST(TossConfigTest, LoopPolicyFilesAreInlinedForTheWorkers) {
   EXPECT_FALSE(loop.has_throw_policy_file());
   EXPECT_EQ(loop.catch_policy().parameters(), "JGLP-bytes");
   EXPECT_EQ(loop.throw_policy().obs_dim(), 12);
+}
+
+TEST(TossConfigTest, SelfContainedPartnerFilesAreInlinedWithoutTheirModel) {
+  config::ExportedPolicy policy;
+  policy.set_obs_dim(12);
+  policy.set_act_dim(4);
+  policy.set_parameters("JGLP-bytes");
+  policy.set_run_config("toss { task: CATCH }\n");
+  policy.set_model_mjb("compiled model bytes");
+  policy.set_mujoco_version(222);
+  WriteTemp("partner2.jglpolicy", SerializePolicyFile(policy));
+  const std::string config_path = WriteTemp(
+      "uses_format2_partners.textproto",
+      "toss {\n  task: THROW\n  loop {\n    pattern: \"3\"\n"
+      "    catch_policy_file: \"partner2.jglpolicy\"\n"
+      "    throw_policy_file: \"partner2.jglpolicy\"\n  }\n}\n");
+  const absl::StatusOr<LoadedConfig> loaded = LoadRunConfig(config_path);
+  ASSERT_TRUE(loaded.ok()) << loaded.status();
+  const config::ExportedPolicy& inlined = loaded->run.toss().loop().catch_policy();
+  EXPECT_EQ(inlined.parameters(), "JGLP-bytes");
+  EXPECT_EQ(inlined.run_config(), "toss { task: CATCH }\n");
+  EXPECT_FALSE(inlined.has_model_mjb()) << "the loop runs partners in its own model";
+  EXPECT_FALSE(inlined.has_mujoco_version());
 }
 
 TEST(TossConfigTest, MissingLoopPolicyFileIsNotFoundNamingTheLineAndTheExportCommand) {

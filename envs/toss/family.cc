@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "common/policy_file.h"
 #include "common/status_macros.h"
 #include "envs/toss/dims.h"
 #include "envs/toss/spec.h"
@@ -75,7 +76,8 @@ absl::Status InlineStartStates(const std::string& config_dir, const SourceLocato
   return absl::OkStatus();
 }
 
-// Reads a binary ExportedPolicy file named by `field` into `policy`.
+// Reads the policy file (any format, common/policy_file.h) named by `field` into `policy`,
+// without its compiled model: the loop runs partners in its own model.
 absl::Status InlinePolicyFile(const std::string& config_dir, const SourceLocator& where,
                               const char* field, const std::string& file,
                               config::ExportedPolicy* policy) {
@@ -85,11 +87,14 @@ absl::Status InlinePolicyFile(const std::string& config_dir, const SourceLocator
     return absl::NotFoundError(absl::StrCat(where.Where({{field}}), ": ", bytes.status().message(),
                                             " (write it with `juggle export-policy`)"));
   }
-  if (!policy->ParseFromString(*bytes) || policy->parameters().empty()) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        where.Where({{field}}), ": ", path,
-        " is not an exported policy (write one with `juggle export-policy`)"));
+  absl::StatusOr<PolicyFile> parsed = ParsePolicyFile(*bytes, path);
+  if (!parsed.ok()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(where.Where({{field}}), ": ", parsed.status().message()));
   }
+  *policy = std::move(parsed->policy);
+  policy->clear_model_mjb();
+  policy->clear_mujoco_version();
   return absl::OkStatus();
 }
 

@@ -27,6 +27,7 @@ TossSpec::TossSpec(LoadedConfig config, MjModelPtr model)
     : config_(std::move(config)), model_(std::move(model)) {}
 
 absl::StatusOr<std::shared_ptr<const TossSpec>> TossSpec::Create(const LoadedConfig& config) {
+  if (!config.model_mjb.empty()) return CreateFromCompiled(config, config.model_mjb);
   ASSIGN_OR_RETURN(MjModelPtr model,
                    LoadModelXml(ResolvePath(config.config_dir, config.run.toss().model_file()),
                                 config.family_locator.Where({{"model_file"}})));

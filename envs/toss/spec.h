@@ -41,7 +41,8 @@ struct TossBallJoints {
 
 class TossSpec : public EnvSpec {
  public:
-  // Compiles the config's toss model (errors name the config field or the MJCF error) and
+  // Compiles the config's toss model, or loads config.model_mjb when the config came stored
+  // with its model (errors name the config field or the MJCF error), and
   // resolves joints, palms and balls; sets the arm joints' damping to kd (implicit in Euler).
   // INVALID_ARGUMENT if the model's timestep is not 10 ms or the home point is out of reach.
   static absl::StatusOr<std::shared_ptr<const TossSpec>> Create(const LoadedConfig& config);

@@ -16,7 +16,7 @@ fi
 seconds=${1:-60}
 shift || true
 names=("$@")
-[[ ${#names[@]} -gt 0 ]] || names=(fuzz_chunk fuzz_config fuzz_checkpoint fuzz_policy_snapshot fuzz_siteswap)
+[[ ${#names[@]} -gt 0 ]] || names=(fuzz_chunk fuzz_config fuzz_checkpoint fuzz_policy_file fuzz_policy_snapshot fuzz_siteswap)
 command -v clang++ >/dev/null || { echo "error: clang++ not found (make deps installs it)" >&2; exit 1; }
 [[ -f build/fuzz/build.ninja ]] || cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz -j "$(nproc)"

@@ -17,9 +17,10 @@ std::string ProgressLine(const runlog::IterationRecord& r, const std::string& la
       r.mean_episode_len(), r.juggles_per_episode(), r.policy_lag(), r.workers(),
       r.iteration_s(), r.wait_s(), r.update_s());
   if (r.demo_buffer() > 0) {  // planner-guided training
-    absl::StrAppend(&line, absl::StrFormat("  | %s imit %.3g (w %.3g) demos %.0f",
+    absl::StrAppend(&line, absl::StrFormat("  | %s imit %.3g fresh %.3g (w %.3g) demos %.0f",
                                            r.cloning_only() ? "CLONE" : "ppo", r.imitation_loss(),
-                                           r.imitation_weight(), r.demo_buffer()));
+                                           r.imitation_fresh_error(), r.imitation_weight(),
+                                           r.demo_buffer()));
     if (r.expert_episodes() > 0) {
       absl::StrAppend(&line, absl::StrFormat(" expert %.1f juggles/ep", r.expert_juggles_per_episode()));
     }

@@ -110,15 +110,20 @@ std::vector<float> PpoTrainer::ActorGates(const float* obs, int64_t n, int* num_
   return std::vector<float>(g.data_ptr<float>(), g.data_ptr<float>() + g.numel());
 }
 
-double PpoTrainer::ImitationError(const DemoBuffer& demos, int64_t n) const {
-  n = n <= 0 ? demos.size() : std::min(n, demos.size());
+double PpoTrainer::ImitationError(const DemoBuffer& demos,
+                                  const std::vector<float>& action_weights) const {
+  const int64_t n = demos.size();
   if (n == 0) return 0;
   torch::NoGradGuard no_grad;
   const torch::Tensor obs = torch::from_blob(const_cast<float*>(demos.obs()),
                                              {n, demos.obs_dim()}, torch::kFloat32);
   const torch::Tensor labels = torch::from_blob(const_cast<float*>(demos.labels()),
                                                 {n, demos.act_dim()}, torch::kFloat32);
-  return (impl_->net->Mean(obs) - labels).pow(2).mean().item<double>();
+  torch::Tensor weights;
+  if (static_cast<int>(action_weights.size()) == demos.act_dim()) {
+    weights = FromVector(action_weights, {demos.act_dim()});
+  }
+  return LabelError(impl_->net->Mean(obs), labels, weights).item<double>();
 }
 
 absl::StatusOr<UpdateStats> PpoTrainer::Update(const UnrollBatch& batch, int64_t max_policy_lag,

@@ -72,9 +72,10 @@ class PpoTrainer {
   // the learning-rate decay waits while it only clones.
   absl::StatusOr<UpdateStats> Update(const UnrollBatch& batch, int64_t max_policy_lag = 0,
                                      const ImitationTerm& imitation = {});
-  // The mean squared label error of the current actor on the demonstrations' rows [0, n)
-  // (n ≤ 0: all), no gradient: the student's error against its teacher.
-  double ImitationError(const DemoBuffer& demos, int64_t n = 0) const;
+  // The label error of the current actor on all the demonstrations' rows, no gradient: the
+  // student's error against its teacher, weighted per action as ImitationTerm::action_weights
+  // (empty: the plain mean squared error).
+  double ImitationError(const DemoBuffer& demos, const std::vector<float>& action_weights = {}) const;
 
   // Actor + log-std + normalizer in the flat format workers load (EigenPolicy).
   FlatParameters ExportPolicy() const;

@@ -215,6 +215,11 @@ absl::StatusOr<UpdateStats> TrainingLoop::Train(const Contribution& batch) {
   if (batch.batch.has_labels()) {
     batch_labelled_ = int64_t(batch.batch.num_labelled()) * batch.batch.unroll_length;
     if (d_.demos != nullptr) {
+      // Held-out first: the policy that collected these states against their fresh labels.
+      DemoBuffer fresh(batch_labelled_, d_.demos->obs_dim(), d_.demos->act_dim());
+      fresh.AddLabelled(batch.batch);
+      fresh_error_ = d_.trainer->ImitationError(
+          fresh, ImitationFor(*d_.imitation, d_.trainer->iteration(), d_.demos).action_weights);
       d_.metrics->Add("juggle_demo_labels_total", d_.demos->AddLabelled(batch.batch));
     }
     student_only = WithoutExpertUnrolls(batch.batch);
@@ -268,6 +273,7 @@ runlog::IterationRecord TrainingLoop::Report(const Contribution& batch, const Up
   SetOutcomeCounts(ep, d_.outcome_names, r.mutable_outcomes());
   r.set_cloning_only(update.cloned_only);
   r.set_imitation_loss(update.imitation_loss);
+  r.set_imitation_fresh_error(fresh_error_);
   r.set_imitation_weight(update.imitation_weight);
   r.set_labelled_share(samples ? double(batch_labelled_) / samples : 0);
   r.set_demo_buffer(d_.demos ? static_cast<double>(d_.demos->size()) : 0);

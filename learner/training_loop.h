@@ -109,6 +109,7 @@ class TrainingLoop {
   WalkEventTotals walk_totals_;                      // since the learner started
   double batch_lag_ = 0;                             // mean policy lag of the last trained batch
   int64_t batch_labelled_ = 0;                       // labelled samples of the last batch
+  double fresh_error_ = 0;                           // the policy's error on them (before training)
   int64_t expert_samples_ = 0;                       // expert-driven samples since the learner started
 };
 

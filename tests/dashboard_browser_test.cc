@@ -105,7 +105,7 @@ class DashboardBrowserTest : public ::testing::Test {
     EXPECT_THAT(dom, HasSubstr("id=\"js-errors\" hidden")) << "the page caught a JavaScript error";
     EXPECT_EQ(ConsoleMessages(name), "") << "console messages (errors?) while loading the page";
     EXPECT_EQ(Count(dom, std::regex("<g class=\"node[ \"]")), nodes) << "graph nodes drawn";
-    EXPECT_EQ(Count(dom, std::regex("<canvas id=\"chart-[a-z-]+\"[^>]*(width|style)=")), 11)
+    EXPECT_EQ(Count(dom, std::regex("<canvas id=\"chart-[a-z-]+\"[^>]*(width|style)=")), 12)
         << "every chart drew on its canvas";
   }
 

@@ -56,6 +56,7 @@ TEST(GuidedTrainingTest, LabelsFillTheBufferAndPretrainingHandsOverToPpoWithImit
     EXPECT_EQ(it.demo_buffer(), 2.0 * kT * it.iteration());
     EXPECT_EQ(it.expert_samples(), double(kT) * it.iteration());
     EXPECT_GT(it.imitation_loss(), 0);
+    EXPECT_GT(it.imitation_fresh_error(), 0);  // held-out: the fresh labels of this iteration
     if (it.iteration() <= 2) {
       EXPECT_TRUE(it.cloning_only());
       EXPECT_EQ(it.imitation_weight(), 0);

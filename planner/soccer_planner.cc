@@ -1,6 +1,7 @@
 #include "planner/soccer_planner.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "common/check.h"
 #include "common/status_macros.h"
@@ -190,6 +191,16 @@ absl::Status SoccerPlanner::Refine(const EnvSnapshot& snapshot, PlanClock clock,
   return absl::OkStatus();
 }
 
+double SoccerPlanner::Inconsistency(const double* theta, const std::vector<double>& warm) const {
+  const double w = config_.cost().kick_consistency();
+  if (w <= 0 || !has_plan_) return 0;
+  double sum = 0;
+  for (int v = 0; v < layout_.kick_dim(); ++v) {
+    if (space_.sigma[v] > 0) sum += std::pow((theta[v] - warm[v]) / space_.sigma[v], 2);
+  }
+  return w * sum;
+}
+
 absl::Status SoccerPlanner::Replan(const JuggleEnv& env) {
   const int knot0 = KnotAtOrBefore(layout_, env.steps());
   const int moved = layout_.knot_steps > 0 ? (knot0 - knot0_step_) / layout_.knot_steps : 0;
@@ -209,7 +220,9 @@ absl::Status SoccerPlanner::Replan(const JuggleEnv& env) {
       std::fill(costs->begin(), costs->end(), 0.0);
       return;
     }
-    for (int i = 0; i < n; ++i) (*costs)[i] = (*r)[i].cost;
+    for (int i = 0; i < n; ++i) {
+      (*costs)[i] = (*r)[i].cost + Inconsistency(&candidates[size_t(i) * layout_.dim()], start);
+    }
   };
   // Seeds: the shifted plan, and the same with the nominal kick (a carried kick that no longer
   // fits is then one candidate away from the configured swing).

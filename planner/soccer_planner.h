@@ -85,6 +85,8 @@ class SoccerPlanner {
                         std::vector<uint64_t>* trace = nullptr,
                         double bound = std::numeric_limits<double>::infinity());
   absl::Status Replan(const soccer_juggle::JuggleEnv& env);
+  // The kick-consistency cost of `theta` against the warm start `warm` (PlannerCost).
+  double Inconsistency(const double* theta, const std::vector<double>& warm) const;
   // Rolls out candidates[i·dim .. (i+1)·dim) for i < n from `snapshot`; counts them.
   absl::StatusOr<std::vector<RolloutResult>> RolloutBatch(
       const EnvSnapshot& snapshot, PlanClock clock, const std::vector<double>& candidates, int n,

@@ -178,6 +178,36 @@ TEST_F(SoccerPlannerTest, AReleasedKickKeepsItsVariablesUntilTheNextCycle) {
   EXPECT_GE(replans_after, 3);
 }
 
+// Σ |change| of the plan's kick variables between successive re-plans over `steps` steps.
+double KickChurn(SoccerPlanner* planner, JuggleEnv* env, const AdaptiveWalk& walk, int steps) {
+  float action[kNumActions];
+  std::vector<double> previous;
+  double churn = 0;
+  for (int t = 0; t < steps; ++t) {
+    EXPECT_TRUE(planner->Act(*env, action).ok());
+    if (planner->last_replan().env_step == env->steps()) {
+      const std::vector<double> kick(planner->plan().begin(),
+                                     planner->plan().begin() + kKickVariables);
+      for (size_t v = 0; !previous.empty() && v < kick.size(); ++v) {
+        churn += std::abs(kick[v] - previous[v]);
+      }
+      previous = kick;
+    }
+    if (env->Step(action, walk).outcome != Outcome::kRunning) break;
+  }
+  return churn;
+}
+
+TEST_F(SoccerPlannerTest, AKickConsistencyTermKeepsRePlansNearTheWarmStart) {
+  std::unique_ptr<JuggleEnv> free_env = StartWithBallAhead(0.03);
+  const double free_churn = KickChurn(NewPlanner().get(), free_env.get(), *walk_, 24);
+  config_.run.mutable_planner()->mutable_cost()->set_kick_consistency(1e4);
+  std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.03);
+  const double held_churn = KickChurn(NewPlanner().get(), env.get(), *walk_, 24);
+  EXPECT_GT(free_churn, 0.01);
+  EXPECT_LT(held_churn, free_churn / 10) << "free " << free_churn;
+}
+
 TEST_F(SoccerPlannerTest, AShiftedPlanActsAsBefore) {
   config::PlannerConfig p = config_.run.planner();
   p.set_body_knot_steps(5);

@@ -212,22 +212,24 @@ absl::StatusOr<UpdateStats> TrainingLoop::Train(const Contribution& batch) {
   const UnrollBatch* ppo_batch = &batch.batch;
   UnrollBatch student_only;
   batch_labelled_ = 0;
+  std::optional<DemoBuffer> fresh;  // this batch's labels alone (held-out for the error below)
   if (batch.batch.has_labels()) {
     batch_labelled_ = int64_t(batch.batch.num_labelled()) * batch.batch.unroll_length;
     if (d_.demos != nullptr) {
-      // Held-out first: the policy that collected these states against their fresh labels.
-      DemoBuffer fresh(batch_labelled_, d_.demos->obs_dim(), d_.demos->act_dim());
-      fresh.AddLabelled(batch.batch);
-      fresh_error_ = d_.trainer->ImitationError(
-          fresh, ImitationFor(*d_.imitation, d_.trainer->iteration(), d_.demos).action_weights);
+      fresh.emplace(batch_labelled_, d_.demos->obs_dim(), d_.demos->act_dim());
+      fresh->AddLabelled(batch.batch);
       d_.metrics->Add("juggle_demo_labels_total", d_.demos->AddLabelled(batch.batch));
     }
     student_only = WithoutExpertUnrolls(batch.batch);
     expert_samples_ += batch.batch.num_samples() - student_only.num_samples();
     ppo_batch = &student_only;
   }
+  const ImitationTerm imitation =
+      d_.imitation ? ImitationFor(*d_.imitation, d_.trainer->iteration(), d_.demos) : ImitationTerm();
+  // The policy that collected the fresh labels, before it trains on them.
+  if (fresh) fresh_error_ = d_.trainer->ImitationError(*fresh, imitation.action_weights);
   absl::StatusOr<UpdateStats> update = d_.trainer->Update(
-      *ppo_batch, d_.service->synchronous() ? 0 : d_.service->max_policy_lag(), d_.imitation ? ImitationFor(*d_.imitation, d_.trainer->iteration(), d_.demos) : ImitationTerm());
+      *ppo_batch, d_.service->synchronous() ? 0 : d_.service->max_policy_lag(), imitation);
   if (!update.ok()) {
     d_.metrics->Add("juggle_unrolls_dropped_total", batch.batch.num_unrolls,
                     {{"reason", "update"}});

@@ -43,6 +43,7 @@ TossJuggler::TossJuggler(std::shared_ptr<const TossSpec> spec, const Siteswap& p
       policies_(policies),
       options_(options),
       world_(spec_) {
+  if (spec_->toss().has_base()) base_.emplace(spec_);
   Rng rng = Rng::ForStream(options_.seed, 0, 0);
   world_.Reset(&rng, options_.start_noise, 10 * options_.start_noise);
   PlaceInitialBalls(&rng);
@@ -63,7 +64,7 @@ int TossJuggler::BeatStep(int beat) const {
 
 void TossJuggler::PlaceInitialBalls(Rng* rng) {
   const double g = spec_->timing().gravity, dt = spec_->dt();
-  const double jitter = 10 * options_.start_noise;
+  const double jitter = options_.ball_noise;
   const config::TossConfig& t = spec_->toss();
   const int dwell_steps = static_cast<int>(std::lround(t.dwell_ratio() * t.hand_period_s() / dt));
   // The first beat still to come; throws on earlier beats were made at or before t = 0.
@@ -88,7 +89,9 @@ void TossJuggler::PlaceInitialBalls(Rng* rng) {
     const Vec2 p{spec_->home_x(thrower) + timing.v_x * tau + rng->Uniform(-jitter, jitter),
                  spec_->home_z() + timing.v_z * tau - 0.5 * g * tau * tau +
                      rng->Uniform(-jitter, jitter)};
-    world_.SetFree(b, p, {timing.v_x, timing.v_z - g * tau});
+    const double vj = 5 * jitter;
+    world_.SetFree(b, p, {timing.v_x + rng->Uniform(-vj, vj),
+                          timing.v_z - g * tau + rng->Uniform(-vj, vj)});
   }
 }
 
@@ -140,9 +143,31 @@ void TossJuggler::WriteObservation(Hand hand, float* obs) const {
   }
 }
 
+JointTargets TossJuggler::BaseTargets(Hand hand) const {
+  const double wind = spec_->toss().base().estimate_wind() ? wind_.accel() : 0.0;
+  const int held = world_.held_by(hand);
+  if (held < 0) return base_->Catch(world_, hand, IncomingBall(hand), wind);
+  if (!HoldsThrow(hand)) return base_->Home(world_, hand);  // a handoff or a hold
+  const int beat = balls_[held].next_beat;
+  return base_->Throw(world_, hand, std::max(1, BeatStep(beat) - step_),
+                      base_->ReleaseVelocity(hand, Value(beat), wind));
+}
+
 void TossJuggler::Act(Hand hand) {
   const bool holding = world_.held_by(hand) >= 0;
   const EigenPolicy* policy = holding ? policies_.thrower : policies_.catcher;
+  if (base_) {
+    RowMatrix action;
+    const float* residual = nullptr;
+    if (policy != nullptr && (holding || IncomingBall(hand) >= 0)) {
+      float obs[kTossThrowObs];
+      WriteObservation(hand, obs);
+      action = policy->MeanActions(obs, 1);
+      residual = action.data();
+    }
+    world_.SetTargets(hand, base_->WithResidual(hand, BaseTargets(hand), residual));
+    return;
+  }
   if (policy == nullptr || (!holding && IncomingBall(hand) < 0)) {
     world_.SetHomeTargets(hand);
     return;
@@ -245,13 +270,18 @@ void TossJuggler::Finish(JuggleEnd end, Hand hand) {
 
 bool TossJuggler::Step(const float* right_action, TrajectoryBuilder* recording) {
   events_ = {};
-  if (right_action != nullptr) {
+  if (right_action != nullptr && base_) {
+    world_.SetTargets(Hand::kRight,
+                      base_->WithResidual(Hand::kRight, BaseTargets(Hand::kRight), right_action));
+  } else if (right_action != nullptr) {
     world_.SetAction(Hand::kRight, right_action);
   } else {
     Act(Hand::kRight);
   }
   Act(Hand::kLeft);
+  wind_.BeforeStep(world_);
   world_.Step();
+  wind_.AfterStep(world_);
   ++step_;
   if (world_.diverged()) {
     Finish(JuggleEnd::kDiverged, Hand::kRight);

@@ -19,12 +19,14 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "absl/status/statusor.h"
 #include "common/eigen_policy.h"
 #include "common/rng.h"
+#include "envs/toss/base_controller.h"
 #include "envs/toss/siteswap.h"
 #include "envs/toss/world.h"
 #include "record/trajectory.h"
@@ -40,9 +42,10 @@ struct TossPolicies {
 struct JugglerOptions {
   int max_throws = 200;
   uint64_t seed = 1;
-  // Start perturbation: arm angles ± start_noise (rad, speeds ± 10×) and initial ball positions
-  // ± 10× start_noise (cm scale).
-  double start_noise = 0.002;
+  // Start perturbation: arm angles ± start_noise (rad, speeds ± 10×); balls in flight at the
+  // start ± ball_noise (m) in position and ± 5·ball_noise (m/s) in velocity.
+  double start_noise = 0.05;
+  double ball_noise = 0.02;
   // Test oracle and scripted baseline: a release sets the ball's velocity to the schedule's
   // target instead of the palm's (the position stays the palm's).
   bool ideal_release = false;
@@ -128,6 +131,8 @@ class TossJuggler {
   // Beat `beat` passes its ball to the other hand (a 1, or a throw Eq. 1 gives no flight time).
   bool IsHandoff(int beat) const;
   void Act(Hand hand);
+  // The base controller's targets for `hand` in its current mode (REQUIRES: base_).
+  JointTargets BaseTargets(Hand hand) const;
   void Finish(JuggleEnd end, Hand hand);
   bool DoBeat(int beat);  // false: missed beat
   void Capture(TrajectoryBuilder* recording) const;
@@ -137,6 +142,9 @@ class TossJuggler {
   TossPolicies policies_;
   JugglerOptions options_;
   TossWorld world_;
+  // With TossConfig.base: the base controllers, and the wind they correct for.
+  std::optional<TossBaseController> base_;
+  WindEstimator wind_;
   std::vector<Ball> balls_;
   int step_ = 0;
   int next_beat_ = 0;

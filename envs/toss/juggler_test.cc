@@ -28,6 +28,7 @@ JuggleRunResult RunPattern(const std::string& text, bool ideal, int max_throws,
   JugglerOptions options;
   options.max_throws = max_throws;
   options.start_noise = 0;
+  options.ball_noise = 0;
   options.ideal_release = ideal;
   absl::StatusOr<std::unique_ptr<TossJuggler>> juggler =
       TossJuggler::Create(CatchSpec(), *pattern, TossPolicies{}, options);
@@ -79,6 +80,7 @@ TEST(TossJugglerTest, HandWaitsForABallPassedToItBeforeChasingTheNextFreeOne) {
   // 531: beat 0 (R) 5, beat 1 (L) 3, beat 2 (R) 1 — a handoff to L at 0.75 s — beat 3 (L) 5.
   JugglerOptions options;
   options.start_noise = 0;
+  options.ball_noise = 0;
   options.ideal_release = true;
   absl::StatusOr<std::unique_ptr<TossJuggler>> made =
       TossJuggler::Create(CatchSpec(), *Siteswap::Parse("531"), TossPolicies{}, options);

@@ -21,6 +21,7 @@ void TossLoopEnv::StartRun() {
   options.max_throws = loop.max_throws();
   options.seed = rng_.NextU64();
   options.start_noise = loop.start_noise();
+  options.ball_noise = 10 * loop.start_noise();  // as before ball_noise existed
   // The spec validated the patterns (ball counts) when it was built.
   juggler_ = *TossJuggler::Create(spec_, pattern,
                                   TossPolicies{spec_->loop_catcher(), spec_->loop_thrower()},

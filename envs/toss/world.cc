@@ -48,6 +48,7 @@ void TossWorld::Reset(Rng* rng, double angle_noise_rad, double speed_noise_rad_s
     for (int j = 0; j < kTossJoints; ++j) {
       prev_speed_[h][j] = data_->qvel[spec_->arm(HandOf(h)).dof[j]];
     }
+    prev_palm_[h] = palm_position(HandOf(h));
   }
 }
 
@@ -71,6 +72,7 @@ void TossWorld::SetArmState(Hand hand, const TossArmState& state) {
     prev_speed_[static_cast<int>(hand)][j] = data_->qvel[arm.dof[j]];
   }
   mj_forward(model_, data_.get());
+  prev_palm_[static_cast<int>(hand)] = palm_position(hand);
 }
 
 void TossWorld::PlaceBall(int ball, Vec2 p, Vec2 v) {
@@ -79,6 +81,7 @@ void TossWorld::PlaceBall(int ball, Vec2 p, Vec2 v) {
   data_->qpos[j.qpos_z] = p.z - j.origin_z;
   data_->qvel[j.dof_x] = v.x;
   data_->qvel[j.dof_z] = v.z;
+  prev_ball_[ball] = p;
 }
 
 void TossWorld::SetFree(int ball, Vec2 position, Vec2 velocity) {
@@ -125,6 +128,10 @@ void TossWorld::SetHomeTargets(Hand hand) {
   }
 }
 
+void TossWorld::SetTargets(Hand hand, const std::array<double, kTossJoints>& targets) {
+  target_[static_cast<int>(hand)] = targets;
+}
+
 void TossWorld::Step() {
   const double kp = spec_->toss().kp(), h = spec_->dt();
   mju_zero(data_->qfrc_applied, model_->nv);
@@ -152,6 +159,8 @@ void TossWorld::Step() {
                  model_->site_bodyid[site], data_->qfrc_applied);
     }
   }
+  for (int hand : kHands) prev_palm_[hand] = palm_position(HandOf(hand));
+  for (int b = 0; b < kTossBalls; ++b) prev_ball_[b] = ball_position(b);
   mj_step(model_, data_.get());
   mj_forward(model_, data_.get());
   FollowPalms();
@@ -174,8 +183,15 @@ void TossWorld::FollowPalms() {
 bool TossWorld::CanCatch(int ball, Hand hand) const {
   if (balls_[ball].mode != BallMode::kFree || held_by(hand) >= 0) return false;
   if (ball_velocity(ball).z >= 0) return false;
+  // The ball relative to the palm moves from `from` to `to` over the step; the closest point of
+  // that segment to the palm.
   const Vec2 p = palm_position(hand), b = ball_position(ball);
-  return std::hypot(p.x - b.x, p.z - b.z) < spec_->toss().catch_radius();
+  const Vec2 pp = prev_palm_[static_cast<int>(hand)], bp = prev_ball_[ball];
+  const Vec2 from{bp.x - pp.x, bp.z - pp.z}, to{b.x - p.x, b.z - p.z};
+  const Vec2 d{to.x - from.x, to.z - from.z};
+  const double len2 = d.x * d.x + d.z * d.z;
+  const double s = len2 > 0 ? std::clamp(-(from.x * d.x + from.z * d.z) / len2, 0.0, 1.0) : 1.0;
+  return std::hypot(from.x + s * d.x, from.z + s * d.z) < spec_->toss().catch_radius();
 }
 
 double TossWorld::Effort(Hand hand) const {
@@ -236,7 +252,7 @@ bool IsGoodThrow(const TossSpec& spec, Hand thrower, int value, Vec2 position, V
   const BallisticLanding landing =
       PredictLanding(position, velocity, spec.home_z(), spec.timing().gravity);
   return landing.time > 0 &&
-         std::abs(landing.x - spec.home_x(catcher)) < 2 * spec.toss().catch_radius() &&
+         std::abs(landing.x - spec.home_x(catcher)) < spec.toss().catch_radius() &&
          std::abs(landing.time - FlightTimeEq1(value, spec.timing())) < 0.1;
 }
 
@@ -245,6 +261,8 @@ void TossWorld::Save(Snapshot* out) const {
   out->balls = balls_;
   out->target = target_;
   out->prev_speed = prev_speed_;
+  out->prev_ball = prev_ball_;
+  out->prev_palm = prev_palm_;
   out->diverged = diverged_;
 }
 
@@ -253,6 +271,8 @@ void TossWorld::Restore(const Snapshot& s) {
   balls_ = s.balls;
   target_ = s.target;
   prev_speed_ = s.prev_speed;
+  prev_ball_ = s.prev_ball;
+  prev_palm_ = s.prev_palm;
   diverged_ = s.diverged;
 }
 

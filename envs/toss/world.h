@@ -46,6 +46,8 @@ class TossWorld {
     std::array<BallState, kTossBalls> balls{};
     std::array<std::array<double, kTossJoints>, 2> target{};
     std::array<std::array<double, kTossJoints>, 2> prev_speed{};
+    std::array<Vec2, kTossBalls> prev_ball{};
+    std::array<Vec2, 2> prev_palm{};
     bool diverged = false;
   };
   void Save(Snapshot* out) const;
@@ -80,13 +82,18 @@ class TossWorld {
   // both arms' neck targets.
   void SetAction(Hand hand, const float* action);
   void SetHomeTargets(Hand hand);
+  // World-frame target angles of `hand`'s arm, 𝒥 order (the base controllers' output,
+  // envs/toss/base_controller.h).
+  void SetTargets(Hand hand, const std::array<double, kTossJoints>& targets);
 
   // One 10 ms step: PD torques, held balls' weight on the palms, wind on free balls, mj_step,
   // then held balls follow their palms and parked balls are put back. Sets diverged() on a
   // MuJoCo warning or a non-finite state.
   void Step();
 
-  // A free, descending ball within catch_radius of `hand`'s palm (x–z distance), the hand empty.
+  // A free, descending ball that came within catch_radius of `hand`'s palm (x–z distance)
+  // during the last Step, the hand empty. The ball's path relative to the palm is taken as a
+  // straight segment between the steps, so a fast ball cannot pass the palm between two checks.
   bool CanCatch(int ball, Hand hand) const;
 
   // Σ_j |ω_j,t − ω_j,t−1| over `hand`'s 𝒥 joints in the last Step (the paper's effort).
@@ -120,6 +127,9 @@ class TossWorld {
   std::array<BallState, kTossBalls> balls_{};
   std::array<std::array<double, kTossJoints>, 2> target_{};      // world joint angles
   std::array<std::array<double, kTossJoints>, 2> prev_speed_{};  // ω before the last Step
+  // Positions before the last Step (a ball placed since then: its placed position).
+  std::array<Vec2, kTossBalls> prev_ball_{};
+  std::array<Vec2, 2> prev_palm_{};
   bool diverged_ = false;
 };
 
@@ -131,7 +141,7 @@ struct BallisticLanding {
 BallisticLanding PredictLanding(Vec2 position, Vec2 velocity, double z, double g);
 
 // A good throw (the throw task's completion): released at `position` with `velocity` by
-// `thrower` as a throw of `value`, it comes down at hand_z within 2·catch_radius of the catching
+// `thrower` as a throw of `value`, it comes down at hand_z within catch_radius of the catching
 // hand's home point and within 0.1 s of the schedule's flight time (Eq. 1).
 bool IsGoodThrow(const TossSpec& spec, Hand thrower, int value, Vec2 position, Vec2 velocity);
 

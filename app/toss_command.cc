@@ -26,7 +26,8 @@ struct TossFlags {
   std::string catch_path, throw_path;
   bool zero_action = false;
   std::string config = "configs/toss_catch.textproto";
-  int64_t seed = 1;
+  // Held out: training draws 64-bit juggler seeds and the checkpoint ranking uses 101-105.
+  int64_t seed = 1001;
   int max_throws = 200;
   double wind = -1;
   std::string record, record_states;
@@ -78,8 +79,10 @@ int Evaluate(const LoadedConfig& base, TossPolicies policies, const TossFlags& f
   o.wind_step = f.wind_step;
   o.wind_max = f.wind_max;
   o.keep_start_states = !f.record_states.empty();
-  std::printf("%-8s %5s %8s  throws per seed (max %d)\n", "pattern", "balls", "median",
-              f.max_throws);
+  std::printf("%-8s %5s %8s  %8s %8s %6s  throws per seed (max %d)\n", "pattern", "balls",
+              "median", "v_err", "v_max", "z_cm", f.max_throws);
+  std::printf("  (v_err, v_max: mean and largest release-velocity error, m/s; z_cm: mean "
+              "catch-height error, cm)\n");
   absl::StatusOr<toss::TossEvalReport> report =
       toss::EvaluateToss(base, policies, o, [](const std::string& line) {
         std::printf("%s\n", line.c_str());
@@ -189,11 +192,12 @@ CommandBody AddTossCommand(CLI::App* cmd) {
                   "throw policy: checkpoint, run directory or .jglpolicy (default "
                   "<checkpoint>/toss_throw)");
   cmd->add_flag("--zero-action", f->zero_action,
-                "both arms hold their home pose (baseline); uses --config");
+                "no policies: both arms hold their home pose, or run the base controllers alone "
+                "when the config has a toss.base block (zero residual); uses --config");
   cmd->add_option("--config", f->config, "toss config for --zero-action")->capture_default_str();
   cmd->add_option("--seed", f->seed,
                   "seed of the run (arm and ball start perturbations); with --eval the first of "
-                  "its seeds")
+                  "its seeds (the default 1001.. is held out from training and ranking)")
       ->check(AtLeast(0))
       ->capture_default_str();
   cmd->add_option("--max-throws", f->max_throws, "stop after this many throws")

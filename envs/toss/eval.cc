@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <map>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -17,12 +18,21 @@ namespace {
 // Median of the throws over seeds first_seed..first_seed + seeds − 1.
 absl::StatusOr<int> MedianThrows(std::shared_ptr<const TossSpec> spec, const Siteswap& pattern,
                                  TossPolicies policies, int max_throws, int first_seed, int seeds,
-                                 std::vector<int>* all, StartStates* start_states) {
+                                 std::vector<int>* all, StartStates* start_states,
+                                 ThrowAccuracy* accuracy = nullptr,
+                                 std::map<int, std::pair<double, int>>* by_value = nullptr) {
   std::vector<int> throws;
   for (int s = first_seed; s < first_seed + seeds; ++s) {
     ASSIGN_OR_RETURN(JuggleRunResult r, RunOnce(spec, pattern, policies, max_throws, s));
     throws.push_back(r.throws);
     if (start_states) start_states->Add(r);
+    if (accuracy) accuracy->Add(r);
+    if (by_value) {
+      for (const auto& [value, sum_count] : r.velocity_error_by_value) {
+        (*by_value)[value].first += sum_count.first;
+        (*by_value)[value].second += sum_count.second;
+      }
+    }
   }
   if (all) *all = throws;
   std::sort(throws.begin(), throws.end());
@@ -52,6 +62,14 @@ absl::Status WriteArmStates(const std::vector<TossArmState>& states, const std::
 }
 
 }  // namespace
+
+void ThrowAccuracy::Add(const JuggleRunResult& r) {
+  releases += r.releases;
+  catches += r.catches;
+  velocity_error_sum += r.mean_velocity_error * r.releases;
+  max_velocity_error = std::max(max_velocity_error, r.max_velocity_error);
+  catch_height_error_sum += r.mean_catch_height_error * r.catches;
+}
 
 void StartStates::Add(const JuggleRunResult& r) {
   catch_starts.insert(catch_starts.end(), r.catch_starts.begin(), r.catch_starts.end());
@@ -86,6 +104,7 @@ absl::StatusOr<TossEvalReport> EvaluateToss(const LoadedConfig& base, TossPolici
   ASSIGN_OR_RETURN(std::shared_ptr<const TossSpec> spec,
                    SpecWithWind(base, base.run.toss().wind_force()));
   TossEvalReport report;
+  std::map<int, std::pair<double, int>> by_value;
   bool basic_chain = true;
   for (const std::string& text : o.patterns) {
     ASSIGN_OR_RETURN(Siteswap pattern, Siteswap::Parse(text));
@@ -94,10 +113,13 @@ absl::StatusOr<TossEvalReport> EvaluateToss(const LoadedConfig& base, TossPolici
     r.balls = pattern.balls();
     ASSIGN_OR_RETURN(r.median_throws,
                      MedianThrows(spec, pattern, policies, o.max_throws, o.first_seed, o.seeds,
-                                  &r.throws, o.keep_start_states ? &report.start_states : nullptr));
+                                  &r.throws, o.keep_start_states ? &report.start_states : nullptr,
+                                  &r.accuracy, &by_value));
     std::string per_seed;
     for (int t : r.throws) absl::StrAppend(&per_seed, " ", t);
-    say(absl::StrFormat("%-8s %5d %8d  %s", text, r.balls, r.median_throws, per_seed));
+    say(absl::StrFormat("%-8s %5d %8d  %8.1e %8.1e %6.2f  %s", text, r.balls, r.median_throws,
+                        r.accuracy.mean_velocity_error(), r.accuracy.max_velocity_error,
+                        100 * r.accuracy.mean_catch_height_error(), per_seed));
     if (pattern.period() == 1 && pattern.balls() >= 3) {
       // Basic patterns count upwards from 3 without a gap.
       if (basic_chain && r.median_throws >= 100 &&
@@ -108,6 +130,11 @@ absl::StatusOr<TossEvalReport> EvaluateToss(const LoadedConfig& base, TossPolici
       }
     }
     report.patterns.push_back(std::move(r));
+  }
+  for (const auto& [value, sum_count] : by_value) {
+    report.by_value.push_back({value, sum_count.second, sum_count.first / sum_count.second});
+    say(absl::StrFormat("throw %d: %d releases, mean release-velocity error %.2e m/s", value,
+                        sum_count.second, sum_count.first / sum_count.second));
   }
   // Wind sweep: the largest force at which the median over the seeds still reaches 100 throws
   // of "3".
@@ -144,7 +171,16 @@ std::vector<std::string> TossEvalJsonLines(const TossEvalReport& report,
                           {"pattern", p.pattern},
                           {"balls", p.balls},
                           {"median_throws", p.median_throws},
-                          {"throws", p.throws}}));
+                          {"throws", p.throws},
+                          {"mean_velocity_error", p.accuracy.mean_velocity_error()},
+                          {"max_velocity_error", p.accuracy.max_velocity_error},
+                          {"mean_catch_height_error", p.accuracy.mean_catch_height_error()}}));
+  }
+  for (const ValueAccuracy& v : report.by_value) {
+    lines.push_back(line({{"table", "toss_throw_value"},
+                          {"value", v.value},
+                          {"releases", v.releases},
+                          {"mean_velocity_error", v.mean_velocity_error}}));
   }
   for (const auto& [wind, median] : report.wind_sweep) {
     lines.push_back(line(

@@ -45,11 +45,28 @@ struct TossEvalOptions {
   bool keep_start_states = false;
 };
 
+// Release and catch accuracy over runs: |v − v̄| at releases (m/s; v̄ the schedule's in still
+// air), |hand_z − z_ball| at catches (m).
+struct ThrowAccuracy {
+  int releases = 0, catches = 0;
+  double velocity_error_sum = 0, max_velocity_error = 0, catch_height_error_sum = 0;
+  void Add(const JuggleRunResult& r);
+  double mean_velocity_error() const { return releases ? velocity_error_sum / releases : 0; }
+  double mean_catch_height_error() const { return catches ? catch_height_error_sum / catches : 0; }
+};
+
 struct PatternResult {
   std::string pattern;
   int balls = 0;
   int median_throws = 0;
   std::vector<int> throws;  // per seed, in seed order
+  ThrowAccuracy accuracy;   // over its runs
+};
+
+// Release-velocity error per throw value over the pattern runs of an evaluation.
+struct ValueAccuracy {
+  int value = 0, releases = 0;
+  double mean_velocity_error = 0;
 };
 
 struct TossEvalReport {
@@ -57,6 +74,7 @@ struct TossEvalReport {
   int max_basic_pattern = 0;
   double max_wind_n = 0;       // 0 when 3 fails even without wind
   std::vector<std::pair<double, int>> wind_sweep;  // (force, median throws of 3)
+  std::vector<ValueAccuracy> by_value;  // ascending value
   StartStates start_states;    // of the pattern runs, when kept
 };
 
@@ -67,7 +85,9 @@ absl::StatusOr<TossEvalReport> EvaluateToss(const LoadedConfig& base, TossPolici
                                             const std::function<void(const std::string&)>& progress);
 
 // The report as JSON lines (`juggle toss --eval --json=FILE`): one object per pattern
-// {"table":"toss_pattern","pattern":"531","balls":3,"median_throws":..,"throws":[per seed]},
+// {"table":"toss_pattern","pattern":"531","balls":3,"median_throws":..,"throws":[per seed],
+// "mean_velocity_error":..,"max_velocity_error":..,"mean_catch_height_error":..}, one per throw
+// value {"table":"toss_throw_value","value":5,"releases":..,"mean_velocity_error":..},
 // one per wind step {"table":"toss_wind","wind_n":..,"pattern":"3","median_throws":..}, and a
 // summary {"table":"toss_summary","seeds":..,"max_throws":..,"max_basic_pattern":..,
 // "max_wind_n":..}.

@@ -197,7 +197,12 @@ bool TossJuggler::DoBeat(int beat) {
       world_.SetFree(ball, p, vel);
     }
     position_error_sum_ += std::hypot(p.x - spec_->home_x(hand), p.z - spec_->home_z());
-    velocity_error_sum_ += std::hypot(vel.x - timing.v_x, vel.z - timing.v_z);
+    const double velocity_error = std::hypot(vel.x - timing.v_x, vel.z - timing.v_z);
+    velocity_error_sum_ += velocity_error;
+    result_.max_velocity_error = std::max(result_.max_velocity_error, velocity_error);
+    auto& [sum, count] = result_.velocity_error_by_value[v];
+    sum += velocity_error;
+    ++count;
     ++releases_;
     HandEvents& e = events_[static_cast<int>(hand)];
     e.released = true;
@@ -262,10 +267,12 @@ void TossJuggler::Finish(JuggleEnd end, Hand hand) {
   end_hand_ = hand;
   result_.end = end;
   result_.seconds = world_.time();
+  result_.releases = releases_;
   if (releases_ > 0) {
     result_.mean_velocity_error = velocity_error_sum_ / releases_;
     result_.mean_position_error = position_error_sum_ / releases_;
   }
+  if (result_.catches > 0) result_.mean_catch_height_error = catch_height_error_sum_ / result_.catches;
 }
 
 bool TossJuggler::Step(const float* right_action, TrajectoryBuilder* recording) {
@@ -294,6 +301,7 @@ bool TossJuggler::Step(const float* right_action, TrajectoryBuilder* recording) 
       HandEvents& e = events_[static_cast<int>(hand)];
       e.caught = true;
       e.catch_height_error = std::abs(spec_->home_z() - world_.ball_position(ball).z);
+      catch_height_error_sum_ += e.catch_height_error;
       world_.Hold(ball, hand);
       ++result_.catches;
     }

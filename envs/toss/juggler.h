@@ -18,6 +18,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -60,9 +61,15 @@ struct JuggleRunResult {
   int good_throws = 0;  // releases that pass IsGoodThrow
   JuggleEnd end = JuggleEnd::kMaxThrows;
   double seconds = 0;
-  // Over the released throws: mean |v − v̄| (m/s) and |p − p̄| (m) at the release.
+  // Over the released throws: mean |v − v̄| (m/s) and |p − p̄| (m) at the release, the largest
+  // |v − v̄|, and per throw value the sum and count of |v − v̄| (v̄: the schedule's, still air).
+  int releases = 0;
   double mean_velocity_error = 0;
   double mean_position_error = 0;
+  double max_velocity_error = 0;
+  std::map<int, std::pair<double, int>> velocity_error_by_value;
+  // Over the catches: mean |hand_z − z_ball| at the catch (m).
+  double mean_catch_height_error = 0;
   // Arm states (right arm's frame) where a policy took over: the catching hand at each catch
   // (the throw policy starts there) and the throwing hand at each release (the catch policy
   // starts there). `juggle toss --record-states` writes them as training start states.
@@ -149,7 +156,7 @@ class TossJuggler {
   int step_ = 0;
   int next_beat_ = 0;
   JuggleRunResult result_;
-  double velocity_error_sum_ = 0, position_error_sum_ = 0;
+  double velocity_error_sum_ = 0, position_error_sum_ = 0, catch_height_error_sum_ = 0;
   int releases_ = 0;
   bool over_ = false;
   Hand end_hand_ = Hand::kRight;

@@ -125,18 +125,25 @@ TEST_F(TossCliTest, EvalWritesTheProtocolAsJsonLines) {
   std::ifstream in(json);
   std::vector<std::string> lines;
   for (std::string line; std::getline(in, line);) lines.push_back(line);
-  // 2 patterns, 1 wind step (the sweep stops at the first force that fails: resting arms fail
-  // at 0 N), the summary.
-  ASSERT_EQ(lines.size(), 4u);
+  // 2 patterns, 2 throw values (531's 5s and 3s; its 1s are handoffs, not releases), 1 wind
+  // step (the sweep stops at the first force that fails: resting arms fail at 0 N), the summary.
+  ASSERT_EQ(lines.size(), 6u);
   // The same numbers as the printed protocol.
   const std::string three = absl::StrCat("\"median_throws\":", Value("throws_3"), ",");
   EXPECT_THAT(lines[0], HasSubstr("{\"table\":\"toss_pattern\",\"pattern\":\"3\",\"balls\":3,"));
   EXPECT_THAT(lines[0], HasSubstr(three));
   EXPECT_THAT(lines[1], HasSubstr("\"pattern\":\"531\""));
-  const nlohmann::json wind = nlohmann::json::parse(lines[2]);
+  // A resting palm releases at rest: the error is the target speed, more than 2 m/s.
+  EXPECT_GT(nlohmann::json::parse(lines[0])["mean_velocity_error"].get<double>(), 2.0);
+  const nlohmann::json three_value = nlohmann::json::parse(lines[2]);
+  EXPECT_EQ(three_value["table"], "toss_throw_value");
+  EXPECT_EQ(three_value["value"], 3);
+  EXPECT_GT(three_value["releases"].get<int>(), 0);
+  EXPECT_EQ(nlohmann::json::parse(lines[3])["value"], 5);
+  const nlohmann::json wind = nlohmann::json::parse(lines[4]);
   EXPECT_EQ(wind["table"], "toss_wind");
   EXPECT_EQ(wind["wind_n"], 0);
-  EXPECT_THAT(lines[3], HasSubstr("{\"table\":\"toss_summary\",\"seeds\":2,\"max_throws\":200,"
+  EXPECT_THAT(lines[5], HasSubstr("{\"table\":\"toss_summary\",\"seeds\":2,\"max_throws\":200,"
                                   "\"max_basic_pattern\":0,"));
   EXPECT_EQ(Run({"toss", "--zero-action", "--json=" + json}, 30, "nojson.log"), 2);
   EXPECT_THAT(output_, HasSubstr("--json needs --eval"));

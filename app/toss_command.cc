@@ -36,6 +36,9 @@ struct TossFlags {
   int seeds = 10;
   double wind_step = 0.02, wind_max = 1.0;
   std::string json;
+  std::string transitions = "3,531,5,7,3";
+  bool transitions_set = false;
+  int throws_each = 20;
 };
 
 // A policy trained on the toss task `task`.
@@ -79,6 +82,8 @@ int Evaluate(const LoadedConfig& base, TossPolicies policies, const TossFlags& f
   o.wind_step = f.wind_step;
   o.wind_max = f.wind_max;
   o.keep_start_states = !f.record_states.empty();
+  o.transitions = absl::StrSplit(f.transitions, ',', absl::SkipEmpty());
+  o.throws_each = f.throws_each;
   std::printf("%-8s %5s %8s  %8s %8s %6s  throws per seed (max %d)\n", "pattern", "balls",
               "median", "v_err", "v_max", "z_cm", f.max_throws);
   std::printf("  (v_err, v_max: mean and largest release-velocity error, m/s; z_cm: mean "
@@ -107,6 +112,10 @@ int Evaluate(const LoadedConfig& base, TossPolicies policies, const TossFlags& f
   std::string summary;
   for (const toss::PatternResult& p : report->patterns) {
     absl::StrAppend(&summary, " throws_", p.pattern, "=", p.median_throws);
+  }
+  if (report->transition) {
+    absl::StrAppend(&summary, " transitions=", report->transition->median_throws, "/",
+                    report->transition->needed);
   }
   std::printf("seeds=%d max_throws=%d%s max_basic_pattern=%d max_wind_n=%.3f\n", f.seeds,
               f.max_throws, summary.c_str(), report->max_basic_pattern, report->max_wind_n);
@@ -139,18 +148,32 @@ int Toss(const TossFlags& f) {
                               thrower ? thrower->policy.get() : nullptr};
   if (f.eval) return Evaluate(base, policies, f);
 
-  absl::StatusOr<toss::Siteswap> pattern = toss::Siteswap::Parse(f.pattern);
-  if (!pattern.ok()) return Fail(pattern.status());
+  absl::StatusOr<toss::JuggleSchedule> schedule = absl::InternalError("no schedule");
+  if (f.transitions_set) {
+    std::vector<toss::Siteswap> patterns;
+    for (const std::string& text :
+         std::vector<std::string>(absl::StrSplit(f.transitions, ',', absl::SkipEmpty()))) {
+      absl::StatusOr<toss::Siteswap> p = toss::Siteswap::Parse(text);
+      if (!p.ok()) return Fail(p.status());
+      patterns.push_back(*p);
+    }
+    schedule = toss::JuggleSchedule::Transitions(patterns, f.throws_each);
+  } else {
+    absl::StatusOr<toss::Siteswap> p = toss::Siteswap::Parse(f.pattern);
+    if (!p.ok()) return Fail(p.status());
+    schedule = toss::JuggleSchedule(*p);
+  }
+  if (!schedule.ok()) return Fail(schedule.status());
   absl::StatusOr<std::shared_ptr<const toss::TossSpec>> spec =
       toss::SpecWithWind(base, base.run.toss().wind_force());
   if (!spec.ok()) return Fail(spec.status());
   std::optional<TrajectoryBuilder> recording;
   if (!f.record.empty()) {
     recording.emplace(
-        toss::TossJuggler::NewRecording(**spec, pattern->balls(), RecordedConfigName(base)));
+        toss::TossJuggler::NewRecording(**spec, schedule->max_balls(), RecordedConfigName(base)));
   }
   absl::StatusOr<toss::JuggleRunResult> r =
-      toss::RunOnce(*spec, *pattern, policies, f.max_throws, f.seed,
+      toss::RunOnce(*spec, *schedule, policies, f.max_throws, f.seed,
                     recording ? &*recording : nullptr);
   if (!r.ok()) return Fail(r.status());
   if (recording) {
@@ -169,7 +192,7 @@ int Toss(const TossFlags& f) {
   }
   std::printf("pattern=%s balls=%d throws=%d good_throws=%d catches=%d drops=%d end=%s "
               "seconds=%.2f mean_velocity_error=%.3f mean_position_error=%.4f wind_n=%.3f\n",
-              f.pattern.c_str(), pattern->balls(), r->throws, r->good_throws, r->catches,
+              schedule->Name().c_str(), schedule->max_balls(), r->throws, r->good_throws, r->catches,
               r->end == toss::JuggleEnd::kDropped ? 1 : 0, toss::JuggleEndName(r->end),
               r->seconds, r->mean_velocity_error, r->mean_position_error,
               base.run.toss().wind_force());
@@ -212,6 +235,15 @@ CommandBody AddTossCommand(CLI::App* cmd) {
   cmd->add_option("--record-states", f->record_states,
                   "write the arm states at releases and catches to PREFIX_catch.textproto and "
                   "PREFIX_throw.textproto (TossConfig.start_states_file)");
+  cmd->add_option("--transitions", f->transitions,
+                  "patterns juggled in turn, passing between them by the shortest transition "
+                  "(balls brought in or put away as the counts change); with --eval the "
+                  "protocol's transition run (empty: none)")
+      ->each([f](const std::string&) { f->transitions_set = true; })
+      ->capture_default_str();
+  cmd->add_option("--throws-each", f->throws_each, "throws of each pattern of --transitions")
+      ->check(AtLeast(1))
+      ->capture_default_str();
   cmd->add_flag("--eval", f->eval, "evaluation protocol: patterns x seeds and a wind sweep");
   cmd->add_option("--patterns", f->patterns, "patterns of --eval")->capture_default_str();
   cmd->add_option("--json", f->json,

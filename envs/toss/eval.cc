@@ -23,7 +23,8 @@ absl::StatusOr<int> MedianThrows(std::shared_ptr<const TossSpec> spec, const Sit
                                  std::map<int, std::pair<double, int>>* by_value = nullptr) {
   std::vector<int> throws;
   for (int s = first_seed; s < first_seed + seeds; ++s) {
-    ASSIGN_OR_RETURN(JuggleRunResult r, RunOnce(spec, pattern, policies, max_throws, s));
+    ASSIGN_OR_RETURN(JuggleRunResult r,
+                     RunOnce(spec, JuggleSchedule(pattern), policies, max_throws, s));
     throws.push_back(r.throws);
     if (start_states) start_states->Add(r);
     if (accuracy) accuracy->Add(r);
@@ -77,14 +78,14 @@ void StartStates::Add(const JuggleRunResult& r) {
 }
 
 absl::StatusOr<JuggleRunResult> RunOnce(std::shared_ptr<const TossSpec> spec,
-                                        const Siteswap& pattern, TossPolicies policies,
+                                        const JuggleSchedule& schedule, TossPolicies policies,
                                         int max_throws, uint64_t seed,
                                         TrajectoryBuilder* recording) {
   JugglerOptions options;
   options.max_throws = max_throws;
   options.seed = seed;
   ASSIGN_OR_RETURN(std::unique_ptr<TossJuggler> juggler,
-                   TossJuggler::Create(std::move(spec), pattern, policies, options));
+                   TossJuggler::Create(std::move(spec), schedule, policies, options));
   return juggler->Run(recording);
 }
 
@@ -136,6 +137,30 @@ absl::StatusOr<TossEvalReport> EvaluateToss(const LoadedConfig& base, TossPolici
     say(absl::StrFormat("throw %d: %d releases, mean release-velocity error %.2e m/s", value,
                         sum_count.second, sum_count.first / sum_count.second));
   }
+  if (!o.transitions.empty()) {
+    std::vector<Siteswap> patterns;
+    for (const std::string& text : o.transitions) {
+      ASSIGN_OR_RETURN(Siteswap p, Siteswap::Parse(text));
+      patterns.push_back(p);
+    }
+    ASSIGN_OR_RETURN(JuggleSchedule schedule, JuggleSchedule::Transitions(patterns, o.throws_each));
+    TransitionResult t;
+    t.name = schedule.Name();
+    t.needed = schedule.sequence_length() + 20;  // every planned beat throws, or nearly
+    for (int s = o.first_seed; s < o.first_seed + o.seeds; ++s) {
+      ASSIGN_OR_RETURN(JuggleRunResult r, RunOnce(spec, schedule, policies, t.needed, s));
+      t.throws.push_back(r.throws);
+    }
+    std::vector<int> sorted = t.throws;
+    std::sort(sorted.begin(), sorted.end());
+    const size_t n = sorted.size();
+    t.median_throws = n % 2 ? sorted[n / 2] : (sorted[n / 2 - 1] + sorted[n / 2]) / 2;
+    std::string per_seed;
+    for (int x : t.throws) absl::StrAppend(&per_seed, " ", x);
+    say(absl::StrFormat("transitions %s: median %d of %d throws; per seed%s", t.name,
+                        t.median_throws, t.needed, per_seed));
+    report.transition = std::move(t);
+  }
   // Wind sweep: the largest force at which the median over the seeds still reaches 100 throws
   // of "3".
   const Siteswap three = *Siteswap::Parse("3");
@@ -185,6 +210,13 @@ std::vector<std::string> TossEvalJsonLines(const TossEvalReport& report,
   for (const auto& [wind, median] : report.wind_sweep) {
     lines.push_back(line(
         {{"table", "toss_wind"}, {"wind_n", wind}, {"pattern", "3"}, {"median_throws", median}}));
+  }
+  if (report.transition) {
+    lines.push_back(line({{"table", "toss_transition"},
+                          {"name", report.transition->name},
+                          {"needed", report.transition->needed},
+                          {"median_throws", report.transition->median_throws},
+                          {"throws", report.transition->throws}}));
   }
   lines.push_back(line({{"table", "toss_summary"},
                         {"seeds", options.seeds},

@@ -8,6 +8,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,7 +28,7 @@ struct StartStates {
 
 // One juggling run of `pattern` from seed `seed`; appended to `recording` if given.
 absl::StatusOr<JuggleRunResult> RunOnce(std::shared_ptr<const TossSpec> spec,
-                                        const Siteswap& pattern, TossPolicies policies,
+                                        const JuggleSchedule& schedule, TossPolicies policies,
                                         int max_throws, uint64_t seed,
                                         TrajectoryBuilder* recording = nullptr);
 
@@ -43,6 +44,18 @@ struct TossEvalOptions {
   double wind_step = 0.02;  // N
   double wind_max = 1.0;    // N
   bool keep_start_states = false;
+  // The transition run: these patterns in turn, each for throws_each throws, then 20 throws of
+  // the last; empty: none.
+  std::vector<std::string> transitions = {"3", "531", "5", "7", "3"};
+  int throws_each = 20;
+};
+
+// The transition run over the seeds: throws made of the `needed` (the whole schedule).
+struct TransitionResult {
+  std::string name;  // "3>531>5>7>3"
+  int needed = 0;
+  int median_throws = 0;
+  std::vector<int> throws;  // per seed
 };
 
 // Release and catch accuracy over runs: |v − v̄| at releases (m/s; v̄ the schedule's in still
@@ -75,6 +88,7 @@ struct TossEvalReport {
   double max_wind_n = 0;       // 0 when 3 fails even without wind
   std::vector<std::pair<double, int>> wind_sweep;  // (force, median throws of 3)
   std::vector<ValueAccuracy> by_value;  // ascending value
+  std::optional<TransitionResult> transition;
   StartStates start_states;    // of the pattern runs, when kept
 };
 
@@ -90,7 +104,8 @@ absl::StatusOr<TossEvalReport> EvaluateToss(const LoadedConfig& base, TossPolici
 // value {"table":"toss_throw_value","value":5,"releases":..,"mean_velocity_error":..},
 // one per wind step {"table":"toss_wind","wind_n":..,"pattern":"3","median_throws":..}, and a
 // summary {"table":"toss_summary","seeds":..,"max_throws":..,"max_basic_pattern":..,
-// "max_wind_n":..}.
+// "max_wind_n":..}; and the transition run {"table":"toss_transition","name":"3>531>5>7>3",
+// "needed":..,"median_throws":..,"throws":[per seed]}.
 std::vector<std::string> TossEvalJsonLines(const TossEvalReport& report,
                                            const TossEvalOptions& options);
 

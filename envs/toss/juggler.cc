@@ -26,20 +26,26 @@ const char* JuggleEndName(JuggleEnd end) {
 absl::StatusOr<std::unique_ptr<TossJuggler>> TossJuggler::Create(
     std::shared_ptr<const TossSpec> spec, const Siteswap& pattern, TossPolicies policies,
     JugglerOptions options) {
-  if (pattern.balls() < 1 || pattern.balls() > kTossBalls) {
-    return absl::InvalidArgumentError(absl::StrCat("pattern has ", pattern.balls(),
+  return Create(std::move(spec), JuggleSchedule(pattern), policies, options);
+}
+
+absl::StatusOr<std::unique_ptr<TossJuggler>> TossJuggler::Create(
+    std::shared_ptr<const TossSpec> spec, const JuggleSchedule& schedule, TossPolicies policies,
+    JugglerOptions options) {
+  if (schedule.first().balls() < 1 || schedule.max_balls() > kTossBalls) {
+    return absl::InvalidArgumentError(absl::StrCat(schedule.Name(), " has ", schedule.max_balls(),
                                                    " balls; the toss model juggles 1 to ",
                                                    kTossBalls));
   }
   if (options.max_throws < 1) return absl::InvalidArgumentError("max_throws must be >= 1");
   return std::unique_ptr<TossJuggler>(
-      new TossJuggler(std::move(spec), pattern, policies, options));
+      new TossJuggler(std::move(spec), schedule, policies, options));
 }
 
-TossJuggler::TossJuggler(std::shared_ptr<const TossSpec> spec, const Siteswap& pattern,
+TossJuggler::TossJuggler(std::shared_ptr<const TossSpec> spec, const JuggleSchedule& schedule,
                          TossPolicies policies, JugglerOptions options)
     : spec_(std::move(spec)),
-      pattern_(pattern),
+      schedule_(schedule),
       policies_(policies),
       options_(options),
       world_(spec_) {
@@ -49,9 +55,26 @@ TossJuggler::TossJuggler(std::shared_ptr<const TossSpec> spec, const Siteswap& p
   PlaceInitialBalls(&rng);
 }
 
-int TossJuggler::Value(int beat) const {
-  const int p = pattern_.period();
-  return pattern_.throws()[((beat % p) + p) % p];
+int TossJuggler::Value(int beat) const { return schedule_.At(beat).value; }
+
+int TossJuggler::DwellSteps() const {
+  const config::TossConfig& t = spec_->toss();
+  return static_cast<int>(std::lround(t.dwell_ratio() * t.hand_period_s() / spec_->dt()));
+}
+
+bool TossJuggler::BringInBalls() {
+  while (BeatStep(next_add_beat_) - DwellSteps() <= step_) {
+    const int beat = next_add_beat_++;
+    if (schedule_.At(beat).change != BallChange::kAddBall) continue;
+    const Hand hand = BeatHand(beat);
+    if (world_.held_by(hand) >= 0) return false;
+    int b = 0;
+    while (b < static_cast<int>(balls_.size()) && !balls_[b].out) ++b;
+    if (b == static_cast<int>(balls_.size())) balls_.push_back({});
+    balls_[b] = {beat, false};
+    world_.Hold(b, hand);
+  }
+  return true;
 }
 
 int TossJuggler::BeatStep(int beat) const {
@@ -71,7 +94,8 @@ void TossJuggler::PlaceInitialBalls(Rng* rng) {
   int first_beat = 0;
   while (BeatStep(first_beat - 1) > 0) --first_beat;
   next_beat_ = first_beat;
-  for (int j = first_beat - pattern_.max_throw(); j < first_beat; ++j) {
+  next_add_beat_ = first_beat;
+  for (int j = first_beat - schedule_.first().max_throw(); j < first_beat; ++j) {
     const int v = Value(j);
     const int landing = j + v;
     if (v == 0 || landing < first_beat) continue;
@@ -180,9 +204,15 @@ void TossJuggler::Act(Hand hand) {
 
 bool TossJuggler::DoBeat(int beat) {
   const int v = Value(beat);
-  if (v == 0) return true;
   const Hand hand = BeatHand(beat);
   const int ball = world_.held_by(hand);
+  if (v == 0 && schedule_.At(beat).change == BallChange::kRemoveBall) {
+    if (ball < 0 || balls_[ball].next_beat != beat) return false;
+    world_.Park(ball);  // put away
+    balls_[ball].out = true;
+    return true;
+  }
+  if (v == 0) return true;
   if (ball < 0 || balls_[ball].next_beat != beat) return false;
   if (IsHandoff(beat)) {
     if (world_.held_by(Other(hand)) >= 0) return false;
@@ -277,6 +307,11 @@ void TossJuggler::Finish(JuggleEnd end, Hand hand) {
 
 bool TossJuggler::Step(const float* right_action, TrajectoryBuilder* recording) {
   events_ = {};
+  if (!BringInBalls()) {
+    Finish(JuggleEnd::kMissedBeat, BeatHand(next_add_beat_ - 1));
+    Capture(recording);
+    return false;
+  }
   if (right_action != nullptr && base_) {
     world_.SetTargets(Hand::kRight,
                       base_->WithResidual(Hand::kRight, BaseTargets(Hand::kRight), right_action));

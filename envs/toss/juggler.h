@@ -28,6 +28,7 @@
 #include "common/eigen_policy.h"
 #include "common/rng.h"
 #include "envs/toss/base_controller.h"
+#include "envs/toss/juggle_schedule.h"
 #include "envs/toss/siteswap.h"
 #include "envs/toss/world.h"
 #include "record/trajectory.h"
@@ -93,6 +94,12 @@ class TossJuggler {
                                                             const Siteswap& pattern,
                                                             TossPolicies policies,
                                                             JugglerOptions options);
+  // A transition run (envs/toss/juggle_schedule.h): balls brought into play appear in the
+  // throwing hand a dwell time before their beat; balls taken out are put away on their beat.
+  static absl::StatusOr<std::unique_ptr<TossJuggler>> Create(std::shared_ptr<const TossSpec> spec,
+                                                            const JuggleSchedule& schedule,
+                                                            TossPolicies policies,
+                                                            JugglerOptions options);
   // A recording of runs (`juggle toss --record`, record/trajectory.h): its outcome labels (the
   // shared ones, then max_throws, dropped, missed_beat) and channels: beat, throws, each hand's
   // mode (catch/throw), palm positions, and each ball's x, z and mode (parked/free/held).
@@ -128,9 +135,14 @@ class TossJuggler {
  private:
   struct Ball {
     int next_beat = 0;  // beat on which it is thrown next
+    bool out = false;   // taken out of play (parked); may be brought in again
   };
-  TossJuggler(std::shared_ptr<const TossSpec> spec, const Siteswap& pattern, TossPolicies policies,
-              JugglerOptions options);
+  TossJuggler(std::shared_ptr<const TossSpec> spec, const JuggleSchedule& schedule,
+              TossPolicies policies, JugglerOptions options);
+  // Brings the balls of add-beats into their hands once their dwell has begun; false when a
+  // hand is not empty for it (a missed beat).
+  bool BringInBalls();
+  int DwellSteps() const;
   void PlaceInitialBalls(Rng* rng);
   int Value(int beat) const;
   int BeatStep(int beat) const;
@@ -145,7 +157,8 @@ class TossJuggler {
   void Capture(TrajectoryBuilder* recording) const;
 
   std::shared_ptr<const TossSpec> spec_;
-  Siteswap pattern_;
+  JuggleSchedule schedule_;
+  int next_add_beat_ = 0;  // the next beat BringInBalls looks at
   TossPolicies policies_;
   JugglerOptions options_;
   TossWorld world_;

@@ -126,8 +126,9 @@ TEST_F(TossCliTest, EvalWritesTheProtocolAsJsonLines) {
   std::vector<std::string> lines;
   for (std::string line; std::getline(in, line);) lines.push_back(line);
   // 2 patterns, 2 throw values (531's 5s and 3s; its 1s are handoffs, not releases), 1 wind
-  // step (the sweep stops at the first force that fails: resting arms fail at 0 N), the summary.
-  ASSERT_EQ(lines.size(), 6u);
+  // step (the sweep stops at the first force that fails: resting arms fail at 0 N), the
+  // transition run, the summary.
+  ASSERT_EQ(lines.size(), 7u);
   // The same numbers as the printed protocol.
   const std::string three = absl::StrCat("\"median_throws\":", Value("throws_3"), ",");
   EXPECT_THAT(lines[0], HasSubstr("{\"table\":\"toss_pattern\",\"pattern\":\"3\",\"balls\":3,"));
@@ -143,7 +144,11 @@ TEST_F(TossCliTest, EvalWritesTheProtocolAsJsonLines) {
   const nlohmann::json wind = nlohmann::json::parse(lines[4]);
   EXPECT_EQ(wind["table"], "toss_wind");
   EXPECT_EQ(wind["wind_n"], 0);
-  EXPECT_THAT(lines[5], HasSubstr("{\"table\":\"toss_summary\",\"seeds\":2,\"max_throws\":200,"
+  const nlohmann::json transition = nlohmann::json::parse(lines[5]);
+  EXPECT_EQ(transition["table"], "toss_transition");
+  EXPECT_EQ(transition["name"], "3>531>5>7>3");
+  EXPECT_LT(transition["median_throws"].get<int>(), transition["needed"].get<int>());
+  EXPECT_THAT(lines[6], HasSubstr("{\"table\":\"toss_summary\",\"seeds\":2,\"max_throws\":200,"
                                   "\"max_basic_pattern\":0,"));
   EXPECT_EQ(Run({"toss", "--zero-action", "--json=" + json}, 30, "nojson.log"), 2);
   EXPECT_THAT(output_, HasSubstr("--json needs --eval"));

@@ -21,11 +21,10 @@ build: configure
 train: build
 	$(BUILD_DIR)/juggle train --config=$(CONFIG) --minutes=$(MINUTES)
 
-# Toss juggling (docs/toss.md, docs/results.md): the single-arm catch and throw policies, then
-# two rounds of training inside the two-arm loop, a held-out choice of the round-2 catch
-# checkpoint, the exported pair (runs/toss_pair/) and the evaluation protocol. Every stage
-# stops at a fixed iteration; independent stages run side by side. About 2 h on 2 cores.
-# The pair it produced is shipped in policies/toss/ (docs/results.md).
+# Toss juggling (docs/toss.md, docs/results.md): residual catch and throw policies on the base
+# controllers, trained side by side in the two-arm loop on every pattern and on transitions, a
+# held-out ranking of their checkpoints, the exported pair (runs/toss_pair/) and the evaluation
+# protocol. About 30 min on 2 cores. The pair it produced is shipped in policies/toss/.
 train-toss: build
 	JUGGLE=$(BUILD_DIR)/juggle scripts/experiments/train_toss.sh runs
 

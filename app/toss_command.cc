@@ -62,10 +62,12 @@ absl::Status CheckSameWorld(const PolicySource& catcher, const PolicySource& thr
   if (SaveModel(catcher.spec->model()) != SaveModel(thrower.spec->model()) ||
       a.kp() != b.kp() || a.kd() != b.kd() ||
       a.action_scale() != b.action_scale() || a.hand_period_s() != b.hand_period_s() ||
-      a.dwell_ratio() != b.dwell_ratio() || a.hand_x() != b.hand_x() || a.hand_z() != b.hand_z()) {
+      a.dwell_ratio() != b.dwell_ratio() || a.hand_x() != b.hand_x() || a.hand_z() != b.hand_z() ||
+      a.has_base() != b.has_base() ||
+      a.base().SerializeAsString() != b.base().SerializeAsString()) {
     return absl::FailedPreconditionError(
         "the catch and throw policies were trained with different toss settings (model, gains, "
-        "action_scale, hand_period_s, dwell_ratio or home point)");
+        "action_scale, hand_period_s, dwell_ratio, home point or base controllers)");
   }
   return absl::OkStatus();
 }

@@ -98,7 +98,8 @@ absl::Status InlinePolicyFile(const std::string& config_dir, const SourceLocator
   return absl::OkStatus();
 }
 
-// In-loop training: both partner policies must be present (files are inlined). The patterns
+// In-loop training: both partner policies must be present (files are inlined) unless the base
+// controllers stand in for them (toss.base). The patterns
 // are checked against the model by TossSpec.
 absl::Status PrepareLoop(const std::string& config_dir, const SourceLocator& toss_where,
                          config::TossConfig* toss) {
@@ -125,10 +126,11 @@ absl::Status PrepareLoop(const std::string& config_dir, const SourceLocator& tos
                                      loop->throw_policy_file(), loop->mutable_throw_policy()));
     loop->clear_throw_policy_file();
   }
-  if (!loop->has_catch_policy() || !loop->has_throw_policy()) {
+  if (!toss->has_base() && (!loop->has_catch_policy() || !loop->has_throw_policy())) {
     return absl::InvalidArgumentError(absl::StrCat(
         where.Where({{loop->has_catch_policy() ? "throw_policy_file" : "catch_policy_file"}}),
-        ": the loop needs both partner policies (catch_policy_file and throw_policy_file)"));
+        ": the loop needs both partner policies (catch_policy_file and throw_policy_file), or a "
+        "toss.base block to let the base controllers drive the partner arm and mode"));
   }
   return absl::OkStatus();
 }

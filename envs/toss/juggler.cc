@@ -113,7 +113,7 @@ void TossJuggler::PlaceInitialBalls(Rng* rng) {
     const Vec2 p{spec_->home_x(thrower) + timing.v_x * tau + rng->Uniform(-jitter, jitter),
                  spec_->home_z() + timing.v_z * tau - 0.5 * g * tau * tau +
                      rng->Uniform(-jitter, jitter)};
-    const double vj = 5 * jitter;
+    const double vj = options_.ball_speed_noise;
     world_.SetFree(b, p, {timing.v_x + rng->Uniform(-vj, vj),
                           timing.v_z - g * tau + rng->Uniform(-vj, vj)});
   }

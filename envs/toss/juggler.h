@@ -45,9 +45,10 @@ struct JugglerOptions {
   int max_throws = 200;
   uint64_t seed = 1;
   // Start perturbation: arm angles ± start_noise (rad, speeds ± 10×); balls in flight at the
-  // start ± ball_noise (m) in position and ± 5·ball_noise (m/s) in velocity.
+  // start ± ball_noise (m) in position and ± ball_speed_noise (m/s) in velocity.
   double start_noise = 0.05;
   double ball_noise = 0.02;
+  double ball_speed_noise = 0.1;
   // Test oracle and scripted baseline: a release sets the ball's velocity to the schedule's
   // target instead of the palm's (the position stays the palm's).
   bool ideal_release = false;

@@ -29,6 +29,7 @@ JuggleRunResult RunPattern(const std::string& text, bool ideal, int max_throws,
   options.max_throws = max_throws;
   options.start_noise = 0;
   options.ball_noise = 0;
+  options.ball_speed_noise = 0;
   options.ideal_release = ideal;
   absl::StatusOr<std::unique_ptr<TossJuggler>> juggler =
       TossJuggler::Create(CatchSpec(), *pattern, TossPolicies{}, options);
@@ -81,6 +82,7 @@ TEST(TossJugglerTest, HandWaitsForABallPassedToItBeforeChasingTheNextFreeOne) {
   JugglerOptions options;
   options.start_noise = 0;
   options.ball_noise = 0;
+  options.ball_speed_noise = 0;
   options.ideal_release = true;
   absl::StatusOr<std::unique_ptr<TossJuggler>> made =
       TossJuggler::Create(CatchSpec(), *Siteswap::Parse("531"), TossPolicies{}, options);

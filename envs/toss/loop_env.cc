@@ -9,21 +9,49 @@
 namespace juggle::toss {
 
 TossLoopEnv::TossLoopEnv(std::shared_ptr<const TossSpec> spec, Rng rng)
-    : spec_(std::move(spec)), rng_(rng) {
+    : spec_(std::move(spec)), rng_(rng), failure_rate_(spec_->loop_patterns().size(), 0.0) {
   StartRun();
+}
+
+int TossLoopEnv::DrawPattern() {
+  const config::TossLoopConfig& loop = spec_->toss().loop();
+  const int n = static_cast<int>(failure_rate_.size());
+  if (!loop.weight_failures()) return static_cast<int>(rng_.UniformInt(n));
+  double total = 0;
+  for (double r : failure_rate_) total += loop.failure_floor() + r;
+  double u = rng_.Uniform(0, total);
+  for (int i = 0; i < n; ++i) {
+    u -= loop.failure_floor() + failure_rate_[i];
+    if (u < 0) return i;
+  }
+  return n - 1;
 }
 
 void TossLoopEnv::StartRun() {
   const config::TossLoopConfig& loop = spec_->toss().loop();
+  if (juggler_ && run_pattern_ >= 0) {
+    constexpr double kAverage = 0.1;
+    const bool failed = juggler_->result().end != JuggleEnd::kMaxThrows;
+    failure_rate_[run_pattern_] += kAverage * ((failed ? 1.0 : 0.0) - failure_rate_[run_pattern_]);
+  }
   const std::vector<Siteswap>& patterns = spec_->loop_patterns();
-  const Siteswap& pattern = patterns[rng_.UniformInt(patterns.size())];
+  run_pattern_ = DrawPattern();
+  JuggleSchedule schedule(patterns[run_pattern_]);
+  if (loop.transition_fraction() > 0 && rng_.Uniform(0, 1) < loop.transition_fraction()) {
+    // Scored on the pattern it passes into.
+    const int from = DrawPattern();
+    absl::StatusOr<JuggleSchedule> t = JuggleSchedule::Transitions(
+        {patterns[from], patterns[run_pattern_]}, loop.transition_throws());
+    if (t.ok()) schedule = *std::move(t);
+  }
   JugglerOptions options;
   options.max_throws = loop.max_throws();
   options.seed = rng_.NextU64();
   options.start_noise = loop.start_noise();
-  options.ball_noise = 10 * loop.start_noise();  // as before ball_noise existed
+  options.ball_noise = loop.has_ball_noise() ? loop.ball_noise() : 10 * loop.start_noise();
+  options.ball_speed_noise = loop.ball_speed_noise();
   // The spec validated the patterns (ball counts) when it was built.
-  juggler_ = *TossJuggler::Create(spec_, pattern,
+  juggler_ = *TossJuggler::Create(spec_, schedule,
                                   TossPolicies{spec_->loop_catcher(), spec_->loop_thrower()},
                                   options);
   ++runs_started_;

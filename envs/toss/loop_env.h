@@ -13,7 +13,9 @@
 //          −w3·effort.
 // Reset advances the runtime with the partner policies to the next such segment; when the
 // juggling run ends (any drop, a missed beat, loop.max_throws) a new run starts on a freshly
-// drawn pattern. A run that ends inside a segment for a reason that is not the segment's own
+// drawn pattern (uniformly, or weighted by its recent failures: loop.weight_failures), or with
+// probability loop.transition_fraction a transition run between two drawn patterns. With
+// toss.base the actions are residuals on the base controllers (envs/toss/base_controller.h). A run that ends inside a segment for a reason that is not the segment's own
 // failure truncates the episode (kTimeLimit, bootstrapped). Divergence ends it (kDiverged).
 // Observations are the runtime's: S_catch / S_throw of the right arm.
 #ifndef JUGGLE_ENVS_TOSS_LOOP_ENV_H_
@@ -46,12 +48,15 @@ class TossLoopEnv : public juggle::Env {
   const TossJuggler& juggler() const { return *juggler_; }
   // Juggling runs started so far.
   int runs_started() const { return runs_started_; }
+  // Recent failure rate of each loop pattern in this env (loop.weight_failures).
+  const std::vector<double>& failure_rates() const { return failure_rate_; }
 
  private:
   bool TrainsThrow() const { return spec_->toss().task() == config::THROW; }
   // The right arm is in the task's mode.
   bool InSegment() const;
   void StartRun();
+  int DrawPattern();
   StepResult CatchOutcome() const;
   StepResult ThrowOutcome();
 
@@ -61,6 +66,8 @@ class TossLoopEnv : public juggle::Env {
   int steps_ = 0;
   int completions_ = 0;
   int runs_started_ = 0;
+  std::vector<double> failure_rate_;  // per loop pattern
+  int run_pattern_ = -1;              // the pattern the current run is scored on
 };
 
 }  // namespace juggle::toss

@@ -95,12 +95,17 @@ absl::Status TossSpec::ResolveLoop() {
   }
   struct Partner {
     const char* field;
+    bool present;
     const config::ExportedPolicy& exported;
     int obs_dim;
     std::optional<EigenPolicy>* out;
   };
-  for (const Partner& p : {Partner{"catch_policy_file", loop.catch_policy(), kTossCatchObs, &loop_catcher_},
-                           Partner{"throw_policy_file", loop.throw_policy(), kTossThrowObs, &loop_thrower_}}) {
+  for (const Partner& p :
+       {Partner{"catch_policy_file", loop.has_catch_policy(), loop.catch_policy(), kTossCatchObs,
+                &loop_catcher_},
+        Partner{"throw_policy_file", loop.has_throw_policy(), loop.throw_policy(), kTossThrowObs,
+                &loop_thrower_}}) {
+    if (!p.present) continue;  // the base controllers stand in (PrepareLoop checked)
     if (p.exported.obs_dim() != p.obs_dim || p.exported.act_dim() != kTossJoints) {
       return absl::InvalidArgumentError(absl::StrCat(
           where.Where({{p.field}}), ": the policy (", p.exported.source(), ") has ",

@@ -1,80 +1,70 @@
 #!/usr/bin/env bash
-# The toss-juggling recipe (docs/toss.md, docs/results.md): the single-arm catch and throw
-# policies, two rounds of training inside the two-arm loop, a held-out ranking of the round-2
-# catch checkpoints, the exported pair and the evaluation on seeds 1-10.
+# The toss-juggling recipe (docs/toss.md, docs/results.md): residual catch and throw policies on
+# the base controllers, trained side by side inside the two-arm loop on every pattern and on
+# transitions (configs/toss_residual_{catch,throw}.textproto); the throw checkpoints ranked with
+# the last catch on held-out seeds 101-105, then the catch checkpoints with the best throw; the
+# exported pair and the evaluation protocol on seeds 1001-1010.
 #
-#   scripts/experiments/train_toss.sh [RUNS_DIR]        (default runs; `make train-toss` runs it)
+#   scripts/experiments/train_toss.sh [RUNS_DIR] [ITERATIONS]   (default runs 6000; make train-toss)
 #
-# Every stage stops at a fixed iteration (the counts of the measured runs), so the result does
-# not depend on how busy the machine is. Each stage trains on one core (the configs set one
-# simulation and one torch thread); independent stages run side by side. About 2 h on 2 cores.
-# Writes RUNS_DIR/toss_pair/{catch,throw}.jglpolicy and RUNS_DIR/toss_pair/eval.txt.
+# Every stage stops at a fixed iteration, so the result does not depend on how busy the machine
+# is; a stage already at its iteration is skipped, a stopped one resumes. About 30 min on 2
+# cores. Writes RUNS_DIR/toss_pair/{catch,throw}.jglpolicy, eval.txt and eval.jsonl.
+# The earlier recipe (policies alone, no base controllers): train_toss_from_scratch.sh.
 set -euo pipefail
 if [[ ${1:-} == -h || ${1:-} == --help ]]; then
-  sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'
+  sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'
   exit 0
 fi
 runs=${1:-runs}
+iterations=${2:-6000}
 juggle=${JUGGLE:-build/release/juggle}
-partners=runs/toss_partners  # the loop configs name their frozen partners by this path
 [[ -x $juggle ]] || { echo "error: $juggle not built (make build)" >&2; exit 1; }
-mkdir -p "$runs" "$partners" "$runs/toss_pair"
+pair=$runs/toss_pair
+mkdir -p "$runs" "$pair"
 
-stage() {  # stage NAME CONFIG ITERATIONS [INIT_FROM]: trains unless already at ITERATIONS
-  local name=$1 config=$2 iterations=$3 init=${4:-} dir=$runs/$1
+stage() {  # stage NAME CONFIG: trains unless already at $iterations
+  local name=$1 config=$2 dir=$runs/$1
   if [[ -f $dir/checkpoints/$(printf 'ckpt-%010d.jglc' "$iterations") ]]; then
     echo "[$(date +%T)] $name: already at iteration $iterations"
     return 0
   fi
   local args=(train --config="$config" --run_dir="$dir" --iterations="$iterations"
               --metrics_port=0)
-  if compgen -G "$dir/checkpoints/*.jglc" >/dev/null; then args+=(--resume)
-  elif [[ -n $init ]]; then args+=(--init_from="$init"); fi
+  if compgen -G "$dir/checkpoints/*.jglc" >/dev/null; then args+=(--resume); fi
   echo "[$(date +%T)] $name: ${args[*]}"
   "$juggle" "${args[@]}" >"$dir.log" 2>&1 || { echo "error: $name failed, see $dir.log" >&2; return 1; }
   echo "[$(date +%T)] $name: done ($(tail -n 1 "$dir.log"))"
 }
-export_policy() {  # export_policy CHECKPOINT OUT [CONFIG]
-  "$juggle" export-policy --checkpoint="$1" --out="$2" ${3:+--config="$3"} | tail -n 1
+
+rank() {  # rank ROLE RUN PARTNER: prints the best checkpoint of RUN (ranking in RUN/ranking.txt)
+  local role=$1 run=$2 partner=$3 dir=$2/rank
+  rm -rf "$dir" && mkdir -p "$dir/a" "$dir/b"
+  local half=a
+  for ckpt in "$run"/checkpoints/*.jglc; do
+    ln -s "$(realpath "$ckpt")" "$dir/$half/"
+    if [[ $half == a ]]; then half=b; else half=a; fi
+  done
+  for half in a b; do
+    WIND_MAX=1.0 JUGGLE=$juggle scripts/experiments/rank_toss_checkpoints.sh "$role" "$dir/$half" \
+      "$partner" 3,4,5,6,7,53,441,531 >"$dir/$half.txt" &
+  done
+  wait
+  sort -k1,1n -k2,2n "$dir/a.txt" "$dir/b.txt" >"$run/ranking.txt"
+  realpath "$(tail -n 1 "$run/ranking.txt" | cut -d' ' -f3)"
 }
 
-# Single-arm tasks, side by side.
-stage toss_catch configs/toss_catch.textproto 2500 & catch_pid=$!
-stage toss_throw configs/toss_throw.textproto 8020 & throw_pid=$!
-wait $catch_pid && wait $throw_pid
-export_policy "$runs/toss_catch" "$partners/catch_r0.jglpolicy"
-export_policy "$runs/toss_throw" "$partners/throw_r0.jglpolicy"
+stage toss_residual_throw configs/toss_residual_throw.textproto & t=$!
+stage toss_residual_catch configs/toss_residual_catch.textproto & c=$!
+wait $t && wait $c
 
-# Round 1: each policy fine-tuned in the loop against both single-arm partners, side by side.
-stage toss_loop1_throw configs/toss_loop1_throw.textproto 12011 "$runs/toss_throw" & t1=$!
-stage toss_loop1_catch configs/toss_loop1_catch.textproto 4802 "$runs/toss_catch" & c1=$!
-wait $t1 && wait $c1
-export_policy "$runs/toss_loop1_throw" "$partners/throw_r1.jglpolicy"
-
-# Round 2: the catch against the round-1 throw it will meet.
-stage toss_loop2_catch configs/toss_loop2_catch.textproto 6585 "$runs/toss_loop1_catch"
-
-# Held-out choice of the round-2 checkpoint (seeds 101-105), then the pair and its table. The
-# checkpoints are ranked in two halves side by side.
-echo "[$(date +%T)] ranking round-2 catch checkpoints on seeds 101-105"
-rank_dir=$runs/toss_loop2_catch/rank
-rm -rf "$rank_dir" && mkdir -p "$rank_dir/a" "$rank_dir/b"
-half=a
-for ckpt in "$runs"/toss_loop2_catch/checkpoints/*.jglc; do
-  ln -s "$(realpath "$ckpt")" "$rank_dir/$half/"
-  if [[ $half == a ]]; then half=b; else half=a; fi
-done
-for half in a b; do
-  JUGGLE=$juggle scripts/experiments/rank_toss_checkpoints.sh catch "$rank_dir/$half" \
-    "$runs/toss_loop1_throw" 3,4,5,531,53,441,6,7 >"$rank_dir/$half.txt" &
-done
-wait
-sort -k1,1n -k2,2n "$rank_dir/a.txt" "$rank_dir/b.txt" | tee "$runs/toss_loop2_catch/ranking.txt"
-best=$(realpath "$(tail -n 1 "$runs/toss_loop2_catch/ranking.txt" | cut -d' ' -f3)")
-# The pair carries the single-arm task configs: the same world as the loop configs, without the
-# loop's inlined partner policies (which would make each file several MB).
-export_policy "$best" "$runs/toss_pair/catch.jglpolicy" configs/toss_catch.textproto
-export_policy "$runs/toss_loop1_throw" "$runs/toss_pair/throw.jglpolicy" configs/toss_throw.textproto
-echo "$best" >"$runs/toss_pair/catch_source.txt"
-"$juggle" toss --eval --catch="$runs/toss_pair/catch.jglpolicy" \
-  --throw="$runs/toss_pair/throw.jglpolicy" | tee "$runs/toss_pair/eval.txt"
+echo "[$(date +%T)] ranking the throw checkpoints with the last catch (seeds 101-105)"
+best_throw=$(rank throw "$runs/toss_residual_throw" "$runs/toss_residual_catch")
+echo "[$(date +%T)] best throw: $best_throw; ranking the catch checkpoints with it"
+best_catch=$(rank catch "$runs/toss_residual_catch" "$best_throw")
+echo "[$(date +%T)] best catch: $best_catch"
+"$juggle" export-policy --checkpoint="$best_throw" --out="$pair/throw.jglpolicy" | tail -n 1
+"$juggle" export-policy --checkpoint="$best_catch" --out="$pair/catch.jglpolicy" | tail -n 1
+printf '%s\n%s\n' "$best_catch" "$best_throw" >"$pair/sources.txt"
+"$juggle" toss --eval --catch="$pair/catch.jglpolicy" --throw="$pair/throw.jglpolicy" \
+  --json="$pair/eval.jsonl" | tee "$pair/eval.txt"

@@ -124,6 +124,20 @@ TEST(TossConfigTest, LoopWithoutAThrowPartnerIsAnErrorNamingTheField) {
   EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("throw_policy_file"));
 }
 
+TEST(TossConfigTest, LoopWithoutPartnersNeedsTheBaseControllersAndNamesThem) {
+  const std::string bare = WriteTemp(
+      "no_partners.textproto", "toss {\n  task: CATCH\n  loop {\n    pattern: \"3\"\n  }\n}\n");
+  const absl::StatusOr<LoadedConfig> refused = LoadRunConfig(bare);
+  ASSERT_EQ(refused.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(refused.status().message()), HasSubstr("toss.base"));
+  const std::string with_base = WriteTemp(
+      "base_partners.textproto",
+      "toss {\n  task: CATCH\n  base {}\n  loop {\n    pattern: \"3\"\n  }\n}\n");
+  const absl::StatusOr<LoadedConfig> loaded = LoadRunConfig(with_base);
+  // The base controllers stand in (envs/toss/residual_loop_test.cc runs such a loop).
+  EXPECT_TRUE(loaded.ok()) << loaded.status();
+}
+
 TEST(TossConfigTest, LoopPolicyFileThatIsNotAnExportIsAnErrorNamingFileAndLine) {
   WriteTemp("not_a_policy.jglpolicy", "state { angle: [0, 1, -2, 0.5] }\n");
   const std::string config_path = WriteTemp(

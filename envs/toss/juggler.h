@@ -132,6 +132,9 @@ class TossJuggler {
   void WriteObservation(Hand hand, float* obs) const;
   const TossWorld& world() const { return world_; }
   TossWorld* mutable_world() { return &world_; }
+  const JuggleSchedule& schedule() const { return schedule_; }
+  // An exact copy: it steps bit for bit as this runtime would (snapshots of the loop env).
+  std::unique_ptr<TossJuggler> Clone() const;
 
  private:
   struct Ball {

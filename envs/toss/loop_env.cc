@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/status_macros.h"
 #include "envs/toss/outcomes.h"
 #include "envs/toss/reward.h"
 
@@ -11,6 +12,36 @@ namespace juggle::toss {
 TossLoopEnv::TossLoopEnv(std::shared_ptr<const TossSpec> spec, Rng rng)
     : spec_(std::move(spec)), rng_(rng), failure_rate_(spec_->loop_patterns().size(), 0.0) {
   StartRun();
+}
+
+std::unique_ptr<EnvSnapshot> TossLoopEnv::Snapshot() const {
+  auto snapshot = std::make_unique<TossLoopSnapshot>();
+  snapshot->spec_fingerprint = spec_->fingerprint();
+  snapshot->juggler = juggler_->Clone();
+  snapshot->rng = rng_;
+  snapshot->steps = steps_;
+  snapshot->completions = completions_;
+  snapshot->runs_started = runs_started_;
+  snapshot->run_pattern = run_pattern_;
+  snapshot->failure_rate = failure_rate_;
+  return snapshot;
+}
+
+absl::Status TossLoopEnv::Restore(const EnvSnapshot& snapshot) {
+  RETURN_IF_ERROR(CheckSnapshotMatches(snapshot, spec_->family(), spec_->fingerprint()));
+  const auto* loop = dynamic_cast<const TossLoopSnapshot*>(&snapshot);
+  if (loop == nullptr) {
+    return absl::InvalidArgumentError(
+        "the snapshot is of another kind of toss env than the in-loop env");
+  }
+  juggler_ = loop->juggler->Clone();
+  rng_ = loop->rng;
+  steps_ = loop->steps;
+  completions_ = loop->completions;
+  runs_started_ = loop->runs_started;
+  run_pattern_ = loop->run_pattern;
+  failure_rate_ = loop->failure_rate;
+  return absl::OkStatus();
 }
 
 int TossLoopEnv::DrawPattern() {

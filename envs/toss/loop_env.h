@@ -31,6 +31,16 @@
 
 namespace juggle::toss {
 
+// The loop env's state of an episode: a copy of the runtime and the env's own variables.
+class TossLoopSnapshot final : public EnvSnapshot {
+ public:
+  std::string family() const override { return "toss"; }
+  std::shared_ptr<const TossJuggler> juggler;
+  Rng rng{0};
+  int steps = 0, completions = 0, runs_started = 0, run_pattern = -1;
+  std::vector<double> failure_rate;
+};
+
 class TossLoopEnv : public juggle::Env {
  public:
   // REQUIRES: spec->in_loop().
@@ -43,6 +53,8 @@ class TossLoopEnv : public juggle::Env {
   int completions() const override { return completions_; }
   mjData* data() override { return juggler_->mutable_world()->data(); }
   const mjData* data() const override { return juggler_->world().data(); }
+  std::unique_ptr<EnvSnapshot> Snapshot() const override;
+  absl::Status Restore(const EnvSnapshot& snapshot) override;
 
   // The runtime of the current juggling run (for tests).
   const TossJuggler& juggler() const { return *juggler_; }

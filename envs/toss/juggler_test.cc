@@ -2,7 +2,10 @@
 // placement) checked against the siteswap schedule itself: with arms resting at home and
 // releases at exactly the schedule's velocity, every ball comes down into the right hand on
 // time, so any pattern runs to the throw limit; with the palm's own (zero) velocity it cannot.
+#include <algorithm>
+#include <cmath>
 #include <memory>
+#include <vector>
 
 #include "absl/strings/str_cat.h"
 #include "gtest/gtest.h"
@@ -140,6 +143,33 @@ TEST(TossJugglerTest, MoreBallsThanTheModelHoldsIsAnError) {
       TossJuggler::Create(CatchSpec(), *Siteswap::Parse("9"), TossPolicies{}, JugglerOptions{});
   ASSERT_FALSE(juggler.ok());
   EXPECT_EQ(juggler.status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace juggle::toss
+
+namespace juggle::toss {
+namespace {
+
+// The start perturbation (JugglerOptions: ± 0.05 rad, balls ± 2 cm and ± 0.1 m/s) is the same
+// for one seed and differs between seeds, by much more than the 0.002 rad before issue 28.
+TEST(TossJugglerStartTest, StartVariationIsDeterministicPerSeedAndDiffersBetweenSeeds) {
+  auto start = [](uint64_t seed) {
+    JugglerOptions options;
+    options.seed = seed;
+    auto juggler = TossJuggler::Create(CatchSpec(), *Siteswap::Parse("5"), TossPolicies{}, options);
+    EXPECT_TRUE(juggler.ok()) << juggler.status();
+    const mjData* d = (*juggler)->world().data();
+    const int n = (*juggler)->world().spec().model()->nq + (*juggler)->world().spec().model()->nv;
+    std::vector<double> state(d->qpos, d->qpos + (*juggler)->world().spec().model()->nq);
+    state.insert(state.end(), d->qvel, d->qvel + (n - state.size()));
+    return state;
+  };
+  EXPECT_EQ(start(1001), start(1001));
+  const std::vector<double> a = start(1001), b = start(1002);
+  double largest = 0;
+  for (size_t i = 0; i < a.size(); ++i) largest = std::max(largest, std::abs(a[i] - b[i]));
+  EXPECT_GT(largest, 0.1);  // speeds ± 0.5 rad/s; with ± 0.002 rad (± 0.02 rad/s) it would fail
 }
 
 }  // namespace

@@ -84,7 +84,8 @@ int Evaluate(const LoadedConfig& base, TossPolicies policies, const TossFlags& f
   o.wind_step = f.wind_step;
   o.wind_max = f.wind_max;
   o.keep_start_states = !f.record_states.empty();
-  o.transitions = absl::StrSplit(f.transitions, ',', absl::SkipEmpty());
+  if (f.transitions != "none") o.transitions = absl::StrSplit(f.transitions, ',', absl::SkipEmpty());
+  else o.transitions.clear();
   o.throws_each = f.throws_each;
   std::printf("%-8s %5s %8s  %8s %8s %6s  throws per seed (max %d)\n", "pattern", "balls",
               "median", "v_err", "v_max", "z_cm", f.max_throws);
@@ -240,7 +241,7 @@ CommandBody AddTossCommand(CLI::App* cmd) {
   cmd->add_option("--transitions", f->transitions,
                   "patterns juggled in turn, passing between them by the shortest transition "
                   "(balls brought in or put away as the counts change); with --eval the "
-                  "protocol's transition run (empty: none)")
+                  "protocol's transition run (none: skip it)")
       ->each([f](const std::string&) { f->transitions_set = true; })
       ->capture_default_str();
   cmd->add_option("--throws-each", f->throws_each, "throws of each pattern of --transitions")

@@ -337,6 +337,8 @@ bool TossJuggler::Step(const float* right_action, TrajectoryBuilder* recording) 
       e.caught = true;
       e.catch_height_error = std::abs(spec_->home_z() - world_.ball_position(ball).z);
       catch_height_error_sum_ += e.catch_height_error;
+      const Vec2 palm_v = world_.palm_velocity(hand);
+      e.catch_palm_speed = std::hypot(palm_v.x, palm_v.z);
       world_.Hold(ball, hand);
       ++result_.catches;
     }

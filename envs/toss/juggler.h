@@ -82,6 +82,7 @@ struct JuggleRunResult {
 struct HandEvents {
   bool caught = false;
   double catch_height_error = 0;  // |hand_z − z_ball| at the catch (m)
+  double catch_palm_speed = 0;    // |ṗ_hand| at the catch (m/s)
   bool released = false;          // a throw left the hand (handoffs are not releases)
   int value = 0;                  // the released throw's siteswap value
   Vec2 release_position, release_velocity, target_velocity;

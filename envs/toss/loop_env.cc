@@ -131,7 +131,7 @@ StepResult TossLoopEnv::CatchOutcome() const {
   const HandEvents& e = juggler_->events(Hand::kRight);
   StepResult r;
   if (e.caught) {
-    r.reward = static_cast<float>(CatchReward(t, e.catch_height_error));
+    r.reward = static_cast<float>(CatchReward(t, e.catch_height_error, e.catch_palm_speed));
     r.outcome = kCaught;
   } else if (juggler_->over() && juggler_->end_hand() == Hand::kRight &&
              (juggler_->result().end == JuggleEnd::kDropped ||

@@ -15,9 +15,12 @@ inline double EffortReward(const config::TossConfig& t, double effort) {
   return -(t.task() == config::THROW ? t.w_throw_effort() : t.w_catch_effort()) * effort;
 }
 
-// At a catch: −w2·min(|z̄ − z|, 1) with the height error |z̄ − z| of the ball.
-inline double CatchReward(const config::TossConfig& t, double height_error_m) {
-  return -t.w_catch_height() * std::min(height_error_m, 1.0);
+// At a catch: −w2·min(|z̄ − z|, 1) with the height error |z̄ − z| of the ball, and
+// −w_catch_speed·|ṗ_hand| (0 in the paper): a hand that arrives moving leaves the throw that
+// follows less time to reach its release state.
+inline double CatchReward(const config::TossConfig& t, double height_error_m,
+                          double palm_speed_m_s) {
+  return -t.w_catch_height() * std::min(height_error_m, 1.0) - t.w_catch_speed() * palm_speed_m_s;
 }
 
 // A drop (or a ball that misses its beat): −w2.

@@ -130,7 +130,8 @@ StepResult TossTaskEnv::StepCatch() {
   if (world_.CanCatch(0, s_.hand)) {
     const double height_error = std::abs(t.hand_z() - world_.ball_position(0).z);
     world_.Hold(0, s_.hand);
-    reward += CatchReward(t, height_error);
+    const Vec2 v = world_.palm_velocity(s_.hand);
+    reward += CatchReward(t, height_error, std::hypot(v.x, v.z));
     r.outcome = kCaught;
     s_.completions = 1;
   } else if (world_.ball_position(0).z < t.drop_z()) {

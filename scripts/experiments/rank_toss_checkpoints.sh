@@ -9,8 +9,9 @@
 #
 # DIR holds .jglc files; PARTNER is a checkpoint file or run directory. Prints one line per
 # checkpoint, best last: score (sum over the patterns of the median throws, capped at 200),
-# the largest wind (N) under which 3 still reaches 100 throws (the tie-breaker), checkpoint,
-# medians.
+# the largest wind (N) under which 3 still reaches 100 throws (the first tie-breaker), the mean
+# over the patterns of their mean release-velocity error (m/s, the second: lower is better),
+# checkpoint, medians.
 set -euo pipefail
 if [[ $# -lt 3 || ( $1 != catch && $1 != throw ) ]]; then
   sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'
@@ -27,10 +28,14 @@ fi
 for ckpt in "${files[@]}"; do
   if [[ $role == catch ]]; then pair=(--catch="$ckpt" --throw="$partner")
   else pair=(--catch="$partner" --throw="$ckpt"); fi
-  line=$("$juggle" toss --eval "${pair[@]}" --patterns="$patterns" --seeds=5 \
-         --seed="$first_seed" --wind-max="${WIND_MAX:-0.3}" | tail -n 1)
+  out=$("$juggle" toss --eval "${pair[@]}" --patterns="$patterns" --seeds=5 \
+        --seed="$first_seed" --wind-max="${WIND_MAX:-0.3}" --transitions=none)
+  line=$(tail -n 1 <<<"$out")
+  # Pattern rows: pattern balls median v_err v_max z_cm per-seed...
+  verr=$(awk -v p="$patterns" 'BEGIN {n = split(p, a, ","); for (i = 1; i <= n; ++i) want[a[i]] = 1}
+         ($1 in want) && NF > 6 {s += $4; ++k} END {printf "%.5f", k ? s / k : 0}' <<<"$out")
   medians=$(grep -o 'throws_[0-9a-z]*=[0-9]*' <<<"$line" | tr '\n' ' ')
   score=$(grep -o 'throws_[0-9a-z]*=[0-9]*' <<<"$line" | cut -d= -f2 | awk '{s += ($1 > 200 ? 200 : $1)} END {print s}')
   wind=$(grep -o 'max_wind_n=[0-9.]*' <<<"$line" | cut -d= -f2)
-  echo "$score $wind $ckpt $medians"
-done | sort -k1,1n -k2,2n
+  echo "$score $wind $verr $ckpt $medians"
+done | sort -k1,1n -k2,2n -k3,3nr

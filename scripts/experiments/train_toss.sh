@@ -50,8 +50,8 @@ rank() {  # rank ROLE RUN PARTNER: prints the best checkpoint of RUN (ranking in
       "$partner" 3,4,5,6,7,53,441,531 >"$dir/$half.txt" &
   done
   wait
-  sort -k1,1n -k2,2n "$dir/a.txt" "$dir/b.txt" >"$run/ranking.txt"
-  realpath "$(tail -n 1 "$run/ranking.txt" | cut -d' ' -f3)"
+  sort -k1,1n -k2,2n -k3,3nr "$dir/a.txt" "$dir/b.txt" >"$run/ranking.txt"
+  realpath "$(tail -n 1 "$run/ranking.txt" | cut -d' ' -f4)"
 }
 
 stage toss_residual_throw configs/toss_residual_throw.textproto & t=$!

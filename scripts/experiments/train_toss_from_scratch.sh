@@ -70,8 +70,8 @@ for half in a b; do
     "$runs/toss_loop1_throw" 3,4,5,531,53,441,6,7 >"$rank_dir/$half.txt" &
 done
 wait
-sort -k1,1n -k2,2n "$rank_dir/a.txt" "$rank_dir/b.txt" | tee "$runs/toss_loop2_catch/ranking.txt"
-best=$(realpath "$(tail -n 1 "$runs/toss_loop2_catch/ranking.txt" | cut -d' ' -f3)")
+sort -k1,1n -k2,2n -k3,3nr "$rank_dir/a.txt" "$rank_dir/b.txt" | tee "$runs/toss_loop2_catch/ranking.txt"
+best=$(realpath "$(tail -n 1 "$runs/toss_loop2_catch/ranking.txt" | cut -d' ' -f4)")
 # The pair carries the single-arm task configs: the same world as the loop configs, without the
 # loop's inlined partner policies (which would make each file several MB).
 export_policy "$best" "$runs/toss_pair/catch.jglpolicy" configs/toss_catch.textproto

@@ -15,6 +15,7 @@ TossTaskEnv::TossTaskEnv(std::shared_ptr<const TossSpec> spec, Rng rng, Hand han
   s_.rng = rng;
   s_.hand = hand;
   s_.mirror = TossSpec::MirrorSign(hand);
+  if (spec_->toss().has_base()) base_.emplace(spec_);
 }
 
 std::unique_ptr<EnvSnapshot> TossTaskEnv::Snapshot() const {
@@ -111,8 +112,20 @@ void TossTaskEnv::ResetThrow() {
 }
 
 StepResult TossTaskEnv::Step(const float* action, const AdaptiveWalk&) {
-  world_.SetAction(s_.hand, action);
-  world_.SetHomeTargets(s_.hand == Hand::kRight ? Hand::kLeft : Hand::kRight);
+  const Hand other = s_.hand == Hand::kRight ? Hand::kLeft : Hand::kRight;
+  if (base_) {
+    // The task's ball is ball 0; its hand catches it or throws it at release_step.
+    const JointTargets targets =
+        spec_->toss().task() == config::THROW
+            ? base_->Throw(world_, s_.hand, std::max(1, s_.release_step - s_.steps),
+                           s_.target_velocity)
+            : base_->Catch(world_, s_.hand, 0, 0.0);
+    world_.SetTargets(s_.hand, base_->WithResidual(s_.hand, targets, action));
+    world_.SetTargets(other, base_->WithResidual(other, base_->Home(world_, other), nullptr));
+  } else {
+    world_.SetAction(s_.hand, action);
+    world_.SetHomeTargets(other);
+  }
   world_.Step();
   ++s_.steps;
   if (world_.diverged()) return {0.0f, Outcome::kDiverged};

@@ -17,10 +17,12 @@
 #define JUGGLE_ENVS_TOSS_TASK_ENV_H_
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "common/rng.h"
 #include "envs/env.h"
+#include "envs/toss/base_controller.h"
 #include "envs/toss/world.h"
 
 namespace juggle::toss {
@@ -85,6 +87,8 @@ class TossTaskEnv : public juggle::Env {
   std::shared_ptr<const TossSpec> spec_;
   TossWorld world_;
   TossTaskState s_;
+  // With toss.base: the acting arm's action is a residual on these, the other arm runs them.
+  std::optional<TossBaseController> base_;
 };
 
 }  // namespace juggle::toss

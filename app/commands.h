@@ -20,6 +20,7 @@ CommandBody AddReplayCommand(CLI::App* cmd);
 CommandBody AddExportBvhCommand(CLI::App* cmd);
 CommandBody AddBenchCommand(CLI::App* cmd);
 CommandBody AddDashboardCommand(CLI::App* cmd);
+CommandBody AddLabelSpreadCommand(CLI::App* cmd);
 
 }  // namespace juggle
 

@@ -36,6 +36,8 @@ const Command kCommands[] = {
      juggle::AddDashboardCommand},
     {"bench", "benchmarks that print ratios measured in one run (docs/performance.md)",
      juggle::AddBenchCommand},
+    {"label-spread", "how much the planner's labels vary at one state (docs/planner.md)",
+     juggle::AddLabelSpreadCommand},
 };
 constexpr int kNumCommands = sizeof(kCommands) / sizeof(kCommands[0]);
 

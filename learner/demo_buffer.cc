@@ -1,6 +1,9 @@
 #include "learner/demo_buffer.h"
 
 #include <algorithm>
+#include <cstring>
+
+#include "absl/strings/str_cat.h"
 
 namespace juggle {
 
@@ -60,6 +63,65 @@ int64_t DemoBuffer::AddLabelled(const UnrollBatch& b) {
   }
   added_ += n;
   return n;
+}
+
+namespace {
+
+constexpr char kMagic[8] = {'J', 'G', 'L', 'D', 'E', 'M', 'O', '1'};
+constexpr size_t kHeader = sizeof(kMagic) + 6 * sizeof(int64_t);
+
+}  // namespace
+
+std::string DemoBuffer::Serialize() const {
+  const int64_t header[6] = {capacity_, obs_dim_, act_dim_, size_, next_, added_};
+  std::string out(kMagic, sizeof(kMagic));
+  out.append(reinterpret_cast<const char*>(header), sizeof(header));
+  out.append(reinterpret_cast<const char*>(obs_.data()), size_ * obs_dim_ * sizeof(float));
+  out.append(reinterpret_cast<const char*>(labels_.data()), size_ * act_dim_ * sizeof(float));
+  return out;
+}
+
+absl::StatusOr<DemoBuffer> DemoBuffer::Parse(std::string_view bytes, int64_t capacity,
+                                             int obs_dim, int act_dim) {
+  if (bytes.size() < kHeader || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
+    return absl::InvalidArgumentError("not a demonstration buffer (bad magic or too short)");
+  }
+  int64_t h[6];
+  std::memcpy(h, bytes.data() + sizeof(kMagic), sizeof(h));
+  const int64_t cap = h[0], size = h[3], next = h[4], added = h[5];
+  if (cap != std::max<int64_t>(1, capacity) || h[1] != obs_dim || h[2] != act_dim) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "the saved demonstration buffer holds ", cap, " pairs of ", h[1], " observations and ",
+        h[2], " actions; this run's holds ", capacity, " of ", obs_dim, " and ", act_dim));
+  }
+  if (size < 0 || size > cap || next < 0 || next >= cap || added < size ||
+      (size < cap && next != 0)) {
+    return absl::InvalidArgumentError("the demonstration buffer's counts are inconsistent");
+  }
+  const size_t expected = kHeader + size * (obs_dim + act_dim) * sizeof(float);
+  if (bytes.size() != expected) {
+    return absl::InvalidArgumentError(absl::StrCat("the demonstration buffer is ", bytes.size(),
+                                                   " bytes; its header says ", expected));
+  }
+  DemoBuffer b(capacity, obs_dim, act_dim);
+  b.obs_.reserve(cap * obs_dim);
+  b.labels_.reserve(cap * act_dim);
+  b.obs_.resize(size * obs_dim);
+  b.labels_.resize(size * act_dim);
+  std::memcpy(b.obs_.data(), bytes.data() + kHeader, b.obs_.size() * sizeof(float));
+  std::memcpy(b.labels_.data(), bytes.data() + kHeader + b.obs_.size() * sizeof(float),
+              b.labels_.size() * sizeof(float));
+  b.size_ = size;
+  b.next_ = next;
+  b.added_ = added;
+  for (int64_t r = 0; r < size; ++r) {
+    for (int a = 0; a < act_dim; ++a) {
+      const double x = b.labels_[r * act_dim + a];
+      b.label_sum_[a] += x;
+      b.label_sum_sq_[a] += x * x;
+    }
+  }
+  return b;
 }
 
 }  // namespace juggle

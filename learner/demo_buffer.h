@@ -1,13 +1,17 @@
 // The learner's demonstration buffer (planner-guided training, docs/learning.md): the newest
 // `capacity` (observation, expert label) pairs from the labelled unrolls of the batches,
 // oldest out. Memory grows to capacity × (obs_dim + act_dim) floats and then stays flat. Its
-// accounts reconcile: added = size + evicted. Thread-compatible.
+// accounts reconcile: added = size + evicted. It is saved beside the checkpoints
+// (Serialize/Parse) so that a resumed run keeps its labels. Thread-compatible.
 #ifndef JUGGLE_LEARNER_DEMO_BUFFER_H_
 #define JUGGLE_LEARNER_DEMO_BUFFER_H_
 
 #include <cstdint>
+#include <string>
+#include <string_view>
 #include <vector>
 
+#include "absl/status/statusor.h"
 #include "common/unroll_batch.h"
 
 namespace juggle {
@@ -32,6 +36,14 @@ class DemoBuffer {
   std::vector<double> LabelVariance() const;
   int obs_dim() const { return obs_dim_; }
   int act_dim() const { return act_dim_; }
+
+  // The whole buffer as bytes: "JGLDEMO1", capacity, dims, size, next, added (int64, little
+  // endian as in memory), then the observations and labels (float32).
+  std::string Serialize() const;
+  // A buffer from Serialize's bytes. INVALID_ARGUMENT for bytes that are not a buffer (magic,
+  // sizes, length) or whose capacity or dims differ from the given ones (a changed config).
+  static absl::StatusOr<DemoBuffer> Parse(std::string_view bytes, int64_t capacity, int obs_dim,
+                                          int act_dim);
 
  private:
   int64_t capacity_;

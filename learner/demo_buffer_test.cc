@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <set>
+#include <string>
 #include <vector>
 
 #include "gtest/gtest.h"
@@ -94,6 +95,44 @@ TEST(DemoBufferTest, LabelVarianceMatchesADirectComputationOverTheRowsHeld) {
     EXPECT_NEAR(d.LabelVariance()[a], sum_sq / d.size(), 1e-6 * (1 + sum_sq / d.size())) << a;
   }
   EXPECT_EQ(d.LabelVariance()[1], 0);  // the second label is always 0.5
+}
+
+}  // namespace
+}  // namespace juggle
+
+namespace juggle {
+namespace {
+
+// The buffer saved beside the checkpoints (learner/learner_server.cc) comes back whole: the
+// same rows, accounts and label variance, and it goes on as the original would; bytes that are
+// not a buffer, are cut short or come from another config are refused.
+TEST(DemoBufferPersistenceTest, SerializedBufferParsesBackWithItsRowsAccountsAndVariance) {
+  DemoBuffer buffer(5, kD, kA);
+  buffer.AddLabelled(Batch(4, 0));  // unrolls 1 and 3: 8 pairs into 5, 3 evicted, ring wrapped
+  ASSERT_EQ(buffer.size(), 5);
+  const std::string bytes = buffer.Serialize();
+  absl::StatusOr<DemoBuffer> back = DemoBuffer::Parse(bytes, 5, kD, kA);
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_EQ(back->size(), 5);
+  EXPECT_EQ(back->added(), 8);
+  EXPECT_EQ(back->evicted(), 3);
+  EXPECT_EQ(std::vector<float>(back->obs(), back->obs() + 5 * kD),
+            std::vector<float>(buffer.obs(), buffer.obs() + 5 * kD));
+  EXPECT_EQ(std::vector<float>(back->labels(), back->labels() + 5 * kA),
+            std::vector<float>(buffer.labels(), buffer.labels() + 5 * kA));
+  for (int a = 0; a < kA; ++a) {
+    EXPECT_NEAR(back->LabelVariance()[a], buffer.LabelVariance()[a], 1e-9);
+  }
+  DemoBuffer original = buffer;
+  const UnrollBatch more = Batch(2, 100);
+  original.AddLabelled(more);
+  back->AddLabelled(more);
+  EXPECT_EQ(Keys(*back), Keys(original));
+
+  EXPECT_FALSE(DemoBuffer::Parse("not a buffer", 5, kD, kA).ok());
+  EXPECT_FALSE(DemoBuffer::Parse(bytes.substr(0, bytes.size() - 4), 5, kD, kA).ok());
+  EXPECT_FALSE(DemoBuffer::Parse(bytes, 6, kD, kA).ok());      // another buffer_size
+  EXPECT_FALSE(DemoBuffer::Parse(bytes, 5, kD + 1, kA).ok());  // another observation size
 }
 
 }  // namespace

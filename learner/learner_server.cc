@@ -12,6 +12,7 @@
 #include "absl/strings/str_cat.h"
 #include "common/adaptive_walk.h"
 #include "common/bounded_queue.h"
+#include "common/file_io.h"
 #include "common/http_server.h"
 #include "common/status_macros.h"
 #include "envs/registry.h"
@@ -72,10 +73,17 @@ struct LearnerServer::State {
     metrics.Set("juggle_policy_version", static_cast<double>(trainer->version()));
   }
   absl::StatusOr<std::string> Checkpoint() {
-    return checkpoints->Save(trainer->iteration(),
-                             SaveLearnerState(bootstrap.config, options.config.config_path,
-                                              *trainer, *walk, progress));
+    absl::StatusOr<std::string> path =
+        checkpoints->Save(trainer->iteration(),
+                          SaveLearnerState(bootstrap.config, options.config.config_path,
+                                           *trainer, *walk, progress));
+    if (path.ok() && demos) {
+      // One copy beside the checkpoints, replaced whole: a resumed run keeps its labels.
+      RETURN_IF_ERROR(WriteFileAtomically(DemosPath(), demos->Serialize()));
+    }
+    return path;
   }
+  std::string DemosPath() const { return options.run_dir + "/demos.jgld"; }
 };
 
 namespace {
@@ -119,7 +127,7 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
                                             config.run.seed());
   s->walk = std::make_unique<AdaptiveWalk>(config.graph.get());
   if (config.run.imitation().label_envs() > 0) {
-    // Not checkpointed: a resumed run refills it from fresh labels (docs/learning.md).
+    // Saved with every checkpoint (State::Checkpoint) and loaded on --resume below.
     s->demos = std::make_unique<DemoBuffer>(config.run.imitation().buffer_size(),
                                             s->bootstrap.obs_dim, s->bootstrap.act_dim);
   }
@@ -149,6 +157,22 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
     std::printf("resumed from %s at iteration %ld (%ld samples, %.0f s of training so far)\n",
                 loaded.path.c_str(), static_cast<long>(s->trainer->iteration()),
                 static_cast<long>(s->progress.samples), s->progress.train_seconds);
+    if (s->demos && std::filesystem::exists(s->DemosPath())) {
+      absl::StatusOr<std::string> bytes = ReadFile(s->DemosPath());
+      absl::StatusOr<DemoBuffer> saved =
+          bytes.ok() ? DemoBuffer::Parse(*bytes, s->demos->capacity(), s->demos->obs_dim(),
+                                         s->demos->act_dim())
+                     : absl::StatusOr<DemoBuffer>(bytes.status());
+      if (saved.ok()) {
+        *s->demos = *std::move(saved);
+        std::printf("restored %ld demonstrations (of %ld labelled so far) from %s\n",
+                    static_cast<long>(s->demos->size()), static_cast<long>(s->demos->added()),
+                    s->DemosPath().c_str());
+      } else {
+        std::fprintf(stderr, "warning: %s not restored (%s); the buffer starts empty\n",
+                     s->DemosPath().c_str(), std::string(saved.status().message()).c_str());
+      }
+    }
   }
   std::random_device entropy;  // incarnation ids only; never seeds training
   const config::ServiceConfig& service = config.run.service();

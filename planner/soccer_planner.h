@@ -65,6 +65,14 @@ class SoccerPlanner {
   absl::StatusOr<double> Evaluate(const soccer_juggle::JuggleEnv& env,
                                   const std::vector<double>& theta, KickOutcome* kick = nullptr);
 
+  // A copy (plan, warm start, clocks) that draws its searches from random stream `stream` from
+  // now on: several re-plans of one state (planner/label_spread.h).
+  SoccerPlanner Fork(uint64_t stream) const {
+    SoccerPlanner copy = *this;
+    copy.stream_ = stream;
+    return copy;
+  }
+
   const ReplanReport& last_replan() const { return last_; }
   const PlannerTotals& totals() const { return totals_; }
   const std::vector<double>& plan() const { return theta_; }

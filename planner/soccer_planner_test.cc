@@ -230,3 +230,38 @@ TEST_F(SoccerPlannerTest, AShiftedPlanActsAsBefore) {
 
 }  // namespace
 }  // namespace juggle::planner
+
+namespace juggle::planner {
+namespace {
+
+// A fork on the planner's own stream plans like the planner (the search is deterministic per
+// stream); on another stream its next re-plan differs — the label spread of
+// planner/label_spread.h compares such forks.
+TEST_F(SoccerPlannerTest, AForkOnItsOwnStreamActsAlikeAndOnAnotherStreamDiffers) {
+  std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.0);
+  std::unique_ptr<SoccerPlanner> planner = NewPlanner();
+  float a[kNumActions];
+  ASSERT_TRUE(planner->Act(*env, a).ok());
+  ASSERT_EQ(env->Step(a, *walk_).outcome, Outcome::kRunning);
+  // Next step the plan is followed; step to the next re-plan (every 4 steps).
+  for (int k = 1; k < 4; ++k) {
+    ASSERT_TRUE(planner->Act(*env, a).ok());
+    ASSERT_EQ(env->Step(a, *walk_).outcome, Outcome::kRunning);
+  }
+  SoccerPlanner same = planner->Fork(0), other = planner->Fork(77);
+  float a_same[kNumActions], a_other[kNumActions];
+  ASSERT_TRUE(planner->Act(*env, a).ok());
+  ASSERT_EQ(planner->last_replan().env_step, env->steps()) << "a re-plan was due";
+  ASSERT_TRUE(same.Act(*env, a_same).ok());
+  ASSERT_TRUE(other.Act(*env, a_other).ok());
+  double same_diff = 0, other_diff = 0;
+  for (int i = 0; i < kNumActions; ++i) {
+    same_diff += std::abs(a[i] - a_same[i]);
+    other_diff += std::abs(a[i] - a_other[i]);
+  }
+  EXPECT_EQ(same_diff, 0.0);
+  EXPECT_GT(other_diff, 0.0);
+}
+
+}  // namespace
+}  // namespace juggle::planner

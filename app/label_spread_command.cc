@@ -1,0 +1,81 @@
+// `juggle label-spread`: how much the planner's labels vary at one state (planner/label_spread.h,
+// docs/planner.md "Label spread"): the floor of a student's held-out label error.
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "app/commands.h"
+#include "app/planner_flags.h"
+#include "app/policy_source.h"
+#include "envs/registry.h"
+#include "planner/label_spread.h"
+
+namespace juggle {
+
+CommandBody AddLabelSpreadCommand(CLI::App* cmd) {
+  struct Flags {
+    std::string config = "configs/learning/guided_cheap_consistent.textproto";
+    planner::LabelSpreadOptions options;
+    PlannerFlags planner;
+    std::string student;
+  };
+  auto f = std::make_shared<Flags>();
+  cmd->add_option("--config", f->config, "run config with a planner section (the teacher's)")
+      ->capture_default_str();
+  cmd->add_option("--episodes", f->options.episodes, "episodes the planner juggles")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  cmd->add_option("--seconds", f->options.seconds, "simulated seconds per episode")
+      ->check(CLI::Range(0.1, 3600.0))
+      ->capture_default_str();
+  cmd->add_option("--forks", f->options.forks, "re-plans of each re-plan state (other streams)")
+      ->check(CLI::Range(2, 64))
+      ->capture_default_str();
+  cmd->add_option("--seed", f->options.seed, "episode starts: streams (seed, 0, episode)")
+      ->capture_default_str();
+  cmd->add_option("--min-label-std", f->options.min_label_std,
+                  "floor of the label spread in the weights (imitation.min_label_std)")
+      ->capture_default_str();
+  cmd->add_option("--student", f->student,
+                  "a policy (checkpoint, run directory or .jglpolicy) whose mean action is "
+                  "compared with the labels at every visited state");
+  AddPlannerFlags(cmd, &f->planner);
+  return [f] {
+    absl::StatusOr<LoadedConfig> config = LoadRunConfig(f->config);
+    if (!config.ok()) return Fail(config.status());
+    if (absl::Status s = ApplyPlannerFlags(f->planner, &*config); !s.ok()) return Fail(s);
+    absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*config);
+    if (!spec.ok()) return Fail(spec.status());
+    std::optional<PolicySource> student;
+    if (!f->student.empty()) {
+      absl::StatusOr<PolicySource> s = LoadPolicySource(f->student, "");
+      if (!s.ok()) return Fail(s.status());
+      student = *std::move(s);
+      f->options.student = student->policy.get();
+    }
+    const config::PlannerConfig& pc = config->run.planner();
+    std::printf("planner: %d samples x %d iterations, horizon %d, re-plan every %d, kick "
+                "consistency %g; %d forks per re-plan state\n",
+                pc.samples(), pc.iterations(), pc.horizon_steps(), pc.replan_every(),
+                pc.cost().kick_consistency(), f->options.forks);
+    absl::StatusOr<planner::LabelSpreadReport> r = planner::MeasureLabelSpread(
+        *spec, *config, f->options, [](const std::string& line) {
+          std::printf("%s\n", line.c_str());
+          std::fflush(stdout);
+        });
+    if (!r.ok()) return Fail(r.status());
+    std::printf("%-7s %10s %10s %13s\n", "action", "label_std", "fork_std", "student_rmse");
+    for (size_t i = 0; i < r->label_std.size(); ++i) {
+      std::printf("%-7zu %10.4f %10.4f %13.4f\n", i, r->label_std[i], r->fork_std[i],
+                  r->student_rmse.empty() ? 0.0 : r->student_rmse[i]);
+    }
+    std::printf("states=%d steps=%d juggles=%d weighted_spread=%.4f", r->states, r->steps,
+                r->juggles, r->weighted_spread);
+    if (student) std::printf(" student_weighted_error=%.4f", r->student_weighted_error);
+    std::printf("\n");
+    return 0;
+  };
+}
+
+}  // namespace juggle

@@ -1,0 +1,109 @@
+#include "planner/label_spread.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "common/adaptive_walk.h"
+#include "common/status_macros.h"
+#include "planner/planner_controller.h"
+#include "planner/rollout_pool.h"
+#include "planner/soccer_planner.h"
+
+namespace juggle::planner {
+
+absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
+    std::shared_ptr<const EnvSpec> spec, const LoadedConfig& config,
+    const LabelSpreadOptions& o, const std::function<void(const std::string&)>& progress) {
+  if (absl::Status s = ValidatePlannerConfig(config); !s.ok()) return s;
+  auto soccer = std::dynamic_pointer_cast<const soccer_juggle::JuggleSpec>(spec);
+  if (soccer == nullptr) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("the planner drives soccer_juggle envs, not ", spec->family()));
+  }
+  if (o.forks < 2) return absl::InvalidArgumentError("label spread needs at least 2 forks");
+  const config::PlannerConfig& pc = config.run.planner();
+  RolloutPool pool(soccer, pc.threads());
+  const int act = spec->act_dim();
+  std::vector<double> sum(act, 0), sum_sq(act, 0);          // every visited state's label
+  std::vector<double> student_sq(act, 0);                    // (student − label)²
+  std::vector<float> obs(spec->obs_dim());
+  std::vector<std::vector<double>> fork_var;                 // per re-plan state, per action
+  LabelSpreadReport report;
+  const AdaptiveWalk walk(&spec->graph());
+  for (int e = 0; e < o.episodes; ++e) {
+    std::unique_ptr<Env> env = spec->NewEnv(Rng::ForStream(o.seed, 0, e));
+    env->Reset(walk);
+    const auto& juggle_env = static_cast<const soccer_juggle::JuggleEnv&>(*env);
+    SoccerPlanner driver(soccer, pc, &pool, uint64_t(e) << 8);
+    const int steps = static_cast<int>(std::lround(o.seconds / spec->control_dt()));
+    std::vector<float> a(act), fa(act);
+    int juggles = 0;
+    for (int k = 0; k < steps; ++k) {
+      std::vector<SoccerPlanner> forks;
+      for (int f = 0; f < o.forks; ++f) forks.push_back(driver.Fork((uint64_t(e) << 8) + 1 + f));
+      RETURN_IF_ERROR(driver.Act(juggle_env, a.data()));
+      if (driver.last_replan().env_step == env->steps()) {  // it re-planned this state
+        std::vector<double> mean(act, 0), sq(act, 0);
+        for (SoccerPlanner& fork : forks) {
+          RETURN_IF_ERROR(fork.Act(juggle_env, fa.data()));
+          for (int i = 0; i < act; ++i) {
+            mean[i] += fa[i];
+            sq[i] += double(fa[i]) * fa[i];
+          }
+        }
+        std::vector<double> var(act);
+        for (int i = 0; i < act; ++i) {
+          const double m = mean[i] / o.forks;
+          var[i] = std::max(0.0, (sq[i] - o.forks * m * m) / (o.forks - 1));
+        }
+        fork_var.push_back(std::move(var));
+      }
+      for (int i = 0; i < act; ++i) {
+        sum[i] += a[i];
+        sum_sq[i] += double(a[i]) * a[i];
+      }
+      if (o.student != nullptr) {
+        env->WriteObservation(obs.data());
+        const RowMatrix s = o.student->MeanActions(obs.data(), 1);
+        for (int i = 0; i < act; ++i) student_sq[i] += (s(0, i) - a[i]) * double(s(0, i) - a[i]);
+      }
+      ++report.steps;
+      const StepResult r = env->Step(a.data(), walk);
+      juggles = env->completions();
+      if (r.outcome != Outcome::kRunning) break;
+    }
+    report.juggles += juggles;
+    if (progress) {
+      progress(absl::StrFormat("episode %d/%d: %d juggles, %zu re-plan states so far", e + 1,
+                               o.episodes, juggles, fork_var.size()));
+    }
+  }
+  report.states = static_cast<int>(fork_var.size());
+  report.label_std.resize(act);
+  report.fork_std.assign(act, 0);
+  double weighted = 0, student_weighted = 0;
+  if (o.student != nullptr) report.student_rmse.resize(act);
+  for (int i = 0; i < act; ++i) {
+    const double m = sum[i] / std::max(report.steps, 1);
+    report.label_std[i] = std::sqrt(std::max(0.0, sum_sq[i] / std::max(report.steps, 1) - m * m));
+    const double w = 1.0 / std::max(report.label_std[i] * report.label_std[i],
+                                    o.min_label_std * o.min_label_std);
+    double v = 0;
+    for (const std::vector<double>& s : fork_var) v += s[i];
+    v /= std::max(report.states, 1);
+    report.fork_std[i] = std::sqrt(v);
+    weighted += w * v;
+    if (o.student != nullptr) {
+      const double mse = student_sq[i] / std::max(report.steps, 1);
+      report.student_rmse[i] = std::sqrt(mse);
+      student_weighted += w * mse;
+    }
+  }
+  report.weighted_spread = weighted / act;
+  report.student_weighted_error = student_weighted / act;
+  return report;
+}
+
+}  // namespace juggle::planner

@@ -350,6 +350,8 @@ TEST_F(RolloutProtocolTest, RejectsBadChunksWithTheirCodesCountsThemAndStillTrai
   EXPECT_TRUE(WaitFor([&] { return server_->version() >= 1; }, 8))
       << "the learner did not train on the valid contribution";
   EXPECT_EQ(server_->version(), 1);
+  // The training loop publishes the policy before it records the iteration's metrics.
+  EXPECT_TRUE(WaitFor([&] { return server_->metrics().Get("juggle_iterations_total") >= 1; }, 8));
   EXPECT_EQ(server_->metrics().Get("juggle_iterations_total"), 1);
   EXPECT_EQ(server_->metrics().Get("juggle_samples_total"), reg.unroll_length());
   EXPECT_THAT(Metrics(), HasSubstr("\njuggle_policy_version 1\n"));

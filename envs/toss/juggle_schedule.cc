@@ -28,7 +28,8 @@ absl::StatusOr<std::vector<ScheduledThrow>> FindScheduleTransition(JugglingState
   best[from] = {0, 0};
   open.push({{0, 0}, from});
   while (!open.empty()) {
-    const auto [cost, s] = open.top();
+    const Cost cost = std::get<0>(open.top());
+    const JugglingState s = std::get<1>(open.top());
     open.pop();
     if (cost != best[s]) continue;
     if (s == to) break;

@@ -164,6 +164,8 @@ void AddKickAction(const JuggleEnv& env, const double* kick, double* out) {
   const double unit = spec.env().action_torque();
   for (int j = 0; j < kNumJoints; ++j) {
     const ActuatedJoint& joint = spec.joint(j);
+    // A joint whose feed-forward scale is 0 ignores its actions: nothing to add (and kp / 0).
+    if (!(joint.torque_scale > 0)) continue;
     const int a = joint.dof_adr - 6;
     const double scale = joint.kp / (unit * joint.torque_scale);
     if (joint.dofs == 3) {

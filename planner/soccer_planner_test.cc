@@ -265,3 +265,41 @@ TEST_F(SoccerPlannerTest, AForkOnItsOwnStreamActsAlikeAndOnAnotherStreamDiffers)
 
 }  // namespace
 }  // namespace juggle::planner
+
+namespace juggle::planner {
+namespace {
+
+// A joint whose feed-forward scale is 0 ignores its actions; the planner's actions (the
+// workers' labels) there are 0, not kp/0 · 0 = NaN, which the learner would refuse as
+// non-finite labels (configs/learning/guided_leg_only.textproto masks joints this way).
+TEST(SoccerPlannerMaskTest, JointsWithZeroFeedForwardScaleGetZeroFiniteActions) {
+  absl::StatusOr<LoadedConfig> config =
+      LoadRunConfig(testing::RepoPath("configs/right_foot_planner.textproto"));
+  ASSERT_TRUE(config.ok()) << config.status();
+  config::JointGains* chest = config->run.mutable_soccer_juggle()->mutable_env()->add_joint_gains();
+  chest->set_joint("chest");
+  chest->set_torque_scale(0);
+  config::PlannerConfig& p = *config->run.mutable_planner();
+  p.set_samples(8);
+  p.set_iterations(1);
+  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*config);
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  auto soccer = std::dynamic_pointer_cast<const JuggleSpec>(*spec);
+  RolloutPool pool(soccer, 1);
+  SoccerPlanner planner(soccer, p, &pool, 0);
+  JuggleEnv env(soccer, Rng(5));
+  AdaptiveWalk walk(&soccer->graph());
+  env.Reset(walk);
+  float a[kNumActions];
+  for (int k = 0; k < 20; ++k) {
+    ASSERT_TRUE(planner.Act(env, a).ok());
+    for (int i = 0; i < kNumActions; ++i) ASSERT_TRUE(std::isfinite(a[i])) << "step " << k;
+    EXPECT_EQ(a[0], 0.0f);  // the chest's three actions
+    EXPECT_EQ(a[1], 0.0f);
+    EXPECT_EQ(a[2], 0.0f);
+    if (env.Step(a, walk).outcome != Outcome::kRunning) break;
+  }
+}
+
+}  // namespace
+}  // namespace juggle::planner

@@ -163,6 +163,19 @@ grpc::Status RolloutService::Heartbeat(grpc::ServerContext* ctx, const rpc::Hear
 
 absl::Status RolloutService::Reject(const std::string& reason, absl::Status status) {
   d_.metrics->Add("juggle_chunks_rejected_total", 1, {{"reason", reason}});
+  if (reason == "invalid") {
+    // A worker whose every chunk is refused would otherwise stall the run without a word.
+    std::lock_guard<std::mutex> lock(warn_mu_);
+    ++invalid_since_warning_;
+    const Clock::time_point now = Clock::now();
+    if (now - last_invalid_warning_ >= std::chrono::seconds(10)) {
+      std::fprintf(stderr, "warning: rejected %ld invalid chunk(s) since the last warning: %s\n",
+                   static_cast<long>(invalid_since_warning_),
+                   std::string(status.message()).c_str());
+      last_invalid_warning_ = now;
+      invalid_since_warning_ = 0;
+    }
+  }
   return status;
 }
 

@@ -7,7 +7,9 @@
 #define JUGGLE_LEARNER_ROLLOUT_SERVICE_H_
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
+#include <mutex>
 #include <string>
 
 #include "absl/status/status.h"
@@ -76,6 +78,10 @@ class RolloutService final : public rpc::Rollout::Service {
 
   Deps d_;
   std::atomic<int> open_streams_{0}, waiting_polls_{0};
+  // Invalid chunks are also reported on stderr, at most once per 10 s (Reject).
+  std::mutex warn_mu_;
+  std::chrono::steady_clock::time_point last_invalid_warning_{};
+  int64_t invalid_since_warning_ = 0;
 };
 
 }  // namespace juggle

@@ -11,6 +11,7 @@
 #include "absl/strings/str_cat.h"
 #include "envs/registry.h"
 #include "envs/soccer_juggle/spec.h"
+#include "envs/toss/spec.h"
 #include "gtest/gtest.h"
 
 namespace juggle::testing {
@@ -33,6 +34,15 @@ inline std::shared_ptr<const soccer_juggle::JuggleSpec> LoadSpec(const std::stri
   if (!config.ok()) return nullptr;
   absl::StatusOr<std::shared_ptr<const soccer_juggle::JuggleSpec>> spec =
       soccer_juggle::JuggleSpec::Create(*config);
+  EXPECT_TRUE(spec.ok()) << spec.status();
+  return spec.ok() ? *spec : nullptr;
+}
+
+// Loads configs/<name>.textproto and builds its toss spec; fails the test on error.
+inline std::shared_ptr<const toss::TossSpec> LoadTossSpec(const std::string& name) {
+  absl::StatusOr<LoadedConfig> config = LoadShippedConfig(name);
+  if (!config.ok()) return nullptr;
+  absl::StatusOr<std::shared_ptr<const toss::TossSpec>> spec = toss::TossSpec::Create(*config);
   EXPECT_TRUE(spec.ok()) << spec.status();
   return spec.ok() ? *spec : nullptr;
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <utility>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -14,6 +15,13 @@
 
 namespace juggle::toss {
 namespace {
+
+// The median of throw counts (the lower-rounded mean of the middle two for an even count).
+int Median(std::vector<int> throws) {
+  std::sort(throws.begin(), throws.end());
+  const size_t n = throws.size();
+  return n % 2 ? throws[n / 2] : (throws[n / 2 - 1] + throws[n / 2]) / 2;
+}
 
 // Median of the throws over seeds first_seed..first_seed + seeds − 1.
 absl::StatusOr<int> MedianThrows(std::shared_ptr<const TossSpec> spec, const Siteswap& pattern,
@@ -36,9 +44,7 @@ absl::StatusOr<int> MedianThrows(std::shared_ptr<const TossSpec> spec, const Sit
     }
   }
   if (all) *all = throws;
-  std::sort(throws.begin(), throws.end());
-  const size_t n = throws.size();
-  return n % 2 ? throws[n / 2] : (throws[n / 2 - 1] + throws[n / 2]) / 2;
+  return Median(std::move(throws));
 }
 
 // Writes `states` as a text-format TossArmStates file.
@@ -151,10 +157,7 @@ absl::StatusOr<TossEvalReport> EvaluateToss(const LoadedConfig& base, TossPolici
       ASSIGN_OR_RETURN(JuggleRunResult r, RunOnce(spec, schedule, policies, t.needed, s));
       t.throws.push_back(r.throws);
     }
-    std::vector<int> sorted = t.throws;
-    std::sort(sorted.begin(), sorted.end());
-    const size_t n = sorted.size();
-    t.median_throws = n % 2 ? sorted[n / 2] : (sorted[n / 2 - 1] + sorted[n / 2]) / 2;
+    t.median_throws = Median(t.throws);
     std::string per_seed;
     for (int x : t.throws) absl::StrAppend(&per_seed, " ", x);
     say(absl::StrFormat("transitions %s: median %d of %d throws; per seed%s", t.name,

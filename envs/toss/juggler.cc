@@ -362,24 +362,7 @@ bool TossJuggler::Step(const float* right_action, TrajectoryBuilder* recording) 
 }
 
 std::unique_ptr<TossJuggler> TossJuggler::Clone() const {
-  std::unique_ptr<TossJuggler> c(new TossJuggler(spec_, schedule_, policies_, options_));
-  TossWorld::Snapshot world;
-  world_.Save(&world);
-  c->world_.Restore(world);
-  c->wind_ = wind_;
-  c->balls_ = balls_;
-  c->next_add_beat_ = next_add_beat_;
-  c->step_ = step_;
-  c->next_beat_ = next_beat_;
-  c->result_ = result_;
-  c->velocity_error_sum_ = velocity_error_sum_;
-  c->position_error_sum_ = position_error_sum_;
-  c->catch_height_error_sum_ = catch_height_error_sum_;
-  c->releases_ = releases_;
-  c->over_ = over_;
-  c->end_hand_ = end_hand_;
-  c->events_ = events_;
-  return c;
+  return std::unique_ptr<TossJuggler>(new TossJuggler(*this));  // the world copies exactly
 }
 
 JuggleRunResult TossJuggler::Run(TrajectoryBuilder* recording) {

@@ -144,6 +144,7 @@ class TossJuggler {
   };
   TossJuggler(std::shared_ptr<const TossSpec> spec, const JuggleSchedule& schedule,
               TossPolicies policies, JugglerOptions options);
+  TossJuggler(const TossJuggler&) = default;  // Clone
   // Brings the balls of add-beats into their hands once their dwell has begun; false when a
   // hand is not empty for it (a missed beat).
   bool BringInBalls();

@@ -15,14 +15,7 @@
 namespace juggle::toss {
 namespace {
 
-std::shared_ptr<const TossSpec> CatchSpec() {
-  absl::StatusOr<LoadedConfig> config =
-      LoadRunConfig(testing::RepoPath("configs/toss_catch.textproto"));
-  EXPECT_TRUE(config.ok()) << config.status();
-  absl::StatusOr<std::shared_ptr<const TossSpec>> spec = TossSpec::Create(*config);
-  EXPECT_TRUE(spec.ok()) << spec.status();
-  return *spec;
-}
+std::shared_ptr<const TossSpec> CatchSpec() { return testing::LoadTossSpec("toss_catch"); }
 
 JuggleRunResult RunPattern(const std::string& text, bool ideal, int max_throws,
                            TrajectoryBuilder* recording = nullptr) {

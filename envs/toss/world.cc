@@ -21,6 +21,12 @@ TossWorld::TossWorld(std::shared_ptr<const TossSpec> spec)
   Reset(nullptr, 0, 0);
 }
 
+TossWorld::TossWorld(const TossWorld& other) : TossWorld(other.spec_) {
+  Snapshot s;
+  other.Save(&s);
+  Restore(s);
+}
+
 void TossWorld::Reset(Rng* rng, double angle_noise_rad, double speed_noise_rad_s) {
   mj_resetData(model_, data_.get());
   diverged_ = false;

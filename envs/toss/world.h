@@ -55,7 +55,8 @@ class TossWorld {
   void Restore(const Snapshot& s);
 
   explicit TossWorld(std::shared_ptr<const TossSpec> spec);
-  TossWorld(const TossWorld&) = delete;
+  // An exact copy (Save and Restore): it steps bit for bit as `other` would.
+  TossWorld(const TossWorld& other);
   TossWorld& operator=(const TossWorld&) = delete;
 
   // Time 0, every ball parked, both arms at home (targets too). With `rng`, the shoulder, elbow

@@ -9,14 +9,7 @@
 namespace juggle::toss {
 namespace {
 
-std::shared_ptr<const TossSpec> Spec() {
-  absl::StatusOr<LoadedConfig> config =
-      LoadRunConfig(testing::RepoPath("configs/toss_catch.textproto"));
-  EXPECT_TRUE(config.ok()) << config.status();
-  absl::StatusOr<std::shared_ptr<const TossSpec>> spec = TossSpec::Create(*config);
-  EXPECT_TRUE(spec.ok()) << spec.status();
-  return *spec;
-}
+std::shared_ptr<const TossSpec> Spec() { return testing::LoadTossSpec("toss_catch"); }
 
 TEST(TossWorldTest, AFastBallPassingThePalmBetweenTwoStepsIsCaught) {
   auto spec = Spec();

@@ -62,6 +62,7 @@ std::function<void(int, const planner::ReplanReport&)> PlannerProgress(
       const planner::KickOutcome& k = r.predicted_kick;
       std::printf("  re-plan slot %d step %d: cost %.4g -> %.4g (%d rollouts)", slot,
                   r.env_step, r.incumbent_cost, r.best_cost, r.evaluations);
+      if (r.rescued) std::printf(" rescue");
       if (r.predicts_failure) {
         std::printf(" ends %s at step %d",
                     spec->outcome_names()[static_cast<int>(r.predicted_end)].c_str(),
@@ -184,9 +185,9 @@ int Evaluate(EvalFlags f) {
     double sim_seconds = 0;
     for (const EpisodeResult& e : report->episodes) sim_seconds += e.steps * (*spec)->control_dt();
     absl::StrAppend(&line, absl::StrFormat(
-        " planner_replans=%d planner_rollouts=%d planner_rollout_steps=%d "
+        " planner_replans=%d planner_rollouts=%d planner_rollout_steps=%d planner_rescues=%d "
         "prediction_checks=%d prediction_mismatches=%d wall_s=%.1f wall_s_per_sim_s=%.3f",
-        t.replans, t.rollouts, t.rollout_steps, t.prediction_checks, t.prediction_mismatches,
+        t.replans, t.rollouts, t.rollout_steps, t.rescues, t.prediction_checks, t.prediction_mismatches,
         wall, wall / std::max(sim_seconds, 1e-9)));
   }
   if (policy_controller != nullptr && policy_controller->gates().rows() > 0) {

@@ -49,6 +49,24 @@ TEST(PlannerConfigTest, NegativeHorizonIsAnErrorNamingTheField) {
   EXPECT_THAT(std::string(s.message()), HasSubstr("planner.horizon_steps"));
 }
 
+TEST(PlannerConfigTest, ARescueSearchTooSmallForItsSeedsIsAnErrorNamingTheField) {
+  // The rescue starts from three plans (the best found, the warm start, the nominal kick).
+  const absl::Status s = Load("rescue.textproto", Config("rescue { cost_above: 500 samples: 2 }"));
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()), HasSubstr("planner.rescue.samples"));
+}
+
+TEST(PlannerConfigTest, ARescueOfBodyKnotsWithoutBodyKnotsIsRefused) {
+  const std::string text = Config("body_knot_steps: 0 rescue { cost_above: 500 body: true }");
+  LoadedConfig config;
+  ASSERT_TRUE(Load("rescue_body.textproto", text, &config).ok());
+  const absl::Status s = ValidatePlannerConfig(config);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()),
+              StartsWith(::juggle::testing::Loc(config.config_path, text, "body: true")));
+  EXPECT_THAT(std::string(s.message()), HasSubstr("body_knot_steps is 0"));
+}
+
 TEST(PlannerConfigTest, AHorizonLongerThanTheEpisodeIsRefused) {
   const std::string text = Config("horizon_steps: 5000");
   LoadedConfig config;

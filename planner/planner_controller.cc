@@ -28,6 +28,11 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
   if (absl::StatusOr<std::vector<int>> a = BodyActionIndices(p.body_actions()); !a.ok()) {
     return absl::InvalidArgumentError(absl::StrCat(where("body_actions"), ": ", a.status().message()));
   }
+  if (p.rescue().body() && p.body_knot_steps() == 0) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where({{"planner"}, {"rescue"}, {"body"}}),
+        ": the rescue searches the whole-body knots, but planner.body_knot_steps is 0 (none)"));
+  }
   if (p.replan_every() > p.horizon_steps()) {
     return absl::InvalidArgumentError(
         absl::StrCat(where("replan_every"), ": re-planning every ", p.replan_every(),
@@ -78,6 +83,7 @@ PlannerTotals PlannerController::totals() const {
     t.replans += p->totals().replans;
     t.rollouts += p->totals().rollouts;
     t.rollout_steps += p->totals().rollout_steps;
+    t.rescues += p->totals().rescues;
     t.prediction_checks += p->totals().prediction_checks;
     t.prediction_mismatches += p->totals().prediction_mismatches;
   }

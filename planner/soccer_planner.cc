@@ -49,6 +49,15 @@ SoccerPlanner::SoccerPlanner(std::shared_ptr<const soccer_juggle::JuggleSpec> sp
   settings_.explore_fraction = config_.explore_fraction();
   settings_.converged_fraction = config_.converged_fraction();
   theta_.assign(layout_.dim(), 0.0);
+  rescue_space_ = space_;
+  if (config_.rescue().body()) {
+    // The regular search keeps the body knots of its warm start.
+    std::fill(space_.sigma.begin() + layout_.kick_dim(), space_.sigma.end(), 0.0);
+  }
+  for (int v = 0; v < rescue_space_.dim(); ++v) {
+    rescue_space_.sigma[v] = std::min(rescue_space_.sigma[v] * config_.rescue().sigma_scale(),
+                                      rescue_space_.upper[v] - rescue_space_.lower[v]);
+  }
 }
 
 SoccerPlanner::RolloutResult SoccerPlanner::Rollout(JuggleEnv* env, const double* theta,
@@ -244,6 +253,33 @@ absl::Status SoccerPlanner::Replan(const JuggleEnv& env) {
   CemResult result = MinimizeCem(space, settings_, seeds, &rng, cost);
   if (!status.ok()) return status;
   totals_.rollouts += result.evaluations;
+  last_.rescued = false;
+  const config::RescueSearch& rescue = config_.rescue();
+  if (rescue.cost_above() > 0 && result.best_cost > rescue.cost_above()) {
+    // In trouble: search again, wider, from the best plan found (its incumbent), so the
+    // answer is never worse than the regular search's.
+    SearchSpace wide = rescue_space_;
+    for (int v = 0; v < wide.dim(); ++v) {
+      if (space.sigma[v] == 0 && space.lower[v] == space.upper[v]) {  // a frozen kick
+        wide.lower[v] = wide.upper[v] = space.lower[v];
+        wide.sigma[v] = 0;
+      }
+    }
+    CemSettings settings = settings_;
+    settings.samples = rescue.samples();
+    settings.iterations = rescue.iterations();
+    std::vector<std::vector<double>> rescue_seeds = {result.best};
+    rescue_seeds.insert(rescue_seeds.end(), seeds.begin(), seeds.end());
+    const double incumbent = result.incumbent_cost;
+    CemResult second = MinimizeCem(wide, settings, rescue_seeds, &rng, cost);
+    if (!status.ok()) return status;
+    totals_.rollouts += second.evaluations;
+    ++totals_.rescues;
+    second.evaluations += result.evaluations;
+    second.incumbent_cost = incumbent;
+    result = std::move(second);
+    last_.rescued = true;
+  }
   if (config_.refine_iterations() > 0 && layout_.kick_sets > 0) {
     // The set of the next kick inside the horizon (not a frozen one).
     const int set = std::min(env.state().kick_touched ? 1 : 0, layout_.kick_sets - 1);

@@ -31,6 +31,7 @@ struct ReplanReport {
   double incumbent_cost = 0;   // the warm start's cost
   double best_cost = 0;
   int evaluations = 0;         // rollouts simulated
+  bool rescued = false;        // the wider second search ran (PlannerConfig.rescue)
   bool predicts_failure = false;  // the best plan's rollout ends the episode
   Outcome predicted_end = Outcome::kRunning;  // how, and after how many steps
   int predicted_end_step = 0;
@@ -42,6 +43,7 @@ struct PlannerTotals {
   int64_t replans = 0;
   int64_t rollouts = 0;
   int64_t rollout_steps = 0;   // control steps simulated by rollouts
+  int64_t rescues = 0;         // re-plans that ran the wider second search
   // Visited states checked against the chosen plan's rollout (position and velocity, bit for
   // bit), and those that differed: the executed future equals the predicted one.
   int64_t prediction_checks = 0;
@@ -111,6 +113,7 @@ class SoccerPlanner {
   AdaptiveWalk walk_;
   SoccerPlanLayout layout_;
   SearchSpace space_;
+  SearchSpace rescue_space_;  // PlannerConfig.rescue's: every spread widened, body knots free
   CemSettings settings_;
   LandingAnchors anchors_;
 

@@ -178,6 +178,75 @@ TEST_F(SoccerPlannerTest, AReleasedKickKeepsItsVariablesUntilTheNextCycle) {
   EXPECT_GE(replans_after, 3);
 }
 
+// The rescue search (PlannerConfig.rescue) runs only for a re-plan whose best plan costs more
+// than its threshold, starts from that plan, and so never returns a costlier one.
+TEST_F(SoccerPlannerTest, ARescueSearchRunsOnlyAboveItsCostAndNeverRaisesIt) {
+  struct Arm {
+    double cost_above;
+    ReplanReport report;
+    PlannerTotals totals;
+    std::vector<float> action;
+  };
+  std::vector<Arm> arms = {{0}, {1e-9}, {1e30}};  // off, always, never
+  for (Arm& arm : arms) {
+    config::RescueSearch& rescue = *config_.run.mutable_planner()->mutable_rescue();
+    rescue.set_cost_above(arm.cost_above);
+    rescue.set_samples(24);
+    rescue.set_iterations(3);
+    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.12);
+    std::unique_ptr<SoccerPlanner> planner = NewPlanner();
+    arm.action.resize(kNumActions);
+    ASSERT_TRUE(planner->Act(*env, arm.action.data()).ok());
+    arm.report = planner->last_replan();
+    arm.totals = planner->totals();
+  }
+  const Arm &off = arms[0], &always = arms[1], &never = arms[2];
+  EXPECT_FALSE(off.report.rescued);
+  EXPECT_EQ(off.totals.rescues, 0);
+  EXPECT_TRUE(always.report.rescued);
+  EXPECT_EQ(always.totals.rescues, 1);
+  EXPECT_GT(always.report.evaluations, off.report.evaluations);
+  EXPECT_LE(always.report.best_cost, off.report.best_cost);
+  EXPECT_EQ(always.report.incumbent_cost, off.report.incumbent_cost);
+  EXPECT_FALSE(never.report.rescued);
+  EXPECT_EQ(never.action, off.action);
+  EXPECT_EQ(never.report.best_cost, off.report.best_cost);
+}
+
+// With rescue.body the whole-body knots move only in rescues: a planner that never rescues
+// keeps them at 0, one that always does moves them.
+TEST_F(SoccerPlannerTest, RescueBodyKnotsMoveOnlyInARescue) {
+  config::PlannerConfig& p = *config_.run.mutable_planner();
+  p.set_body_knot_steps(8);
+  p.mutable_rescue()->set_body(true);
+  p.mutable_rescue()->set_samples(16);
+  p.mutable_rescue()->set_iterations(2);
+  p.mutable_rescue()->set_sigma_scale(0.2);  // small corrections: some lower the cost
+  for (const double cost_above : {1e30, 1e-9}) {
+    p.mutable_rescue()->set_cost_above(cost_above);
+    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.03);
+    std::unique_ptr<SoccerPlanner> planner = NewPlanner();
+    float action[kNumActions];
+    for (int t = 0; t < 9; ++t) {  // three re-plans
+      ASSERT_TRUE(planner->Act(*env, action).ok());
+      ASSERT_EQ(env->Step(action, *walk_).outcome, Outcome::kRunning);
+    }
+    const SoccerPlanLayout& layout = planner->layout();
+    double body = 0, kick = 0;
+    for (int v = 0; v < layout.dim(); ++v) {
+      (v < layout.kick_dim() ? kick : body) += std::abs(planner->plan()[v]);
+    }
+    EXPECT_GT(kick, 0) << "cost_above " << cost_above;
+    if (cost_above > 1) {
+      EXPECT_EQ(body, 0);
+      EXPECT_EQ(planner->totals().rescues, 0);
+    } else {
+      EXPECT_GT(body, 0);
+      EXPECT_EQ(planner->totals().rescues, 3);
+    }
+  }
+}
+
 // Σ |change| of the plan's kick variables between successive re-plans over `steps` steps.
 double KickChurn(SoccerPlanner* planner, JuggleEnv* env, const AdaptiveWalk& walk, int steps) {
   float action[kNumActions];

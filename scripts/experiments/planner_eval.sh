@@ -1,7 +1,7 @@
 #!/bin/bash
-# A long planner evaluation in parts that can stop and go on: episodes FIRST..FIRST+EPISODES-1
-# of `juggle eval --controller=planner` (the held-out streams of the default seed), one
-# episode per part, SLOTS parts side by side with one planner thread each. A part whose JSON
+# A long planner evaluation in parts that can stop and go on: episodes 0..EPISODES-1 (or those
+# listed, e.g. 0,4,7) of `juggle eval --controller=planner` (the held-out streams of the
+# default seed), one episode per part, SLOTS parts side by side with one planner thread each. A part whose JSON
 # holds its episode line is done and skipped, so re-running the same command continues an
 # interrupted evaluation. At the end the parts are summarized (scripts/analysis/eval_parts.py).
 #
@@ -31,8 +31,13 @@ part() {
   echo "episode $i: $(grep -o 'juggles=[0-9.]*' "$out/ep_$i.log" | head -1) $(tail -1 "$out/ep_$i.log" | grep -o 'wall_s=[0-9.]*')"
 }
 
+if [[ "$episodes" == *,* ]]; then
+  IFS=, read -r -a list <<< "$episodes"
+else
+  list=($(seq 0 $((episodes - 1))))
+fi
 running=0
-for ((i = 0; i < episodes; ++i)); do
+for i in "${list[@]}"; do
   part "$i" &
   running=$((running + 1))
   if [ "$running" -ge "$slots" ]; then wait -n; running=$((running - 1)); fi

@@ -21,6 +21,7 @@ CommandBody AddExportBvhCommand(CLI::App* cmd);
 CommandBody AddBenchCommand(CLI::App* cmd);
 CommandBody AddDashboardCommand(CLI::App* cmd);
 CommandBody AddLabelSpreadCommand(CLI::App* cmd);
+CommandBody AddFitDemosCommand(CLI::App* cmd);
 
 }  // namespace juggle
 

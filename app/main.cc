@@ -38,6 +38,8 @@ const Command kCommands[] = {
      juggle::AddBenchCommand},
     {"label-spread", "how much the planner's labels vary at one state (docs/planner.md)",
      juggle::AddLabelSpreadCommand},
+    {"fit-demos", "offline cloning of a run's demonstrations: fit and held-out error (docs/learning.md)",
+     juggle::AddFitDemosCommand},
 };
 constexpr int kNumCommands = sizeof(kCommands) / sizeof(kCommands[0]);
 

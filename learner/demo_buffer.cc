@@ -81,6 +81,20 @@ std::string DemoBuffer::Serialize() const {
   return out;
 }
 
+absl::StatusOr<DemoBuffer> DemoBuffer::Parse(std::string_view bytes) {
+  if (bytes.size() < kHeader || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
+    return absl::InvalidArgumentError("not a demonstration buffer (bad magic or too short)");
+  }
+  int64_t h[3];
+  std::memcpy(h, bytes.data() + sizeof(kMagic), sizeof(h));
+  // The capacity's bound is imitation.buffer_size's (proto/imitation.proto).
+  if (h[0] < 1 || h[0] > 100000000 || h[1] < 1 || h[1] > 1000000 || h[2] < 1 ||
+      h[2] > 1000000) {
+    return absl::InvalidArgumentError("the demonstration buffer's sizes are out of range");
+  }
+  return Parse(bytes, h[0], static_cast<int>(h[1]), static_cast<int>(h[2]));
+}
+
 absl::StatusOr<DemoBuffer> DemoBuffer::Parse(std::string_view bytes, int64_t capacity,
                                              int obs_dim, int act_dim) {
   if (bytes.size() < kHeader || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {

@@ -28,6 +28,8 @@ class DemoBuffer {
   int64_t capacity() const { return capacity_; }
   int64_t added() const { return added_; }
   int64_t evicted() const { return added_ - size_; }
+  // The row of the oldest pair (rows oldest..size−1, then 0..oldest−1 are in the order added).
+  int64_t oldest() const { return size_ < capacity_ ? 0 : next_; }
   // Row-major [size, obs_dim] and [size, act_dim], row i of one matching row i of the other
   // (rows are in no particular order).
   const float* obs() const { return obs_.data(); }
@@ -44,6 +46,8 @@ class DemoBuffer {
   // sizes, length) or whose capacity or dims differ from the given ones (a changed config).
   static absl::StatusOr<DemoBuffer> Parse(std::string_view bytes, int64_t capacity, int obs_dim,
                                           int act_dim);
+  // The same, taking capacity and dims from the bytes (tools that read any saved buffer).
+  static absl::StatusOr<DemoBuffer> Parse(std::string_view bytes);
 
  private:
   int64_t capacity_;

@@ -63,6 +63,7 @@ void JuggleEnv::StartEpisode() {
   s_.kick_touched = s_.kick_rewarded = false;
   s_.swing_adjust = {};
   s_.reward = {};
+  s_.previous_action.fill(0.0f);
   PlaceAtStart(*spec_, &s_.rng, &s_.cursor, &s_.reference, data_.get());
 }
 
@@ -196,6 +197,7 @@ StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
     }
   }
   base_.AddFeedforward(s_.cursor, s_.reference, s_.swing_adjust, data_.get(), feedforward);
+  for (int a = 0; a < kNumActions; ++a) s_.previous_action[a] = std::clamp(action[a], -1.0f, 1.0f);
 
   StepResult result;
   const int substeps = spec_->env().substeps();
@@ -279,6 +281,12 @@ void JuggleEnv::WriteObservation(float* obs) const {
     obs[i++] = (ball_vel[2] - ref_vel.z) / 10;
     for (int k = i - kBallErrorObs; k < i; ++k) {
       if (!std::isfinite(obs[k])) obs[k] = 0;
+    }
+  }
+  if (spec_->env().previous_action_observation()) {
+    if (!spec_->env().ball_error_observation()) i += 3 * n;
+    for (int a = 0; a < kNumActions; ++a) {
+      obs[i++] = std::isfinite(s_.previous_action[a]) ? s_.previous_action[a] : 0.0f;
     }
   }
   // Never hand a non-finite number to a policy.

@@ -15,6 +15,7 @@
 #ifndef JUGGLE_ENVS_SOCCER_JUGGLE_ENV_H_
 #define JUGGLE_ENVS_SOCCER_JUGGLE_ENV_H_
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -48,6 +49,8 @@ struct JuggleEnvState {
   bool kick_rewarded = false;
   bool touched_this_step = false;
   RewardTerms reward;  // the last step's reward, term by term (zero after a reset)
+  // The last step's action as applied (clamped; zeros after a reset).
+  std::array<float, kNumActions> previous_action{};
 };
 
 class JuggleSnapshot final : public EnvSnapshot {

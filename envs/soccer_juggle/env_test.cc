@@ -246,6 +246,42 @@ TEST_F(JuggleEnvTest, BallErrorObservationIsTheBallMinusItsReferenceAfterTheOneH
   }
 }
 
+TEST_F(JuggleEnvTest, PreviousActionObservationIsTheLastAppliedActionClampedAndZeroAfterAReset) {
+  for (const bool ball_error : {false, true}) {
+    LoadedConfig config = spec_->config();
+    config.run.mutable_soccer_juggle()->mutable_env()->set_ball_error_observation(ball_error);
+    config.run.mutable_soccer_juggle()->mutable_env()->set_previous_action_observation(true);
+    auto spec = JuggleSpec::Create(config);
+    ASSERT_TRUE(spec.ok()) << spec.status();
+    const int tail = spec_->obs_dim() + (ball_error ? 6 : 0);
+    ASSERT_EQ((*spec)->obs_dim(), tail + kNumActions);
+    JuggleEnv env(*spec, Rng(3));
+    env.ResetAt(down_, *walk_);
+    std::vector<float> obs((*spec)->obs_dim());
+    env.WriteObservation(obs.data());
+    for (int a = 0; a < kNumActions; ++a) EXPECT_EQ(obs[tail + a], 0.0f) << a;
+    float action[kNumActions];
+    for (int a = 0; a < kNumActions; ++a) action[a] = 0.01f * a;
+    action[3] = 2.5f;  // applied as 1
+    action[4] = -7.0f;
+    env.Step(action, *walk_);
+    env.WriteObservation(obs.data());
+    for (int a = 0; a < kNumActions; ++a) {
+      EXPECT_EQ(obs[tail + a], a == 3 ? 1.0f : a == 4 ? -1.0f : 0.01f * a) << a;
+    }
+    // A snapshot carries it; a reset clears it.
+    std::unique_ptr<EnvSnapshot> snapshot = env.Snapshot();
+    JuggleEnv copy(*spec, Rng(9));
+    ASSERT_TRUE(copy.Restore(*snapshot).ok());
+    std::vector<float> copied((*spec)->obs_dim());
+    copy.WriteObservation(copied.data());
+    EXPECT_EQ(copied, obs);
+    env.ResetAt(down_, *walk_);
+    env.WriteObservation(obs.data());
+    for (int a = 0; a < kNumActions; ++a) EXPECT_EQ(obs[tail + a], 0.0f) << a;
+  }
+}
+
 TEST_F(JuggleEnvTest, RaisedCosineSwingIsSineSquaredAndComesToRestWhereTheCycleWraps) {
   LoadedConfig config = spec_->config();
   config::ControlGraph* graph = config.run.mutable_soccer_juggle()->mutable_graph();

@@ -90,7 +90,8 @@ class JuggleSpec : public EnvSpec {
   const CharacterPose& rest_pose() const { return rest_pose_; }
 
   int obs_dim() const override {
-    return ObservationSize(graph().num_nodes()) + (env().ball_error_observation() ? kBallErrorObs : 0);
+    return ObservationSize(graph().num_nodes()) + (env().ball_error_observation() ? kBallErrorObs : 0) +
+           (env().previous_action_observation() ? kNumActions : 0);
   }
   int act_dim() const override { return kNumActions; }
   std::unique_ptr<Env> NewEnv(Rng rng) const override;

@@ -48,6 +48,13 @@ CommandBody AddFitDemosCommand(CLI::App* cmd) {
   cmd->add_option("--held-out", f->options.held_out, "the newest share of rows, not trained on")
       ->check(CLI::Range(0.01, 0.9))
       ->capture_default_str();
+  cmd->add_option("--rows", f->options.rows,
+                  "only the oldest this many rows (0: all), to compare buffers at one size")
+      ->check(CLI::Range(int64_t{0}, int64_t{1} << 40));
+  cmd->add_option("--obs-prefix", f->options.obs_prefix,
+                  "only the first this many observation floats (0: all): e.g. a buffer with "
+                  "the previous action in its observations fitted without it")
+      ->check(CLI::Range(0, 1000000));
   cmd->add_flag("--random-split", f->options.random_split,
                "hold out a random share instead of the newest (states alike in time on both "
                "sides: how well the network fits states like those it saw)");

@@ -29,7 +29,7 @@ std::pair<torch::Tensor, torch::Tensor> InAddedOrder(const DemoBuffer& demos) {
 absl::StatusOr<std::vector<DemoFitEpoch>> FitDemos(
     const DemoBuffer& demos, const config::ModelConfig& model, const DemoFitOptions& options,
     const std::function<void(const DemoFitEpoch&)>& progress) {
-  const int64_t n = demos.size();
+  const int64_t n = options.rows > 0 ? std::min(options.rows, demos.size()) : demos.size();
   const int64_t held = static_cast<int64_t>(std::llround(options.held_out * n));
   const int64_t train = n - held;
   if (held < 1 || train < 2) {
@@ -47,7 +47,17 @@ absl::StatusOr<std::vector<DemoFitEpoch>> FitDemos(
   torch::manual_seed(options.seed);
   const auto started = std::chrono::steady_clock::now();
   auto [obs, labels] = InAddedOrder(demos);
+  obs = obs.slice(0, 0, n);
+  labels = labels.slice(0, 0, n);
   int obs_dim = demos.obs_dim();
+  if (options.obs_prefix > 0) {
+    if (options.obs_prefix > obs_dim) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "an observation prefix of ", options.obs_prefix, " floats; the buffer holds ", obs_dim));
+    }
+    obs_dim = options.obs_prefix;
+    obs = obs.slice(1, 0, obs_dim);
+  }
   if (options.previous_label_unroll > 0) {
     if (demos.oldest() != 0) {
       return absl::InvalidArgumentError(

@@ -19,6 +19,8 @@ namespace juggle {
 
 struct DemoFitOptions {
   double held_out = 0.2;     // the newest share of rows, not trained on
+  int64_t rows = 0;          // > 0: only the oldest this many rows (buffers compared at one size)
+  int obs_prefix = 0;        // > 0: only the first this many observation floats (an input ablation)
   // Hold out a random share instead (rows alike in time fall on both sides: an upper bound of
   // how well the student fits states like those it was shown).
   bool random_split = false;

@@ -105,6 +105,14 @@ TEST(DemoFitTest, TooFewRowsOrAnUnknownActionAreRefused) {
   EXPECT_EQ(FitDemos(demos, SmallMlp(), options).status().code(),
             absl::StatusCode::kInvalidArgument);
   demos.AddLabelled(Labelled(8, true, 5));
+  options.rows = 2;  // the oldest 2 of 10: too few again
+  EXPECT_EQ(FitDemos(demos, SmallMlp(), options).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  options.rows = 0;
+  options.obs_prefix = kObs + 1;
+  EXPECT_EQ(FitDemos(demos, SmallMlp(), options).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  options.obs_prefix = 0;
   options.actions = {kAct};
   EXPECT_EQ(FitDemos(demos, SmallMlp(), options).status().code(),
             absl::StatusCode::kInvalidArgument);

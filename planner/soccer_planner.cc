@@ -332,12 +332,68 @@ absl::Status SoccerPlanner::Act(const JuggleEnv& env, float* action) {
       if (predicted_[k] != StateFingerprint(env, spec_->model())) ++totals_.prediction_mismatches;
     }
   }
+  const bool follow = config_.warm_start_from_executed() && layout_.kick_sets > 0;
+  if (follow && has_plan_) FollowExecutedAction(env);
   if (!has_plan_ || env.steps() - origin_step_ >= config_.replan_every()) {
     if (absl::Status s = Replan(env); !s.ok()) return s;
   }
   PlanClock clock{env.steps() - knot0_step_, cycle_ - origin_cycle_};
   SoccerPlanAction(env, layout_, theta_.data(), clock, action);
+  if (follow) RecordActionMap(env, clock, action);
   return absl::OkStatus();
+}
+
+void SoccerPlanner::RecordActionMap(const JuggleEnv& env, PlanClock clock, const float* action) {
+  ActionMap& m = action_map_;
+  m.valid = true;
+  m.step = env.steps();
+  m.cycle = cycle_;
+  m.set = std::clamp(clock.cycle, 0, layout_.kick_sets - 1);
+  std::copy_n(action, kNumActions, m.action);
+  // Finite differences: 2 ms of timing, 0.01 rad of placement (as Refine).
+  const double h[kKickVariables] = {0.002, 0.01, 0.01, 0.01, 0.01};
+  std::vector<double> probe = theta_;
+  float moved[kNumActions];
+  for (int j = 0; j < kKickVariables; ++j) {
+    double& x = probe[layout_.kick(m.set) + j];
+    const double x0 = x;
+    x = x0 + h[j];
+    SoccerPlanAction(env, layout_, probe.data(), clock, moved);
+    x = x0;
+    for (int a = 0; a < kNumActions; ++a) m.jacobian[a][j] = (moved[a] - action[a]) / h[j];
+  }
+}
+
+void SoccerPlanner::FollowExecutedAction(const JuggleEnv& env) {
+  const ActionMap& m = action_map_;
+  if (!m.valid || m.step != env.steps() - 1 || m.cycle != cycle_) return;
+  const float* applied = env.state().previous_action.data();
+  // Ridge least squares in units of the search spreads: (SJᵀJS + λI) δ = SJᵀr, Δ = Sδ, over
+  // the rows where neither action was clamped.
+  const int first = layout_.kick(m.set);
+  double S[kKickVariables];
+  for (int j = 0; j < kKickVariables; ++j) S[j] = space_.sigma[first + j];
+  double A[kKickVariables * kKickVariables] = {0}, b[kKickVariables] = {0};
+  for (int a = 0; a < kNumActions; ++a) {
+    if (std::abs(m.action[a]) >= 1 || std::abs(applied[a]) >= 1) continue;
+    const double r = static_cast<double>(applied[a]) - m.action[a];
+    for (int i = 0; i < kKickVariables; ++i) {
+      const double ji = m.jacobian[a][i] * S[i];
+      b[i] += ji * r;
+      for (int j = 0; j < kKickVariables; ++j) A[i * kKickVariables + j] += ji * m.jacobian[a][j] * S[j];
+    }
+  }
+  double largest = 0;
+  for (int i = 0; i < kKickVariables; ++i) largest = std::max(largest, A[i * kKickVariables + i]);
+  if (largest <= 0) return;  // the kick does not act here (outside its swing)
+  for (int i = 0; i < kKickVariables; ++i) A[i * kKickVariables + i] += 1e-2 * largest + 1e-9;
+  if (mju_cholFactor(A, kKickVariables, 0) < kKickVariables) return;
+  double delta[kKickVariables];
+  mju_cholSolve(delta, A, b, kKickVariables);
+  for (int j = 0; j < kKickVariables; ++j) {
+    double& x = theta_[first + j];
+    x = std::clamp(x + S[j] * delta[j], space_.lower[first + j], space_.upper[first + j]);
+  }
 }
 
 }  // namespace juggle::planner

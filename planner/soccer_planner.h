@@ -95,6 +95,11 @@ class SoccerPlanner {
                         std::vector<uint64_t>* trace = nullptr,
                         double bound = std::numeric_limits<double>::infinity());
   absl::Status Replan(const soccer_juggle::JuggleEnv& env);
+  // PlannerConfig.warm_start_from_executed: the plan's map from the current kick set to the
+  // action at the state just acted in (RecordActionMap), and the move of that set toward the
+  // action that was applied there instead (FollowExecutedAction, at the next state).
+  void RecordActionMap(const soccer_juggle::JuggleEnv& env, PlanClock clock, const float* action);
+  void FollowExecutedAction(const soccer_juggle::JuggleEnv& env);
   // The kick-consistency cost of `theta` against the warm start `warm` (PlannerCost).
   double Inconsistency(const double* theta, const std::vector<double>& warm) const;
   // Rolls out candidates[i·dim .. (i+1)·dim) for i < n from `snapshot`; counts them.
@@ -132,6 +137,17 @@ class SoccerPlanner {
   std::vector<uint64_t> predicted_;
   ReplanReport last_;
   PlannerTotals totals_;
+  // The last action's map (RecordActionMap): env step and cycle it was made at, the plan's
+  // kick set, the action, and its Jacobian [action][variable] in the set's variables.
+  struct ActionMap {
+    bool valid = false;
+    int step = -1;
+    int cycle = -1;
+    int set = 0;
+    float action[soccer_juggle::kNumActions] = {};
+    double jacobian[soccer_juggle::kNumActions][kKickVariables] = {};
+  };
+  ActionMap action_map_;
 };
 
 }  // namespace juggle::planner

@@ -247,6 +247,52 @@ TEST_F(SoccerPlannerTest, RescueBodyKnotsMoveOnlyInARescue) {
   }
 }
 
+// With warm_start_from_executed, a planner whose env was stepped with another action than its
+// own moves its kick variables toward those that give the applied action at that state; off,
+// the plan stays as it was.
+TEST_F(SoccerPlannerTest, WarmStartFromExecutedFollowsTheAppliedAction) {
+  config_.run.mutable_planner()->set_replan_every(8);  // no re-plan in the steps checked
+  for (const bool follow : {false, true}) {
+    config_.run.mutable_planner()->set_warm_start_from_executed(follow);
+    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.03);
+    std::unique_ptr<SoccerPlanner> planner = NewPlanner();
+    float own[kNumActions];
+    // Into the swing, where the kick variables act; the planner drives.
+    int t = 0;
+    for (; t < 8; ++t) {
+      ASSERT_TRUE(planner->Act(*env, own).ok());
+      ASSERT_EQ(env->Step(own, *walk_).outcome, Outcome::kRunning);
+    }
+    ASSERT_TRUE(planner->Act(*env, own).ok());  // a re-plan (step 8)
+    const std::vector<double> plan = planner->plan();
+    JuggleEnv previous(spec_, Rng(0));  // the state acted in, for the map afterwards
+    ASSERT_TRUE(previous.Restore(*env->Snapshot()).ok());
+    // Another action is applied: the plan with a larger hip amplitude.
+    std::vector<double> other = plan;
+    other[1] += 0.05;
+    float applied[kNumActions];
+    const PlanClock now{env->steps() - KnotAtOrBefore(planner->layout(), env->steps()), 0};
+    SoccerPlanAction(*env, planner->layout(), other.data(), now, applied);
+    double moved_by = 0;
+    for (int a = 0; a < kNumActions; ++a) moved_by += std::abs(applied[a] - own[a]);
+    ASSERT_GT(moved_by, 1e-3) << "the hip amplitude should act at this state";
+    ASSERT_EQ(env->Step(applied, *walk_).outcome, Outcome::kRunning);
+    ASSERT_TRUE(planner->Act(*env, own).ok());  // no re-plan: step 9
+    ASSERT_EQ(planner->last_replan().env_step, 8);
+    if (!follow) {
+      EXPECT_EQ(planner->plan(), plan);
+      continue;
+    }
+    // The moved plan, at the state it was applied in, gives nearly the applied action.
+    float now_gives[kNumActions];
+    SoccerPlanAction(previous, planner->layout(), planner->plan().data(), now, now_gives);
+    double residual = 0;
+    for (int a = 0; a < kNumActions; ++a) residual += std::abs(applied[a] - now_gives[a]);
+    EXPECT_LT(residual, 0.3 * moved_by);
+    EXPECT_GT(planner->plan()[1] - plan[1], 0) << "the hip amplitude grows toward +0.05";
+  }
+}
+
 // Σ |change| of the plan's kick variables between successive re-plans over `steps` steps.
 double KickChurn(SoccerPlanner* planner, JuggleEnv* env, const AdaptiveWalk& walk, int steps) {
   float action[kNumActions];

@@ -1,6 +1,7 @@
 // `juggle fit-demos`: offline behaviour cloning of a run's saved demonstration buffer
 // (learner/demo_fit.h, docs/learning.md "Planner-guided training"): how well a student network
 // fits the planner's labels and how well it generalizes to the newest ones it was not shown.
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -99,7 +100,9 @@ CommandBody AddFitDemosCommand(CLI::App* cmd) {
     }
     std::printf("fit-demos: %lld labelled states (%d observations, %d actions) from %s; the "
                 "newest %.0f%% held out; %d epochs of minibatch %d, lr %g\n",
-                static_cast<long long>(demos->size()), demos->obs_dim(), demos->act_dim(),
+                static_cast<long long>(f->options.rows > 0 ? std::min<int64_t>(f->options.rows, demos->size())
+                                                           : demos->size()),
+                demos->obs_dim(), demos->act_dim(),
                 path.c_str(), 100 * f->options.held_out, f->options.epochs, f->options.minibatch,
                 f->options.lr);
     std::string json;

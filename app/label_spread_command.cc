@@ -1,9 +1,11 @@
 // `juggle label-spread`: how much the planner's labels vary at one state (planner/label_spread.h,
 // docs/planner.md "Label spread"): the floor of a student's held-out label error.
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "app/commands.h"
 #include "app/planner_flags.h"
@@ -29,8 +31,9 @@ CommandBody AddLabelSpreadCommand(CLI::App* cmd) {
   cmd->add_option("--seconds", f->options.seconds, "simulated seconds per episode")
       ->check(CLI::Range(0.1, 3600.0))
       ->capture_default_str();
-  cmd->add_option("--forks", f->options.forks, "re-plans of each re-plan state (other streams)")
-      ->check(CLI::Range(2, 64))
+  cmd->add_option("--forks", f->options.forks,
+                  "re-plans of each re-plan state (other streams); 0: no spread, only labels")
+      ->check(CLI::Range(0, 64))
       ->capture_default_str();
   cmd->add_option("--seed", f->options.seed, "episode starts: streams (seed, 0, episode)")
       ->capture_default_str();
@@ -40,6 +43,11 @@ CommandBody AddLabelSpreadCommand(CLI::App* cmd) {
   cmd->add_option("--student", f->student,
                   "a policy (checkpoint, run directory or .jglpolicy) whose mean action is "
                   "compared with the labels at every visited state");
+  cmd->add_option("--student-mix", f->options.student_mix,
+                  "execute label + MIX*(student - label): 0 the planner drives, 1 the student "
+                  "(how much of the student's error the juggle tolerates)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   AddPlannerFlags(cmd, &f->planner);
   return [f] {
     absl::StatusOr<LoadedConfig> config = LoadRunConfig(f->config);
@@ -70,8 +78,15 @@ CommandBody AddLabelSpreadCommand(CLI::App* cmd) {
       std::printf("%-7zu %10.4f %10.4f %13.4f\n", i, r->label_std[i], r->fork_std[i],
                   r->student_rmse.empty() ? 0.0 : r->student_rmse[i]);
     }
-    std::printf("states=%d steps=%d juggles=%d weighted_spread=%.4f", r->states, r->steps,
-                r->juggles, r->weighted_spread);
+    std::vector<int> sorted = r->episode_juggles;
+    std::sort(sorted.begin(), sorted.end());
+    const double median = sorted.empty() ? 0
+                          : sorted.size() % 2 ? sorted[sorted.size() / 2]
+                          : 0.5 * (sorted[sorted.size() / 2 - 1] + sorted[sorted.size() / 2]);
+    std::printf("states=%d steps=%d juggles=%d median_juggles=%g student_mix=%g "
+                "weighted_spread=%.4f",
+                r->states, r->steps, r->juggles, median, f->options.student_mix,
+                r->weighted_spread);
     if (student) std::printf(" student_weighted_error=%.4f", r->student_weighted_error);
     std::printf("\n");
     return 0;

@@ -22,7 +22,16 @@ absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
     return absl::InvalidArgumentError(
         absl::StrCat("the planner drives soccer_juggle envs, not ", spec->family()));
   }
-  if (o.forks < 2) return absl::InvalidArgumentError("label spread needs at least 2 forks");
+  if (o.forks == 1 || o.forks < 0) {
+    return absl::InvalidArgumentError("label spread needs 0 forks (none) or at least 2");
+  }
+  if (!(o.student_mix >= 0 && o.student_mix <= 1)) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("student mix must be in [0, 1], not ", o.student_mix));
+  }
+  if (o.student_mix > 0 && o.student == nullptr) {
+    return absl::InvalidArgumentError("a student mix needs a student policy");
+  }
   const config::PlannerConfig& pc = config.run.planner();
   RolloutPool pool(soccer, pc.threads());
   const int act = spec->act_dim();
@@ -38,13 +47,13 @@ absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
     const auto& juggle_env = static_cast<const soccer_juggle::JuggleEnv&>(*env);
     SoccerPlanner driver(soccer, pc, &pool, uint64_t(e) << 8);
     const int steps = static_cast<int>(std::lround(o.seconds / spec->control_dt()));
-    std::vector<float> a(act), fa(act);
+    std::vector<float> a(act), fa(act), executed(act);
     int juggles = 0;
     for (int k = 0; k < steps; ++k) {
       std::vector<SoccerPlanner> forks;
       for (int f = 0; f < o.forks; ++f) forks.push_back(driver.Fork((uint64_t(e) << 8) + 1 + f));
       RETURN_IF_ERROR(driver.Act(juggle_env, a.data()));
-      if (driver.last_replan().env_step == env->steps()) {  // it re-planned this state
+      if (o.forks > 0 && driver.last_replan().env_step == env->steps()) {  // re-planned here
         std::vector<double> mean(act, 0), sq(act, 0);
         for (SoccerPlanner& fork : forks) {
           RETURN_IF_ERROR(fork.Act(juggle_env, fa.data()));
@@ -64,17 +73,22 @@ absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
         sum[i] += a[i];
         sum_sq[i] += double(a[i]) * a[i];
       }
+      executed = a;
       if (o.student != nullptr) {
         env->WriteObservation(obs.data());
         const RowMatrix s = o.student->MeanActions(obs.data(), 1);
-        for (int i = 0; i < act; ++i) student_sq[i] += (s(0, i) - a[i]) * double(s(0, i) - a[i]);
+        for (int i = 0; i < act; ++i) {
+          student_sq[i] += (s(0, i) - a[i]) * double(s(0, i) - a[i]);
+          executed[i] = static_cast<float>(a[i] + o.student_mix * (double(s(0, i)) - a[i]));
+        }
       }
       ++report.steps;
-      const StepResult r = env->Step(a.data(), walk);
-      juggles = env->completions();
+      const StepResult r = env->Step(executed.data(), walk);
+      juggles = env->juggles();
       if (r.outcome != Outcome::kRunning) break;
     }
     report.juggles += juggles;
+    report.episode_juggles.push_back(juggles);
     if (progress) {
       progress(absl::StrFormat("episode %d/%d: %d juggles, %zu re-plan states so far", e + 1,
                                o.episodes, juggles, fork_var.size()));

@@ -5,7 +5,9 @@
 // clocks; other streams) plan the same state, and their actions are compared. The spread is
 // reported in the units of the imitation loss (learner/imitation_schedule.h): per action the
 // squared deviation weighted by 1/max(σ_a², min_label_std²), σ_a the label spread over every
-// visited state. Thread-compatible.
+// visited state. With a student and `student_mix` β > 0 the env executes label + β·(student −
+// label) instead (β = 1: the student drives, the planner only labels), which measures how much
+// of the student's error the juggle tolerates (docs/learning.md). Thread-compatible.
 #ifndef JUGGLE_PLANNER_LABEL_SPREAD_H_
 #define JUGGLE_PLANNER_LABEL_SPREAD_H_
 
@@ -24,18 +26,21 @@ namespace juggle::planner {
 struct LabelSpreadOptions {
   int episodes = 4;
   double seconds = 10;   // per episode (simulated)
-  int forks = 4;         // re-plans of each state, besides the driving one
+  int forks = 4;         // re-plans of each state, besides the driving one (0: none)
   uint64_t seed = 1;     // episode starts: streams (seed, 0, episode)
   double min_label_std = 0.08;
   // Optional: a student policy whose mean action is compared with the driving planner's label
   // at every visited state (its label error in the same units).
   const EigenPolicy* student = nullptr;
+  // In [0, 1]: the executed action is label + student_mix·(student − label). Needs a student.
+  double student_mix = 0;
 };
 
 struct LabelSpreadReport {
   int states = 0;       // re-plan states measured
   int steps = 0;        // states visited (labels for σ_a)
-  int juggles = 0;      // the driving planner's, over the episodes
+  int juggles = 0;      // of the executed actions, over the episodes
+  std::vector<int> episode_juggles;
   std::vector<double> label_std;   // σ_a over every visited state's label
   std::vector<double> fork_std;    // per action: RMS over states of the forks' std
   // Mean over states and actions of w_a·s²_a(state), s² the forks' unbiased variance.
@@ -46,7 +51,8 @@ struct LabelSpreadReport {
   double student_weighted_error = 0;
 };
 
-// Errors: the planner config check, a family the planner cannot drive.
+// Errors: the planner config check, a family the planner cannot drive, forks of 1, a mix out
+// of [0, 1] or without a student.
 absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
     std::shared_ptr<const EnvSpec> spec, const LoadedConfig& config,
     const LabelSpreadOptions& options, const std::function<void(const std::string&)>& progress);

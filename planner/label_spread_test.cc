@@ -1,0 +1,136 @@
+// The label-spread measurement's student mix: β = 1 executes the student's own actions (checked
+// against a plain rollout of the same start), β = 0 the planner's, and bad options are refused.
+#include "planner/label_spread.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/adaptive_walk.h"
+#include "common/network_layout.h"
+#include "envs/registry.h"
+#include "envs/testing/test_configs.h"
+#include "gtest/gtest.h"
+
+namespace juggle::planner {
+namespace {
+
+// A policy whose mean action is tanh(bias) for every action: an MLP with zero weights.
+EigenPolicy ConstantPolicy(int obs_dim, int act_dim, float bias) {
+  config::ModelConfig model;
+  model.set_architecture(config::MLP);
+  model.add_mlp_hidden(4);
+  std::vector<TensorSpec> layout = NetworkLayout(model, "actor", obs_dim, act_dim);
+  layout.push_back({"actor.log_std", {act_dim}});
+  int64_t total = 0;
+  for (const TensorSpec& t : layout) total += t.numel();
+  std::vector<float> values(total, 0.0f);
+  int64_t offset = 0;
+  for (const TensorSpec& t : layout) {
+    if (t.name == "actor.b1") std::fill_n(values.begin() + offset, act_dim, bias);
+    offset += t.numel();
+  }
+  absl::StatusOr<FlatParameters> params = FlatParameters::Create(1, layout, values);
+  return *EigenPolicy::Create(model, *params, obs_dim, act_dim);
+}
+
+class LabelSpreadTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    absl::StatusOr<LoadedConfig> config =
+        LoadRunConfig(testing::RepoPath("configs/right_foot_planner.textproto"));
+    ASSERT_TRUE(config.ok()) << config.status();
+    config_ = *std::move(config);
+    config::PlannerConfig& p = *config_.run.mutable_planner();
+    p.set_samples(6);
+    p.set_iterations(1);
+    p.set_horizon_steps(20);
+    p.set_threads(1);
+    absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(config_);
+    ASSERT_TRUE(spec.ok()) << spec.status();
+    spec_ = *spec;
+  }
+
+  // Steps of a plain rollout of episode `e`'s start with one constant action.
+  int PlainRolloutSteps(uint64_t seed, int e, float action, int max_steps, int* juggles) {
+    const AdaptiveWalk walk(&spec_->graph());
+    std::unique_ptr<Env> env = spec_->NewEnv(Rng::ForStream(seed, 0, e));
+    env->Reset(walk);
+    std::vector<float> a(spec_->act_dim(), action);
+    int steps = 0;
+    while (steps < max_steps) {
+      ++steps;
+      if (env->Step(a.data(), walk).outcome != Outcome::kRunning) break;
+    }
+    *juggles = env->juggles();
+    return steps;
+  }
+
+  LoadedConfig config_;
+  std::shared_ptr<const EnvSpec> spec_;
+};
+
+TEST_F(LabelSpreadTest, AFullMixExecutesTheStudentsOwnActions) {
+  const float bias = 0.9f;  // every joint pushed hard: the character falls within the episode
+  const EigenPolicy student = ConstantPolicy(spec_->obs_dim(), spec_->act_dim(), bias);
+  LabelSpreadOptions o;
+  o.episodes = 1;
+  o.seconds = 1.5;
+  o.forks = 0;
+  o.seed = 7;
+  o.student = &student;
+  o.student_mix = 1.0;
+  absl::StatusOr<LabelSpreadReport> r = MeasureLabelSpread(spec_, config_, o, nullptr);
+  ASSERT_TRUE(r.ok()) << r.status();
+  int juggles = 0;
+  const int max_steps = static_cast<int>(std::lround(o.seconds / spec_->control_dt()));
+  // The student's constant action, exactly (label + 1·(student − label) in double is exact).
+  const std::vector<float> zeros(spec_->obs_dim(), 0.0f);
+  const float action = student.MeanActions(zeros.data(), 1)(0, 0);
+  EXPECT_NEAR(action, std::tanh(bias), 1e-5);
+  const int plain_steps = PlainRolloutSteps(o.seed, 0, action, max_steps, &juggles);
+  ASSERT_LT(plain_steps, max_steps);  // it ends early, unlike the planner's own episode
+  EXPECT_EQ(r->steps, plain_steps);
+  EXPECT_EQ(r->juggles, juggles);
+  EXPECT_EQ(r->states, 0);  // no forks: no spread measured
+  // The labels are the planner's, not the student's: its error against them is not zero.
+  ASSERT_EQ(r->student_rmse.size(), static_cast<size_t>(spec_->act_dim()));
+  double largest = 0;
+  for (double e : r->student_rmse) largest = std::max(largest, e);
+  EXPECT_GT(largest, 0.05);
+}
+
+TEST_F(LabelSpreadTest, NoMixLetsThePlannerDriveWhateverTheStudent) {
+  const EigenPolicy far = ConstantPolicy(spec_->obs_dim(), spec_->act_dim(), 0.9f);
+  const EigenPolicy near = ConstantPolicy(spec_->obs_dim(), spec_->act_dim(), -0.9f);
+  LabelSpreadOptions o;
+  o.episodes = 1;
+  o.seconds = 0.4;
+  o.forks = 0;
+  o.student = &far;
+  absl::StatusOr<LabelSpreadReport> a = MeasureLabelSpread(spec_, config_, o, nullptr);
+  o.student = &near;
+  absl::StatusOr<LabelSpreadReport> b = MeasureLabelSpread(spec_, config_, o, nullptr);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_EQ(a->label_std, b->label_std);  // the same visited states and labels
+  EXPECT_NE(a->student_rmse, b->student_rmse);
+}
+
+TEST_F(LabelSpreadTest, RefusesAMixWithoutStudentOrOutOfRangeAndOneFork) {
+  LabelSpreadOptions o;
+  o.forks = 0;
+  o.student_mix = 0.5;
+  EXPECT_EQ(MeasureLabelSpread(spec_, config_, o, nullptr).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  const EigenPolicy student = ConstantPolicy(spec_->obs_dim(), spec_->act_dim(), 0.0f);
+  o.student = &student;
+  o.student_mix = 1.5;
+  EXPECT_EQ(MeasureLabelSpread(spec_, config_, o, nullptr).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  o.student_mix = 0;
+  o.forks = 1;
+  EXPECT_EQ(MeasureLabelSpread(spec_, config_, o, nullptr).status().code(),
+            absl::StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace juggle::planner

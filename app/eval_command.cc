@@ -68,6 +68,7 @@ std::function<void(int, const planner::ReplanReport&)> PlannerProgress(
                     spec->outcome_names()[static_cast<int>(r.predicted_end)].c_str(),
                     r.predicted_end_step);
       }
+      if (r.predicts_miss) std::printf(" misses a contact at step %d", r.predicted_end_step);
       if (!r.kick.empty()) {
         std::printf("  vars %+.0f ms %+.2f %+.2f %+.2f %+.2f", r.kick[0] * 1000, r.kick[1],
                     r.kick[2], r.kick[3], r.kick[4]);

@@ -46,6 +46,11 @@ KickOutcome OutcomeAt(const JuggleEnv& env, int node, double seconds_to_contact,
 
 }  // namespace
 
+bool MissedThisCycle(const JuggleEnv& env) {
+  return !env.state().kick_touched &&
+         env.spec().graph().node(env.node()).stage == config::UP;
+}
+
 LandingAnchors MakeLandingAnchors(const JuggleSpec& spec, bool stance) {
   LandingAnchors a;
   a.stance = stance;
@@ -201,6 +206,14 @@ double SoccerRolloutScorer::Finish(const JuggleEnv& env) {
   total += body_ / horizon_;
   if (failed_) return total;
   total += cost_.terminal() * BodyCost(env, cost_);
+  if (MissedThisCycle(env)) {
+    // The clock has passed this cycle's contact without a touch: the episode will end (the
+    // ball is lost, or a late touch breaks the window) just after the horizon. Scored as a
+    // failure at the horizon's end, misses ranked by how close the ball came.
+    missed_ = true;
+    return total + cost_.failure() +
+           cost_.miss() * Square(std::min(clearance_, BallClearance(env)) / cost_.landing_scale());
+  }
   if (!env.state().kick_touched) {
     const KickOutcome a = PredictApproach(env, anchors_);
     if (a.valid) {

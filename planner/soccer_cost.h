@@ -46,6 +46,10 @@ KickOutcome PredictKickOutcome(const soccer_juggle::JuggleEnv& env,
 KickOutcome PredictApproach(const soccer_juggle::JuggleEnv& env,
                             const LandingAnchors* anchors = nullptr);
 
+// The current cycle's contact has passed without a touch: the node is past its DOWN stage
+// (UP) and the ball was not touched in this cycle.
+bool MissedThisCycle(const soccer_juggle::JuggleEnv& env);
+
 // How far (m) the ball's surface is from the nearest geom of a body the current node allows to
 // touch it (geom centres less their bounding radii: a ranking, not a collision distance).
 double BallClearance(const soccer_juggle::JuggleEnv& env);
@@ -62,8 +66,15 @@ class SoccerRolloutScorer {
   void Begin(const soccer_juggle::JuggleEnv& env);
   // After each step with its action ([kNumActions]) and result.
   void AfterStep(const soccer_juggle::JuggleEnv& env, const float* action, const StepResult& r);
-  // The total, with the terminal and approach terms of the last state.
+  // The total, with the terminal and approach terms of the last state. A last state whose
+  // cycle has passed its contact without a touch (MissedThisCycle) costs a failure at the
+  // horizon's end (missed() is then true).
   double Finish(const soccer_juggle::JuggleEnv& env);
+  bool missed() const { return missed_; }
+  // A touch that has not yet released the ball (the kick is scored at its release).
+  bool kick_in_contact(const soccer_juggle::JuggleEnv& env) const {
+    return env.state().kick_touched && env.state().touched_this_step && !scored_this_cycle_;
+  }
   // The cost so far: never more than the total (every term is non-negative and the per-step
   // body terms are summed over the horizon).
   double partial() const { return failure_ + kick_ + effort_ + body_ / horizon_; }
@@ -82,6 +93,7 @@ class SoccerRolloutScorer {
   // The closest the ball came to an allowed body in the current cycle before a touch.
   double clearance_ = 1e9;
   bool failed_ = false;
+  bool missed_ = false;
   int kicks_ = 0;
   KickOutcome first_kick_;
   float previous_action_[soccer_juggle::kNumActions] = {0};

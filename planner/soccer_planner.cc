@@ -90,6 +90,12 @@ SoccerPlanner::RolloutResult SoccerPlanner::Rollout(JuggleEnv* env, const double
     if (config_.steps_after_kick() > 0 && scorer.kicks() == 1 && end == layout_.horizon) {
       end = std::min(end, t + 1 + config_.steps_after_kick());
     }
+    // A horizon that would end with the ball still on the foot runs on to its release (a
+    // few steps) so that the kick is scored.
+    if (t + 1 == end && end >= layout_.horizon && end < layout_.horizon + kReleaseSteps &&
+        scorer.kick_in_contact(*env)) {
+      ++end;
+    }
     if (env->node() != node) {
       node = env->node();
       if (spec_->graph().node(node).stage == config::DOWN) ++clock.cycle;
@@ -98,6 +104,7 @@ SoccerPlanner::RolloutResult SoccerPlanner::Rollout(JuggleEnv* env, const double
   result.first_kick = scorer.first_kick();
   result.steps = t;
   result.cost = scorer.Finish(*env);
+  result.missed = scorer.missed();
   return result;
 }
 
@@ -310,6 +317,7 @@ absl::Status SoccerPlanner::Replan(const JuggleEnv& env) {
   last_.predicted_end = chosen.end;
   last_.predicted_end_step = env.steps() + chosen.steps;
   last_.predicts_failure = chosen.end != Outcome::kRunning && chosen.end != Outcome::kTimeLimit;
+  last_.predicts_miss = chosen.missed;
   return status;
 }
 

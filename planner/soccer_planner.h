@@ -35,6 +35,7 @@ struct ReplanReport {
   bool predicts_failure = false;  // the best plan's rollout ends the episode
   Outcome predicted_end = Outcome::kRunning;  // how, and after how many steps
   int predicted_end_step = 0;
+  bool predicts_miss = false;  // its horizon ends past a contact its cycle did not make
   KickOutcome predicted_kick;  // the best plan's first kick inside the horizon, if any
   std::vector<double> kick;    // the best plan's kick variables of the current cycle
 };
@@ -82,10 +83,13 @@ class SoccerPlanner {
 
  private:
   // Simulates `theta` from the pool env's restored state; returns its cost.
+  // At most this many steps past the horizon to let a kick in contact release the ball.
+  static constexpr int kReleaseSteps = 6;
   struct RolloutResult {
     double cost = 0;
     int steps = 0;
     Outcome end = Outcome::kRunning;
+    bool missed = false;  // SoccerRolloutScorer::missed
     KickOutcome first_kick;
   };
   // `clock`: where the rollout's first state is in the plan.

@@ -178,6 +178,84 @@ TEST_F(SoccerPlannerTest, AReleasedKickKeepsItsVariablesUntilTheNextCycle) {
   EXPECT_GE(replans_after, 3);
 }
 
+// A planner that can only choose the nominal swing (zero spreads, no rescue): its plan is the
+// zero action, so its predictions can be checked against a plain zero-action rollout.
+config::PlannerConfig NominalOnly(config::PlannerConfig p, int horizon) {
+  p.mutable_kick()->set_phase_sigma_s(0);
+  p.mutable_kick()->set_angle_sigma(0);
+  p.mutable_rescue()->set_cost_above(0);
+  p.set_horizon_steps(horizon);
+  return p;
+}
+
+// A horizon that ends while the foot is on the ball runs on to the release, so the kick is
+// scored; its prediction equals what the zero action then does, bit for bit.
+TEST_F(SoccerPlannerTest, AHorizonEndingInContactRunsOnToTheReleaseAndScoresTheKick) {
+  std::unique_ptr<JuggleEnv> probe = StartWithBallAhead(0.0);
+  const float zero[kNumActions] = {0};
+  int first_touch = 0;
+  for (int t = 1; t <= 60 && first_touch == 0; ++t) {
+    ASSERT_EQ(probe->Step(zero, *walk_).outcome, Outcome::kRunning);
+    if (probe->state().touched_this_step) first_touch = t;
+  }
+  ASSERT_GT(first_touch, 1);
+  const KickOutcome executed = ZeroActionKick(probe.get(), *walk_);
+  ASSERT_TRUE(executed.valid);
+  for (int horizon : {first_touch, first_touch - 1}) {
+    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.0);
+    SoccerPlanner planner(spec_, NominalOnly(config_.run.planner(), horizon), pool_.get(), 0);
+    float action[kNumActions];
+    ASSERT_TRUE(planner.Act(*env, action).ok());
+    for (float a : action) ASSERT_EQ(a, 0.0f);
+    const KickOutcome& predicted = planner.last_replan().predicted_kick;
+    if (horizon == first_touch) {  // ends on the ball: scored at its release
+      ASSERT_TRUE(predicted.valid);
+      EXPECT_EQ(predicted.timing, executed.timing);
+      EXPECT_EQ(predicted.dx, executed.dx);
+      EXPECT_EQ(predicted.dy, executed.dy);
+    } else {  // ends before the touch: no kick yet
+      EXPECT_FALSE(predicted.valid);
+    }
+  }
+}
+
+// A horizon that ends after the clock has passed the contact with no touch in the cycle
+// predicts a miss, which costs a failure; one that ends before the contact does not.
+TEST_F(SoccerPlannerTest, AHorizonEndingPastAMissedContactCostsAFailure) {
+  // The ball 1 m higher: it comes down long after the swing has passed.
+  auto late_ball = [&] {
+    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.0);
+    env->data()->qpos[spec_->ball_qpos() + 2] += 1.0;
+    mj_forward(spec_->model(), env->data());
+    return env;
+  };
+  // The node turns UP without a touch within 40 steps of zero action, and nothing ends.
+  std::unique_ptr<JuggleEnv> probe = late_ball();
+  const float zero[kNumActions] = {0};
+  int up_at = 0;
+  for (int t = 1; t <= 40 && up_at == 0; ++t) {
+    ASSERT_EQ(probe->Step(zero, *walk_).outcome, Outcome::kRunning);
+    ASSERT_FALSE(probe->state().kick_touched);
+    if (spec_->graph().node(probe->node()).stage == config::UP) up_at = t;
+  }
+  ASSERT_GT(up_at, 2);
+  const double failure = config_.run.planner().cost().failure();
+  for (int horizon : {up_at + 2, up_at - 2}) {
+    std::unique_ptr<JuggleEnv> env = late_ball();
+    SoccerPlanner planner(spec_, NominalOnly(config_.run.planner(), horizon), pool_.get(), 0);
+    float action[kNumActions];
+    ASSERT_TRUE(planner.Act(*env, action).ok());
+    const ReplanReport& r = planner.last_replan();
+    if (horizon > up_at) {
+      EXPECT_TRUE(r.predicts_miss);
+      EXPECT_GE(r.best_cost, failure);
+    } else {
+      EXPECT_FALSE(r.predicts_miss);
+      EXPECT_LT(r.best_cost, failure);
+    }
+  }
+}
+
 // The rescue search (PlannerConfig.rescue) runs only for a re-plan whose best plan costs more
 // than its threshold, starts from that plan, and so never returns a costlier one.
 TEST_F(SoccerPlannerTest, ARescueSearchRunsOnlyAboveItsCostAndNeverRaisesIt) {

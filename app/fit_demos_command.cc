@@ -49,6 +49,10 @@ CommandBody AddFitDemosCommand(CLI::App* cmd) {
   cmd->add_option("--held-out", f->options.held_out, "the newest share of rows, not trained on")
       ->check(CLI::Range(0.01, 0.9))
       ->capture_default_str();
+  cmd->add_option("--train-rows", f->options.train_rows,
+                  "train on only the newest this many of the training rows (0: all): a learning "
+                  "curve against one held-out set")
+      ->check(CLI::Range(int64_t{0}, int64_t{1} << 40));
   cmd->add_option("--rows", f->options.rows,
                   "only the oldest this many rows (0: all), to compare buffers at one size")
       ->check(CLI::Range(int64_t{0}, int64_t{1} << 40));

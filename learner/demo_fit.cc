@@ -31,7 +31,7 @@ absl::StatusOr<std::vector<DemoFitEpoch>> FitDemos(
     const std::function<void(const DemoFitEpoch&)>& progress) {
   const int64_t n = options.rows > 0 ? std::min(options.rows, demos.size()) : demos.size();
   const int64_t held = static_cast<int64_t>(std::llround(options.held_out * n));
-  const int64_t train = n - held;
+  int64_t train = n - held;
   if (held < 1 || train < 2) {
     return absl::InvalidArgumentError(absl::StrCat(
         "the demonstration buffer holds ", n, " rows: too few to hold out ", options.held_out,
@@ -76,17 +76,20 @@ absl::StatusOr<std::vector<DemoFitEpoch>> FitDemos(
     obs = obs.index_select(0, perm);
     labels = labels.index_select(0, perm);
   }
-  const torch::Tensor train_obs = obs.slice(0, 0, train), train_labels = labels.slice(0, 0, train);
+  const torch::Tensor weights =
+      1.0 / torch::clamp(labels.slice(0, 0, train).var(0, /*unbiased=*/false),
+                         options.min_label_std * options.min_label_std);
   const torch::Tensor held_obs = obs.slice(0, train), held_labels = labels.slice(0, train);
+  const int64_t first = options.train_rows > 0 ? std::max<int64_t>(0, train - options.train_rows) : 0;
+  const torch::Tensor train_obs = obs.slice(0, first, train);
+  const torch::Tensor train_labels = labels.slice(0, first, train);
+  train -= first;
 
   ActorCritic net(model, obs_dim, demos.act_dim());
   // The observation normalizer from the training rows.
   net.normalize = true;
   net.norm_mean.copy_(train_obs.mean(0));
   net.norm_inv_std.copy_(1.0 / torch::clamp(train_obs.std(0, /*unbiased=*/false), 1e-2));
-  const torch::Tensor weights =
-      1.0 / torch::clamp(train_labels.var(0, /*unbiased=*/false),
-                         options.min_label_std * options.min_label_std);
   auto error = [&](const torch::Tensor& mean, const torch::Tensor& target) {
     return ((mean - target).pow(2) * weights).mean();
   };

@@ -21,6 +21,10 @@ struct DemoFitOptions {
   double held_out = 0.2;     // the newest share of rows, not trained on
   int64_t rows = 0;          // > 0: only the oldest this many rows (buffers compared at one size)
   int obs_prefix = 0;        // > 0: only the first this many observation floats (an input ablation)
+  // > 0: train on only the newest this many of the training rows (those just before the
+  // held-out share): a learning curve against one held-out set. The error's per-action
+  // weights still come from every training row, so the units do not change with it.
+  int64_t train_rows = 0;
   // Hold out a random share instead (rows alike in time fall on both sides: an upper bound of
   // how well the student fits states like those it was shown).
   bool random_split = false;

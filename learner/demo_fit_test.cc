@@ -83,6 +83,25 @@ TEST(DemoFitTest, NoiseLabelsDoNotGeneralize) {
   EXPECT_LT(fit->back().action_r2[0], 0.05);
 }
 
+// --train-rows: a learning curve against one held-out set. Fewer training rows fit the same
+// held-out rows worse; a limit beyond the training share changes nothing.
+TEST(DemoFitTest, FewerTrainingRowsFitTheSameHeldOutRowsWorse) {
+  DemoBuffer demos(4000, kObs, kAct);
+  demos.AddLabelled(Labelled(2000, true, 4));
+  DemoFitOptions options;
+  options.epochs = 30;
+  options.minibatch = 16;
+  auto held_out = [&](int64_t train_rows) {
+    options.train_rows = train_rows;
+    absl::StatusOr<std::vector<DemoFitEpoch>> fit = FitDemos(demos, SmallMlp(), options);
+    EXPECT_TRUE(fit.ok()) << fit.status();
+    return fit.ok() ? fit->back().held_out_error : 0.0;
+  };
+  const double all = held_out(0), few = held_out(60), beyond = held_out(100000);
+  EXPECT_GT(few, 2 * all);
+  EXPECT_EQ(beyond, all);
+}
+
 TEST(DemoFitTest, TheHeldOutRowsAreTheNewestAlsoAfterTheBufferWrapped) {
   // 150 rows in a buffer of 100: rows 50..149 are held, the oldest at row 50 % 100.
   DemoBuffer demos(100, kObs, kAct);

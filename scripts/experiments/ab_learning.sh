@@ -4,6 +4,9 @@
 # share the 2 cores evenly — for MINUTES of wall time, then evaluates every final policy with
 # `juggle eval` (EPISODES episodes from held-out seeds, episodes up to 60 s) and appends a row
 # per run to OUT_DIR/summary.tsv. Runs in OUT_DIR/<config name>_s<seed>/.
+# Resumable: a run directory with a checkpoint continues (`juggle train --resume`) for what is
+# left of MINUTES of its cumulative training time (metrics.jsonl's train_s); a run that has had
+# its MINUTES is not trained again; one already evaluated (final_eval.txt) is not re-evaluated.
 #
 # usage: scripts/experiments/ab_learning.sh OUT_DIR MINUTES "SEED..." CONFIG [CONFIG...]
 #   EPISODES=50 JUGGLE=build/release/juggle scripts/experiments/ab_learning.sh runs/ab 30 "1 2 3" \
@@ -25,15 +28,26 @@ for seed in $seeds; do
   for config in "$@"; do
     name=$(basename "$config" .textproto)
     dir="$out/${name}_s$seed"
-    rm -rf "$dir"
-    "$juggle" train --config="$config" --seed="$seed" --run_dir="$dir" --minutes="$minutes" \
-        --workers=1 --threads=1 > "$out/${name}_s$seed.log" 2>&1 &
+    resume=()
+    left=$minutes
+    if ls "$dir"/checkpoints/* > /dev/null 2>&1; then
+      done_s=$(grep -o '"train_s": *[0-9.]*' "$dir/metrics.jsonl" | tail -n 1 | sed 's/.*: *//')
+      left=$(awk -v m="$minutes" -v s="${done_s:-0}" 'BEGIN { l = m - s / 60; print (l > 0.5 ? l : 0) }')
+      resume=(--resume)
+    else
+      rm -rf "$dir"
+    fi
+    [ "$left" = 0 ] && continue
+    echo "$name seed $seed: training for $left of $minutes minutes ${resume[*]}"
+    "$juggle" train --config="$config" --seed="$seed" --run_dir="$dir" --minutes="$left" \
+        "${resume[@]}" --workers=1 --threads=1 >> "$out/${name}_s$seed.log" 2>&1 &
     pids+=($!)
   done
   for pid in "${pids[@]}"; do wait "$pid"; done
   for config in "$@"; do
     name=$(basename "$config" .textproto)
     dir="$out/${name}_s$seed"
+    [ -s "$dir/final_eval.txt" ] && continue
     line=$("$juggle" eval --policy="$dir" --episodes="$episodes" --max_seconds=60 | tail -n 1)
     echo "$line" > "$dir/final_eval.txt"
     last=$(grep -v '"event"' "$dir/metrics.jsonl" | tail -n 1)

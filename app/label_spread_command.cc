@@ -10,10 +10,38 @@
 #include "app/commands.h"
 #include "app/planner_flags.h"
 #include "app/policy_source.h"
+#include "common/file_io.h"
 #include "envs/registry.h"
+#include "learner/demo_buffer.h"
 #include "planner/label_spread.h"
+#include "planner/soccer_plan.h"
 
 namespace juggle {
+
+namespace {
+
+// The kept rows as a demonstration buffer, one unroll per episode (juggle fit-demos reads it).
+absl::Status WriteRows(const planner::LabelSpreadReport& r, int obs_dim, int label_dim,
+                       const std::vector<float>& labels, const std::string& path) {
+  DemoBuffer demos(std::max(r.steps, 1), obs_dim, label_dim);
+  int64_t first = 0;
+  for (int steps : r.episode_steps) {
+    UnrollBatch b;
+    b.num_unrolls = 1;
+    b.unroll_length = steps;
+    b.obs_dim = obs_dim;
+    b.act_dim = label_dim;
+    b.labelled = {1};
+    b.obs.assign(r.row_obs.begin() + first * obs_dim, r.row_obs.begin() + (first + steps) * obs_dim);
+    b.labels.assign(labels.begin() + first * label_dim,
+                    labels.begin() + (first + steps) * label_dim);
+    demos.AddLabelled(b);
+    first += steps;
+  }
+  return WriteFileAtomically(path, demos.Serialize());
+}
+
+}  // namespace
 
 CommandBody AddLabelSpreadCommand(CLI::App* cmd) {
   struct Flags {
@@ -21,6 +49,8 @@ CommandBody AddLabelSpreadCommand(CLI::App* cmd) {
     planner::LabelSpreadOptions options;
     PlannerFlags planner;
     std::string student;
+    std::string dump_demos;
+    std::string dump_kicks;
   };
   auto f = std::make_shared<Flags>();
   cmd->add_option("--config", f->config, "run config with a planner section (the teacher's)")
@@ -48,6 +78,12 @@ CommandBody AddLabelSpreadCommand(CLI::App* cmd) {
                   "(how much of the student's error the juggle tolerates)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
+  cmd->add_option("--dump-demos", f->dump_demos,
+                  "also write every visited state with the planner's action as a demonstration "
+                  "buffer (juggle fit-demos reads it)");
+  cmd->add_option("--dump-kicks", f->dump_kicks,
+                  "also write every visited state with the planner's 5 kick variables of the "
+                  "current cycle (at its last re-plan) as labels, the same way");
   AddPlannerFlags(cmd, &f->planner);
   return [f] {
     absl::StatusOr<LoadedConfig> config = LoadRunConfig(f->config);
@@ -62,6 +98,7 @@ CommandBody AddLabelSpreadCommand(CLI::App* cmd) {
       student = *std::move(s);
       f->options.student = student->policy.get();
     }
+    f->options.keep_rows = !f->dump_demos.empty() || !f->dump_kicks.empty();
     const config::PlannerConfig& pc = config->run.planner();
     std::printf("planner: %d samples x %d iterations, horizon %d, re-plan every %d, kick "
                 "consistency %g; %d forks per re-plan state\n",
@@ -89,6 +126,18 @@ CommandBody AddLabelSpreadCommand(CLI::App* cmd) {
                 r->weighted_spread);
     if (student) std::printf(" student_weighted_error=%.4f", r->student_weighted_error);
     std::printf("\n");
+    for (const bool kicks : {false, true}) {
+      const std::string& path = kicks ? f->dump_kicks : f->dump_demos;
+      if (path.empty()) continue;
+      if (absl::Status s = WriteRows(*r, (*spec)->obs_dim(),
+                                     kicks ? planner::kKickVariables : (*spec)->act_dim(),
+                                     kicks ? r->row_kicks : r->row_labels, path);
+          !s.ok()) {
+        return Fail(s);
+      }
+      std::printf("wrote %d states (%s) to %s\n", r->steps, kicks ? "kick variables" : "actions",
+                  path.c_str());
+    }
     return 0;
   };
 }

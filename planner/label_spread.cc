@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -52,7 +53,18 @@ absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
     for (int k = 0; k < steps; ++k) {
       std::vector<SoccerPlanner> forks;
       for (int f = 0; f < o.forks; ++f) forks.push_back(driver.Fork((uint64_t(e) << 8) + 1 + f));
+      if (o.keep_rows) {
+        env->WriteObservation(obs.data());
+        report.row_obs.insert(report.row_obs.end(), obs.begin(), obs.end());
+      }
       RETURN_IF_ERROR(driver.Act(juggle_env, a.data()));
+      if (o.keep_rows) {
+        report.row_labels.insert(report.row_labels.end(), a.begin(), a.end());
+        const std::vector<double>& kick = driver.last_replan().kick;
+        for (int v = 0; v < kKickVariables; ++v) {
+          report.row_kicks.push_back(v < static_cast<int>(kick.size()) ? float(kick[v]) : 0.0f);
+        }
+      }
       if (o.forks > 0 && driver.last_replan().env_step == env->steps()) {  // re-planned here
         std::vector<double> mean(act, 0), sq(act, 0);
         for (SoccerPlanner& fork : forks) {
@@ -88,6 +100,11 @@ absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
       if (r.outcome != Outcome::kRunning) break;
     }
     report.juggles += juggles;
+    if (o.keep_rows) {
+      report.episode_steps.push_back(static_cast<int>(report.row_labels.size() / act) -
+                                     std::accumulate(report.episode_steps.begin(),
+                                                     report.episode_steps.end(), 0));
+    }
     report.episode_juggles.push_back(juggles);
     if (progress) {
       progress(absl::StrFormat("episode %d/%d: %d juggles, %zu re-plan states so far", e + 1,

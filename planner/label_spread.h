@@ -34,6 +34,9 @@ struct LabelSpreadOptions {
   const EigenPolicy* student = nullptr;
   // In [0, 1]: the executed action is label + student_mix·(student − label). Needs a student.
   double student_mix = 0;
+  // Keep every visited state's observation, label and the kick variables the planner had
+  // chosen for the current cycle at its last re-plan (LabelSpreadReport rows).
+  bool keep_rows = false;
 };
 
 struct LabelSpreadReport {
@@ -49,6 +52,10 @@ struct LabelSpreadReport {
   // mean over states and actions of w_a·(student − label)².
   std::vector<double> student_rmse;
   double student_weighted_error = 0;
+  // With keep_rows, per visited state in order: observation [obs_dim], label [act_dim], kick
+  // variables [kKickVariables]; episode_steps[e] states belong to episode e.
+  std::vector<float> row_obs, row_labels, row_kicks;
+  std::vector<int> episode_steps;
 };
 
 // Errors: the planner config check, a family the planner cannot drive, forks of 1, a mix out

@@ -1,6 +1,7 @@
 // The label-spread measurement's student mix: β = 1 executes the student's own actions (checked
 // against a plain rollout of the same start), β = 0 the planner's, and bad options are refused.
 #include "planner/label_spread.h"
+#include "planner/soccer_plan.h"
 
 #include <algorithm>
 #include <cmath>
@@ -113,6 +114,37 @@ TEST_F(LabelSpreadTest, NoMixLetsThePlannerDriveWhateverTheStudent) {
   ASSERT_TRUE(a.ok() && b.ok());
   EXPECT_EQ(a->label_std, b->label_std);  // the same visited states and labels
   EXPECT_NE(a->student_rmse, b->student_rmse);
+}
+
+TEST_F(LabelSpreadTest, KeptRowsHoldEveryVisitedStateWithItsLabelAndKick) {
+  LabelSpreadOptions o;
+  o.episodes = 2;
+  o.seconds = 0.3;
+  o.forks = 0;
+  o.keep_rows = true;
+  absl::StatusOr<LabelSpreadReport> r = MeasureLabelSpread(spec_, config_, o, nullptr);
+  ASSERT_TRUE(r.ok()) << r.status();
+  const int act = spec_->act_dim();
+  ASSERT_EQ(r->episode_steps.size(), 2u);
+  EXPECT_EQ(r->episode_steps[0] + r->episode_steps[1], r->steps);
+  EXPECT_EQ(r->row_obs.size(), size_t(r->steps) * spec_->obs_dim());
+  ASSERT_EQ(r->row_labels.size(), size_t(r->steps) * act);
+  EXPECT_EQ(r->row_kicks.size(), size_t(r->steps) * kKickVariables);
+  // The kept labels are the ones the report's spread was computed from.
+  for (int i = 0; i < act; ++i) {
+    double sum = 0, sq = 0;
+    for (int k = 0; k < r->steps; ++k) {
+      const double x = r->row_labels[size_t(k) * act + i];
+      sum += x;
+      sq += x * x;
+    }
+    const double m = sum / r->steps;
+    EXPECT_NEAR(std::sqrt(std::max(0.0, sq / r->steps - m * m)), r->label_std[i], 1e-6) << i;
+  }
+  // The planner moved some kick variable away from the nominal swing.
+  double largest = 0;
+  for (float v : r->row_kicks) largest = std::max(largest, double(std::abs(v)));
+  EXPECT_GT(largest, 0.0);
 }
 
 TEST_F(LabelSpreadTest, RefusesAMixWithoutStudentOrOutOfRangeAndOneFork) {

@@ -13,6 +13,8 @@
 #include "common/config_loader.h"
 #include "common/file_io.h"
 #include "envs/registry.h"
+#include "common/policy_file.h"
+#include "envs/policy_config.h"
 #include "learner/demo_fit.h"
 
 namespace juggle {
@@ -24,6 +26,7 @@ CommandBody AddFitDemosCommand(CLI::App* cmd) {
     std::string model_set;
     std::string actions = "14,15,16,17,20";
     std::string json;
+    std::string save_policy;
     DemoFitOptions options;
   };
   auto f = std::make_shared<Flags>();
@@ -76,6 +79,10 @@ CommandBody AddFitDemosCommand(CLI::App* cmd) {
                   "hip, knee and ankle actions the planner moves)")
       ->capture_default_str();
   cmd->add_option("--json", f->json, "also write one JSON line per epoch here");
+  cmd->add_option("--save-policy", f->save_policy,
+                  "write the fitted actor as a self-contained policy file (.jglpolicy) under "
+                  "--config, for juggle eval/render (the buffer's observations must be the "
+                  "config's, whole: no --obs-prefix or --previous-label)");
   return [f] {
     absl::StatusOr<LoadedConfig> config = LoadRunConfig(f->config);
     if (!config.ok()) return Fail(config.status());
@@ -110,6 +117,22 @@ CommandBody AddFitDemosCommand(CLI::App* cmd) {
                 path.c_str(), 100 * f->options.held_out, f->options.epochs, f->options.minibatch,
                 f->options.lr);
     std::string json;
+    std::shared_ptr<const EnvSpec> spec;
+    if (!f->save_policy.empty()) {
+      absl::StatusOr<std::shared_ptr<const EnvSpec>> made = CreateEnvSpec(*config);
+      if (!made.ok()) return Fail(made.status());
+      spec = *made;
+      if (spec->obs_dim() != demos->obs_dim() || spec->act_dim() != demos->act_dim() ||
+          f->options.obs_prefix > 0 || f->options.previous_label_unroll > 0) {
+        return Fail(absl::InvalidArgumentError(absl::StrCat(
+            "--save-policy: ", f->config, " makes an env with ", spec->obs_dim(),
+            " observations and ", spec->act_dim(), " actions; the fitted policy sees ",
+            f->options.obs_prefix > 0 ? f->options.obs_prefix : demos->obs_dim(),
+            f->options.previous_label_unroll > 0 ? " plus the previous label" : "",
+            " and acts on ", demos->act_dim())));
+      }
+    }
+    FlatParameters fitted;
     absl::StatusOr<std::vector<DemoFitEpoch>> fit =
         FitDemos(*demos, model, f->options, [&](const DemoFitEpoch& r) {
           std::string line = absl::StrFormat("epoch %d: train %.4f held-out %.4f |", r.epoch,
@@ -127,8 +150,22 @@ CommandBody AddFitDemosCommand(CLI::App* cmd) {
           absl::StrAppend(&json, j, "}\n");
           std::printf("%s\n", line.c_str());
           std::fflush(stdout);
-        });
+        }, f->save_policy.empty() ? nullptr : &fitted);
     if (!fit.ok()) return Fail(fit.status());
+    if (!f->save_policy.empty()) {
+      config::ExportedPolicy exported;
+      *exported.mutable_model() = model;
+      exported.set_obs_dim(demos->obs_dim());
+      exported.set_act_dim(demos->act_dim());
+      exported.set_parameters(fitted.Serialize());
+      exported.set_source(absl::StrCat("fit-demos ", path));
+      if (absl::Status s = WritePolicyFile(f->save_policy,
+                                           WithStoredConfig(exported, *config, *spec));
+          !s.ok()) {
+        return Fail(s);
+      }
+      std::printf("wrote the fitted policy to %s\n", f->save_policy.c_str());
+    }
     if (!f->json.empty()) {
       if (absl::Status s = WriteFile(f->json, json); !s.ok()) return Fail(s);
     }

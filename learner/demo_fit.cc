@@ -28,7 +28,7 @@ std::pair<torch::Tensor, torch::Tensor> InAddedOrder(const DemoBuffer& demos) {
 
 absl::StatusOr<std::vector<DemoFitEpoch>> FitDemos(
     const DemoBuffer& demos, const config::ModelConfig& model, const DemoFitOptions& options,
-    const std::function<void(const DemoFitEpoch&)>& progress) {
+    const std::function<void(const DemoFitEpoch&)>& progress, FlatParameters* fitted) {
   const int64_t n = options.rows > 0 ? std::min(options.rows, demos.size()) : demos.size();
   const int64_t held = static_cast<int64_t>(std::llround(options.held_out * n));
   int64_t train = n - held;
@@ -123,6 +123,7 @@ absl::StatusOr<std::vector<DemoFitEpoch>> FitDemos(
     if (progress) progress(r);
     reports.push_back(std::move(r));
   }
+  if (fitted != nullptr) *fitted = ExportActorParameters(net, 1, /*normalizer=*/true);
   return reports;
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "common/flat_parameters.h"
 #include "learner/demo_buffer.h"
 #include "proto/policy.pb.h"
 
@@ -54,9 +55,12 @@ struct DemoFitEpoch {
 // Trains the actor of `model` (the policy network, tanh output) on the older rows and reports
 // every epoch to `progress` (if set); returns the reports. INVALID_ARGUMENT when the buffer
 // holds too few rows for both parts or an action index is out of range.
+// With `fitted`, the trained actor is written there as a worker's policy parameters
+// (ExportActorParameters: actor, log-std, observation normalizer of the training rows).
 absl::StatusOr<std::vector<DemoFitEpoch>> FitDemos(
     const DemoBuffer& demos, const config::ModelConfig& model, const DemoFitOptions& options,
-    const std::function<void(const DemoFitEpoch&)>& progress = nullptr);
+    const std::function<void(const DemoFitEpoch&)>& progress = nullptr,
+    FlatParameters* fitted = nullptr);
 
 }  // namespace juggle
 

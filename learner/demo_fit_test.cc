@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 
+#include "common/eigen_policy.h"
 #include "common/rng.h"
 #include "gtest/gtest.h"
 
@@ -65,6 +66,44 @@ TEST(DemoFitTest, SmoothLabelsAreLearnedAndGeneralizeToTheNewestRows) {
   EXPECT_LT(last.held_out_error, 0.05);
   EXPECT_GT(last.action_r2[0], 0.9);
   ASSERT_EQ(last.action_rms.size(), 2u);
+}
+
+// The fitted actor, exported as a worker's policy (Eigen inference, no torch), scores the
+// same held-out error as the fit reports: the saved policy is the fitted network.
+TEST(DemoFitTest, TheExportedFitActsAsTheFittedNetwork) {
+  DemoBuffer demos(4000, kObs, kAct);
+  demos.AddLabelled(Labelled(1000, true, 5));
+  DemoFitOptions options;
+  options.epochs = 10;
+  options.minibatch = 32;
+  FlatParameters fitted;
+  absl::StatusOr<std::vector<DemoFitEpoch>> fit =
+      FitDemos(demos, SmallMlp(), options, nullptr, &fitted);
+  ASSERT_TRUE(fit.ok()) << fit.status();
+  absl::StatusOr<EigenPolicy> policy = EigenPolicy::Create(SmallMlp(), fitted, kObs, kAct);
+  ASSERT_TRUE(policy.ok()) << policy.status();
+  // Rows are in the order added (no wrap): the newest 200 are held out.
+  const int held = 200, train = 800;
+  double mean[kAct] = {0}, var[kAct] = {0};
+  for (int i = 0; i < train; ++i) {
+    for (int a = 0; a < kAct; ++a) mean[a] += demos.labels()[i * kAct + a] / train;
+  }
+  for (int i = 0; i < train; ++i) {
+    for (int a = 0; a < kAct; ++a) {
+      var[a] += std::pow(demos.labels()[i * kAct + a] - mean[a], 2) / train;
+    }
+  }
+  const RowMatrix actions = policy->MeanActions(demos.obs() + train * kObs, held);
+  double error = 0;
+  for (int i = 0; i < held; ++i) {
+    for (int a = 0; a < kAct; ++a) {
+      const double w = 1.0 / std::max(var[a], options.min_label_std * options.min_label_std);
+      error += w * std::pow(actions(i, a) - demos.labels()[(train + i) * kAct + a], 2);
+    }
+  }
+  error /= held * kAct;
+  EXPECT_NEAR(error, fit->back().held_out_error, 1e-4 + 1e-3 * error);
+  EXPECT_LT(error, 0.1);
 }
 
 TEST(DemoFitTest, NoiseLabelsDoNotGeneralize) {

@@ -162,4 +162,23 @@ torch::Tensor ActorCritic::LogProb(const torch::Tensor& actions, const torch::Te
   return (-0.5 * z * z - log_std - kHalfLog2Pi).sum(-1);
 }
 
+void AppendTensor(const TensorSpec& spec, const torch::Tensor& t, std::vector<TensorSpec>* layout,
+                  std::vector<float>* values) {
+  const torch::Tensor c = t.detach().contiguous();
+  layout->push_back(spec);
+  values->insert(values->end(), c.data_ptr<float>(), c.data_ptr<float>() + c.numel());
+}
+
+FlatParameters ExportActorParameters(const ActorCritic& net, int64_t version, bool normalizer) {
+  std::vector<TensorSpec> layout;
+  std::vector<float> values;
+  for (const auto& [spec, t] : net.actor->LayoutTensors()) AppendTensor(spec, t, &layout, &values);
+  AppendTensor({"actor.log_std", {net.act_dim}}, net.log_std, &layout, &values);
+  if (normalizer) {
+    AppendTensor({"obs_norm.mean", {net.obs_dim}}, net.norm_mean, &layout, &values);
+    AppendTensor({"obs_norm.inv_std", {net.obs_dim}}, net.norm_inv_std, &layout, &values);
+  }
+  return *FlatParameters::Create(version, std::move(layout), std::move(values));
+}
+
 }  // namespace juggle

@@ -10,6 +10,7 @@
 
 #include <torch/torch.h>
 
+#include "common/flat_parameters.h"
 #include "common/network_layout.h"
 #include "proto/run_config.pb.h"
 
@@ -63,6 +64,14 @@ class ActorCritic : public torch::nn::Module {
   bool normalize = false;
   int obs_dim, act_dim;
 };
+
+// Appends `t` (float, any shape) under `spec` to a flat layout and its values.
+void AppendTensor(const TensorSpec& spec, const torch::Tensor& t, std::vector<TensorSpec>* layout,
+                  std::vector<float>* values);
+
+// What a worker needs to act (common/eigen_policy.h's layout): the actor's tensors,
+// "actor.log_std" and, with `normalizer`, "obs_norm.mean" / "obs_norm.inv_std".
+FlatParameters ExportActorParameters(const ActorCritic& net, int64_t version, bool normalizer);
 
 }  // namespace juggle
 

@@ -329,29 +329,8 @@ void PpoTrainer::AdaptLearningRate(const torch::Tensor& mean, const torch::Tenso
   }
 }
 
-namespace {
-
-void AppendTensor(const TensorSpec& spec, const torch::Tensor& t, std::vector<TensorSpec>* layout,
-                  std::vector<float>* values) {
-  const torch::Tensor c = t.detach().contiguous();
-  layout->push_back(spec);
-  values->insert(values->end(), c.data_ptr<float>(), c.data_ptr<float>() + c.numel());
-}
-
-}  // namespace
-
 FlatParameters PpoTrainer::ExportPolicy() const {
-  std::vector<TensorSpec> layout;
-  std::vector<float> values;
-  for (const auto& [spec, t] : impl_->net->actor->LayoutTensors()) {
-    AppendTensor(spec, t, &layout, &values);
-  }
-  AppendTensor({"actor.log_std", {act_dim_}}, impl_->net->log_std, &layout, &values);
-  if (ppo_.normalize_observations()) {
-    AppendTensor({"obs_norm.mean", {obs_dim_}}, impl_->net->norm_mean, &layout, &values);
-    AppendTensor({"obs_norm.inv_std", {obs_dim_}}, impl_->net->norm_inv_std, &layout, &values);
-  }
-  return *FlatParameters::Create(version_, std::move(layout), std::move(values));
+  return ExportActorParameters(*impl_->net, version_, ppo_.normalize_observations());
 }
 
 FlatParameters PpoTrainer::ExportAll() const {

@@ -93,7 +93,7 @@ SoccerPlanner::RolloutResult SoccerPlanner::Rollout(JuggleEnv* env, const double
     // A horizon that would end with the ball still on the foot runs on to its release (a
     // few steps) so that the kick is scored.
     if (t + 1 == end && end >= layout_.horizon && end < layout_.horizon + kReleaseSteps &&
-        scorer.kick_in_contact(*env)) {
+        scorer.kick_in_contact(*env) && (config_.run_on_every_kick() || scorer.kicks() == 0)) {
       ++end;
     }
     if (env->node() != node) {

@@ -201,9 +201,13 @@ TEST_F(SoccerPlannerTest, AHorizonEndingInContactRunsOnToTheReleaseAndScoresTheK
   ASSERT_GT(first_touch, 1);
   const KickOutcome executed = ZeroActionKick(probe.get(), *walk_);
   ASSERT_TRUE(executed.valid);
-  for (int horizon : {first_touch, first_touch - 1}) {
+  // The current cycle's kick runs on whether or not later cycles' kicks do.
+  for (int horizon : {first_touch, first_touch - 1, -first_touch}) {
+    config::PlannerConfig p = NominalOnly(config_.run.planner(), std::abs(horizon));
+    p.set_run_on_every_kick(horizon > 0);
+    horizon = std::abs(horizon);
     std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.0);
-    SoccerPlanner planner(spec_, NominalOnly(config_.run.planner(), horizon), pool_.get(), 0);
+    SoccerPlanner planner(spec_, p, pool_.get(), 0);
     float action[kNumActions];
     ASSERT_TRUE(planner.Act(*env, action).ok());
     for (float a : action) ASSERT_EQ(a, 0.0f);

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -50,13 +49,12 @@ absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
     const int steps = static_cast<int>(std::lround(o.seconds / spec->control_dt()));
     std::vector<float> a(act), fa(act), executed(act);
     int juggles = 0;
+    const int steps_before = report.steps;
     for (int k = 0; k < steps; ++k) {
       std::vector<SoccerPlanner> forks;
       for (int f = 0; f < o.forks; ++f) forks.push_back(driver.Fork((uint64_t(e) << 8) + 1 + f));
-      if (o.keep_rows) {
-        env->WriteObservation(obs.data());
-        report.row_obs.insert(report.row_obs.end(), obs.begin(), obs.end());
-      }
+      if (o.keep_rows || o.student != nullptr) env->WriteObservation(obs.data());
+      if (o.keep_rows) report.row_obs.insert(report.row_obs.end(), obs.begin(), obs.end());
       RETURN_IF_ERROR(driver.Act(juggle_env, a.data()));
       if (o.keep_rows) {
         report.row_labels.insert(report.row_labels.end(), a.begin(), a.end());
@@ -87,7 +85,6 @@ absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
       }
       executed = a;
       if (o.student != nullptr) {
-        env->WriteObservation(obs.data());
         const RowMatrix s = o.student->MeanActions(obs.data(), 1);
         for (int i = 0; i < act; ++i) {
           student_sq[i] += (s(0, i) - a[i]) * double(s(0, i) - a[i]);
@@ -100,11 +97,7 @@ absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
       if (r.outcome != Outcome::kRunning) break;
     }
     report.juggles += juggles;
-    if (o.keep_rows) {
-      report.episode_steps.push_back(static_cast<int>(report.row_labels.size() / act) -
-                                     std::accumulate(report.episode_steps.begin(),
-                                                     report.episode_steps.end(), 0));
-    }
+    if (o.keep_rows) report.episode_steps.push_back(report.steps - steps_before);
     report.episode_juggles.push_back(juggles);
     if (progress) {
       progress(absl::StrFormat("episode %d/%d: %d juggles, %zu re-plan states so far", e + 1,

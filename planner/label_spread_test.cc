@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "common/adaptive_walk.h"
-#include "common/network_layout.h"
+#include "common/testing/constant_policy.h"
 #include "envs/registry.h"
 #include "envs/testing/test_configs.h"
 #include "gtest/gtest.h"
@@ -15,24 +15,7 @@
 namespace juggle::planner {
 namespace {
 
-// A policy whose mean action is tanh(bias) for every action: an MLP with zero weights.
-EigenPolicy ConstantPolicy(int obs_dim, int act_dim, float bias) {
-  config::ModelConfig model;
-  model.set_architecture(config::MLP);
-  model.add_mlp_hidden(4);
-  std::vector<TensorSpec> layout = NetworkLayout(model, "actor", obs_dim, act_dim);
-  layout.push_back({"actor.log_std", {act_dim}});
-  int64_t total = 0;
-  for (const TensorSpec& t : layout) total += t.numel();
-  std::vector<float> values(total, 0.0f);
-  int64_t offset = 0;
-  for (const TensorSpec& t : layout) {
-    if (t.name == "actor.b1") std::fill_n(values.begin() + offset, act_dim, bias);
-    offset += t.numel();
-  }
-  absl::StatusOr<FlatParameters> params = FlatParameters::Create(1, layout, values);
-  return *EigenPolicy::Create(model, *params, obs_dim, act_dim);
-}
+using juggle::testing::ConstantPolicy;
 
 class LabelSpreadTest : public ::testing::Test {
  protected:

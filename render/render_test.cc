@@ -14,6 +14,7 @@
 #include <string>
 
 #include "absl/strings/str_cat.h"
+#include "common/testing/constant_policy.h"
 #include "envs/registry.h"
 #include "eval/controller.h"
 #include "eval/episode_runner.h"
@@ -304,26 +305,9 @@ TEST_F(RenderTest, TruncatedRecordingIsRejected) {
   EXPECT_THAT(r.status().message(), HasSubstr("truncated"));
 }
 
-// A policy with constant, clearly non-zero mean actions: an MLP whose output bias is 0.5.
+// A policy with constant, clearly non-zero mean actions: tanh(0.5) for every action.
 std::shared_ptr<const EigenPolicy> ConstantPolicy(int obs_dim) {
-  config::ModelConfig model;
-  model.set_architecture(config::MLP);
-  model.add_mlp_hidden(4);
-  std::vector<TensorSpec> layout = NetworkLayout(model, "actor", obs_dim, kNumActions);
-  layout.push_back({"actor.log_std", {kNumActions}});
-  int64_t total = 0;
-  for (const TensorSpec& t : layout) total += t.numel();
-  std::vector<float> values(total, 0.0f);
-  // Output bias (second to last tensor before log_std) = 0.5 → tanh(0.5) for every action.
-  int64_t offset = 0;
-  for (size_t i = 0; i + 1 < layout.size(); ++i) {
-    if (layout[i].name == "actor.b1") {
-      std::fill(values.begin() + offset, values.begin() + offset + kNumActions, 0.5f);
-    }
-    offset += layout[i].numel();
-  }
-  auto params = FlatParameters::Create(1, layout, values);
-  return std::make_shared<const EigenPolicy>(*EigenPolicy::Create(model, *params, obs_dim, kNumActions));
+  return std::make_shared<const EigenPolicy>(juggle::testing::ConstantPolicy(obs_dim, kNumActions, 0.5f));
 }
 
 TEST_F(RenderTest, PolicyRolloutDiffersFromZeroActionRollout) {

@@ -2,11 +2,13 @@
 // docs/planner.md "Label spread"): the floor of a student's held-out label error.
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "absl/strings/str_cat.h"
 #include "app/commands.h"
 #include "app/planner_flags.h"
 #include "app/policy_source.h"
@@ -37,6 +39,13 @@ absl::Status WriteRows(const planner::LabelSpreadReport& r, int obs_dim, int lab
                     labels.begin() + (first + steps) * label_dim);
     demos.AddLabelled(b);
     first += steps;
+  }
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  std::error_code error;
+  if (!parent.empty()) std::filesystem::create_directories(parent, error);
+  if (error) {
+    return absl::PermissionDeniedError(
+        absl::StrCat("cannot create ", parent.string(), ": ", error.message()));
   }
   return WriteFileAtomically(path, demos.Serialize());
 }
@@ -77,6 +86,16 @@ CommandBody AddLabelSpreadCommand(CLI::App* cmd) {
                   "execute label + MIX*(student - label): 0 the planner drives, 1 the student "
                   "(how much of the student's error the juggle tolerates)")
       ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--expert-noise", f->options.expert_noise,
+                  "DART: Gaussian noise of this std (policy units) on every executed action; "
+                  "the labels stay the planner's clean actions")
+      ->check(CLI::Range(0.0, 2.0))
+      ->capture_default_str();
+  cmd->add_option("--noise-hold", f->options.noise_hold_steps,
+                  "control steps each noise draw is held (1: independent per step; more: an "
+                  "offset like a student's bias)")
+      ->check(CLI::Range(1, 100000))
       ->capture_default_str();
   cmd->add_option("--dump-demos", f->dump_demos,
                   "also write every visited state with the planner's action as a demonstration "
@@ -121,9 +140,9 @@ CommandBody AddLabelSpreadCommand(CLI::App* cmd) {
                           : sorted.size() % 2 ? sorted[sorted.size() / 2]
                           : 0.5 * (sorted[sorted.size() / 2 - 1] + sorted[sorted.size() / 2]);
     std::printf("states=%d steps=%d juggles=%d median_juggles=%g student_mix=%g "
-                "weighted_spread=%.4f",
+                "expert_noise=%g noise_hold=%d weighted_spread=%.4f",
                 r->states, r->steps, r->juggles, median, f->options.student_mix,
-                r->weighted_spread);
+                f->options.expert_noise, f->options.noise_hold_steps, r->weighted_spread);
     if (student) std::printf(" student_weighted_error=%.4f", r->student_weighted_error);
     std::printf("\n");
     for (const bool kicks : {false, true}) {

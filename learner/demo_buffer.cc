@@ -24,45 +24,60 @@ std::vector<double> DemoBuffer::LabelVariance() const {
   return var;
 }
 
-int64_t DemoBuffer::AddLabelled(const UnrollBatch& b) {
-  if (!b.has_labels()) return 0;
+void DemoBuffer::AddRow(const float* o, const float* l) {
   if (obs_.capacity() == 0) {  // once: the whole bound, so memory stays flat from here
     obs_.reserve(capacity_ * obs_dim_);
     labels_.reserve(capacity_ * act_dim_);
   }
+  int64_t at;
+  if (size_ < capacity_) {
+    at = size_++;
+    obs_.resize(size_ * obs_dim_);
+    labels_.resize(size_ * act_dim_);
+  } else {
+    at = next_;
+    next_ = (next_ + 1) % capacity_;
+    for (int a = 0; a < act_dim_; ++a) {  // the evicted row leaves the sums
+      const double x = labels_[at * act_dim_ + a];
+      label_sum_[a] -= x;
+      label_sum_sq_[a] -= x * x;
+    }
+  }
+  for (int a = 0; a < act_dim_; ++a) {
+    label_sum_[a] += l[a];
+    label_sum_sq_[a] += double(l[a]) * l[a];
+  }
+  std::copy(o, o + obs_dim_, obs_.begin() + at * obs_dim_);
+  std::copy(l, l + act_dim_, labels_.begin() + at * act_dim_);
+  ++added_;
+}
+
+int64_t DemoBuffer::AddLabelled(const UnrollBatch& b) {
+  if (!b.has_labels()) return 0;
   const int64_t T = b.unroll_length;
   int64_t row = 0, n = 0;  // label row of the current labelled unroll; pairs added
   for (int u = 0; u < b.num_unrolls; ++u) {
     if (!b.labelled[u]) continue;
     for (int64_t t = 0; t < T; ++t) {
-      const float* o = &b.obs[(u * T + t) * obs_dim_];
-      const float* l = &b.labels[(row * T + t) * act_dim_];
-      int64_t at;
-      if (size_ < capacity_) {
-        at = size_++;
-        obs_.resize(size_ * obs_dim_);
-        labels_.resize(size_ * act_dim_);
-      } else {
-        at = next_;
-        next_ = (next_ + 1) % capacity_;
-        for (int a = 0; a < act_dim_; ++a) {  // the evicted row leaves the sums
-          const double x = labels_[at * act_dim_ + a];
-          label_sum_[a] -= x;
-          label_sum_sq_[a] -= x * x;
-        }
-      }
-      for (int a = 0; a < act_dim_; ++a) {
-        label_sum_[a] += l[a];
-        label_sum_sq_[a] += double(l[a]) * l[a];
-      }
-      std::copy(o, o + obs_dim_, obs_.begin() + at * obs_dim_);
-      std::copy(l, l + act_dim_, labels_.begin() + at * act_dim_);
+      AddRow(&b.obs[(u * T + t) * obs_dim_], &b.labels[(row * T + t) * act_dim_]);
       ++n;
     }
     ++row;
   }
-  added_ += n;
   return n;
+}
+
+absl::StatusOr<int64_t> DemoBuffer::AddAll(const DemoBuffer& other) {
+  if (other.obs_dim_ != obs_dim_ || other.act_dim_ != act_dim_) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "the demonstrations hold ", other.obs_dim_, " observations and ", other.act_dim_,
+        " actions per state; this buffer holds ", obs_dim_, " and ", act_dim_));
+  }
+  for (int64_t i = 0; i < other.size_; ++i) {
+    const int64_t r = (other.oldest() + i) % other.size_;
+    AddRow(&other.obs_[r * obs_dim_], &other.labels_[r * act_dim_]);
+  }
+  return other.size_;
 }
 
 namespace {

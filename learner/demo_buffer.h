@@ -23,6 +23,9 @@ class DemoBuffer {
   // Adds every step of `batch`'s labelled unrolls (REQUIRES: a validated batch of these dims);
   // returns the pairs added.
   int64_t AddLabelled(const UnrollBatch& batch);
+  // Adds every pair of `other` in the order it was added (its oldest first; a smaller buffer
+  // keeps the newest); returns the pairs added. INVALID_ARGUMENT for other dims.
+  absl::StatusOr<int64_t> AddAll(const DemoBuffer& other);
 
   int64_t size() const { return size_; }
   int64_t capacity() const { return capacity_; }
@@ -50,6 +53,8 @@ class DemoBuffer {
   static absl::StatusOr<DemoBuffer> Parse(std::string_view bytes);
 
  private:
+  void AddRow(const float* obs, const float* label);
+
   int64_t capacity_;
   int obs_dim_, act_dim_;
   std::vector<float> obs_, labels_;

@@ -83,6 +83,27 @@ TEST(DemoBufferTest, StaysWithinItsBoundKeepingTheNewestAndReconciles) {
                                       last + 7, last + 12, last + 13, last + 14, last + 15}));
 }
 
+// imitation.initial_demos: a saved buffer seeds a new run's, in the order its pairs were added.
+TEST(DemoBufferTest, AddAllTakesAnotherBuffersPairsOldestFirstAndKeepsTheNewest) {
+  DemoBuffer source(5, kD, kA);
+  source.AddLabelled(Batch(4, 0));  // keys 4..7, 12..15 into 5: 7, 12..15 held, ring wrapped
+  DemoBuffer into(4, kD, kA);
+  into.AddLabelled(Batch(2, 500));  // keys 504..507
+  absl::StatusOr<int64_t> added = into.AddAll(source);
+  ASSERT_TRUE(added.ok()) << added.status();
+  EXPECT_EQ(*added, 5);
+  EXPECT_EQ(into.added(), 9);
+  // Added one by one in the source's order, the last four are the source's newest four.
+  EXPECT_EQ(Keys(into), (std::set<float>{12, 13, 14, 15}));
+  DemoBuffer wide(10, kD, kA);
+  ASSERT_TRUE(wide.AddAll(source).ok());
+  EXPECT_EQ(Keys(wide), (std::set<float>{7, 12, 13, 14, 15}));
+  EXPECT_EQ(wide.oldest(), 0);
+  EXPECT_EQ(wide.obs()[0], 7);  // the source's oldest pair came first
+  DemoBuffer other_dims(10, kD + 1, kA);
+  EXPECT_EQ(other_dims.AddAll(source).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
 TEST(DemoBufferTest, LabelVarianceMatchesADirectComputationOverTheRowsHeld) {
   DemoBuffer d(10, kD, kA);
   for (int round = 0; round < 7; ++round) d.AddLabelled(Batch(4, 100.0f * round));

@@ -111,6 +111,27 @@ absl::Status BuildEnv(const LoadedConfig& config,
   return absl::OkStatus();
 }
 
+// imitation.initial_demos into `demos` (a run without a saved buffer of its own).
+absl::Status SeedDemos(const LoadedConfig& config, DemoBuffer* demos) {
+  const std::string path = ResolvePath(config.config_dir, config.run.imitation().initial_demos());
+  auto refuse = [&](const absl::Status& s) {
+    return absl::Status(s.code(), absl::StrCat("imitation.initial_demos: ", path, ": ",
+                                               s.message()));
+  };
+  absl::StatusOr<std::string> bytes = ReadFile(path);  // its errors name the path
+  if (!bytes.ok()) {
+    return absl::Status(bytes.status().code(),
+                        absl::StrCat("imitation.initial_demos: ", bytes.status().message()));
+  }
+  absl::StatusOr<DemoBuffer> saved = DemoBuffer::Parse(*bytes);
+  if (!saved.ok()) return refuse(saved.status());
+  absl::StatusOr<int64_t> added = demos->AddAll(*saved);
+  if (!added.ok()) return refuse(added.status());
+  std::printf("the demonstration buffer starts with %ld demonstrations from %s\n",
+              static_cast<long>(demos->size()), path.c_str());
+  return absl::OkStatus();
+}
+
 }  // namespace
 
 LearnerServer::LearnerServer(std::unique_ptr<State> state) : state_(std::move(state)) {}
@@ -126,7 +147,8 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
                                             s->bootstrap.obs_dim, s->bootstrap.act_dim,
                                             config.run.seed());
   s->walk = std::make_unique<AdaptiveWalk>(config.graph.get());
-  if (config.run.imitation().label_envs() > 0) {
+  const config::ImitationConfig& imitation = config.run.imitation();
+  if (imitation.label_envs() > 0 || !imitation.initial_demos().empty()) {
     // Saved with every checkpoint (State::Checkpoint) and loaded on --resume below.
     s->demos = std::make_unique<DemoBuffer>(config.run.imitation().buffer_size(),
                                             s->bootstrap.obs_dim, s->bootstrap.act_dim);
@@ -173,6 +195,9 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
                      s->DemosPath().c_str(), std::string(saved.status().message()).c_str());
       }
     }
+  }
+  if (s->demos && s->demos->added() == 0 && !imitation.initial_demos().empty()) {
+    RETURN_IF_ERROR(SeedDemos(config, s->demos.get()));
   }
   std::random_device entropy;  // incarnation ids only; never seeds training
   const config::ServiceConfig& service = config.run.service();

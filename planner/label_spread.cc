@@ -6,6 +6,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "common/adaptive_walk.h"
+#include "common/rng.h"
 #include "common/status_macros.h"
 #include "planner/planner_controller.h"
 #include "planner/rollout_pool.h"
@@ -32,6 +33,11 @@ absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
   if (o.student_mix > 0 && o.student == nullptr) {
     return absl::InvalidArgumentError("a student mix needs a student policy");
   }
+  if (!(o.expert_noise >= 0) || o.noise_hold_steps < 1) {
+    return absl::InvalidArgumentError(absl::StrCat("expert noise must be >= 0 and its hold >= 1 "
+                                                   "step, not ", o.expert_noise, " and ",
+                                                   o.noise_hold_steps));
+  }
   const config::PlannerConfig& pc = config.run.planner();
   RolloutPool pool(soccer, pc.threads());
   const int act = spec->act_dim();
@@ -48,6 +54,8 @@ absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
     SoccerPlanner driver(soccer, pc, &pool, uint64_t(e) << 8);
     const int steps = static_cast<int>(std::lround(o.seconds / spec->control_dt()));
     std::vector<float> a(act), fa(act), executed(act);
+    Rng noise_rng = Rng::ForStream(o.seed, 2, e);
+    std::vector<double> noise(act, 0.0);
     int juggles = 0;
     const int steps_before = report.steps;
     for (int k = 0; k < steps; ++k) {
@@ -89,6 +97,14 @@ absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
         for (int i = 0; i < act; ++i) {
           student_sq[i] += (s(0, i) - a[i]) * double(s(0, i) - a[i]);
           executed[i] = static_cast<float>(a[i] + o.student_mix * (double(s(0, i)) - a[i]));
+        }
+      }
+      if (o.expert_noise > 0) {
+        if (k % o.noise_hold_steps == 0) {
+          for (double& n : noise) n = o.expert_noise * noise_rng.Normal();
+        }
+        for (int i = 0; i < act; ++i) {
+          executed[i] = std::clamp(float(executed[i] + noise[i]), -1.0f, 1.0f);
         }
       }
       ++report.steps;

@@ -34,6 +34,12 @@ struct LabelSpreadOptions {
   const EigenPolicy* student = nullptr;
   // In [0, 1]: the executed action is label + student_mix·(student − label). Needs a student.
   double student_mix = 0;
+  // DART (docs/learning.md): Gaussian noise of this std (policy units) added to every executed
+  // action (then clamped to [-1, 1]; the label stays the clean action), drawn anew every
+  // `noise_hold_steps` control steps (1: independent per step; more: a held offset, like a
+  // student's bias). Streams (seed, 2, episode).
+  double expert_noise = 0;
+  int noise_hold_steps = 1;
   // Keep every visited state's observation, label and the kick variables the planner had
   // chosen for the current cycle at its last re-plan (LabelSpreadReport rows).
   bool keep_rows = false;
@@ -59,7 +65,7 @@ struct LabelSpreadReport {
 };
 
 // Errors: the planner config check, a family the planner cannot drive, forks of 1, a mix out
-// of [0, 1] or without a student.
+// of [0, 1] or without a student, negative noise or a hold below 1.
 absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
     std::shared_ptr<const EnvSpec> spec, const LoadedConfig& config,
     const LabelSpreadOptions& options, const std::function<void(const std::string&)>& progress);

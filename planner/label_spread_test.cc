@@ -1,5 +1,7 @@
 // The label-spread measurement's student mix: β = 1 executes the student's own actions (checked
-// against a plain rollout of the same start), β = 0 the planner's, and bad options are refused.
+// against a plain rollout of the same start), β = 0 the planner's; DART noise is added to the
+// executed action and held for its steps (checked state by state against a plain rollout);
+// bad options are refused.
 #include "planner/label_spread.h"
 #include "planner/soccer_plan.h"
 
@@ -130,7 +132,52 @@ TEST_F(LabelSpreadTest, KeptRowsHoldEveryVisitedStateWithItsLabelAndKick) {
   EXPECT_GT(largest, 0.0);
 }
 
-TEST_F(LabelSpreadTest, RefusesAMixWithoutStudentOrOutOfRangeAndOneFork) {
+TEST_F(LabelSpreadTest, ExpertNoiseIsAddedToTheExecutedActionAndHeldForItsSteps) {
+  const EigenPolicy student = ConstantPolicy(spec_->obs_dim(), spec_->act_dim(), 0.1f);
+  LabelSpreadOptions o;
+  o.episodes = 1;
+  o.seconds = 0.3;
+  o.forks = 0;
+  o.seed = 3;
+  o.student = &student;
+  o.student_mix = 1.0;  // the student's constant action, so the executed action is known
+  o.expert_noise = 0.3;
+  o.noise_hold_steps = 4;
+  o.keep_rows = true;
+  absl::StatusOr<LabelSpreadReport> r = MeasureLabelSpread(spec_, config_, o, nullptr);
+  ASSERT_TRUE(r.ok()) << r.status();
+  // The same episode stepped directly: the constant action plus the noise of streams
+  // (seed, 2, episode), drawn every 4th step, clamped.
+  const std::vector<float> zeros(spec_->obs_dim(), 0.0f);
+  const float action = student.MeanActions(zeros.data(), 1)(0, 0);
+  const AdaptiveWalk walk(&spec_->graph());
+  std::unique_ptr<Env> env = spec_->NewEnv(Rng::ForStream(o.seed, 0, 0));
+  env->Reset(walk);
+  Rng noise = Rng::ForStream(o.seed, 2, 0);
+  const int act = spec_->act_dim(), dim = spec_->obs_dim();
+  std::vector<double> draw(act);
+  std::vector<float> obs(dim);
+  int steps = 0;
+  for (; steps < r->steps; ++steps) {
+    env->WriteObservation(obs.data());
+    ASSERT_TRUE(std::equal(obs.begin(), obs.end(), r->row_obs.begin() + size_t(steps) * dim))
+        << "state " << steps;
+    if (steps % 4 == 0) {
+      for (double& x : draw) x = o.expert_noise * noise.Normal();
+    }
+    std::vector<float> executed(act);
+    for (int i = 0; i < act; ++i) executed[i] = std::clamp(float(action + draw[i]), -1.0f, 1.0f);
+    if (env->Step(executed.data(), walk).outcome != Outcome::kRunning) break;
+  }
+  EXPECT_GE(steps, r->steps - 1);
+  // Without the noise the episode visits other states.
+  o.expert_noise = 0;
+  absl::StatusOr<LabelSpreadReport> clean = MeasureLabelSpread(spec_, config_, o, nullptr);
+  ASSERT_TRUE(clean.ok()) << clean.status();
+  EXPECT_NE(clean->row_obs, r->row_obs);
+}
+
+TEST_F(LabelSpreadTest, RefusesBadMixesForksAndNoise) {
   LabelSpreadOptions o;
   o.forks = 0;
   o.student_mix = 0.5;
@@ -143,6 +190,14 @@ TEST_F(LabelSpreadTest, RefusesAMixWithoutStudentOrOutOfRangeAndOneFork) {
             absl::StatusCode::kInvalidArgument);
   o.student_mix = 0;
   o.forks = 1;
+  EXPECT_EQ(MeasureLabelSpread(spec_, config_, o, nullptr).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  o.forks = 0;
+  o.expert_noise = -0.1;
+  EXPECT_EQ(MeasureLabelSpread(spec_, config_, o, nullptr).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  o.expert_noise = 0.1;
+  o.noise_hold_steps = 0;
   EXPECT_EQ(MeasureLabelSpread(spec_, config_, o, nullptr).status().code(),
             absl::StatusCode::kInvalidArgument);
 }

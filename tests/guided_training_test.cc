@@ -1,10 +1,14 @@
 // Planner-guided training end to end (learner + one worker over loopback, the real planner
 // labelling real envs): labels reach the demonstration buffer, expert-driven unrolls stay out
 // of PPO's samples, pretraining clones and then PPO runs with the scheduled weight, and the run
-// log carries it all.
+// log carries it all. Offline demonstrations (imitation.initial_demos) seed a run without
+// labellers, and a file that is missing or of other dims is refused when the run starts.
 #include <string>
 
+#include "common/file_io.h"
+#include "common/rng.h"
 #include "common/testing/temp_dir.h"
+#include "learner/demo_buffer.h"
 #include "gtest/gtest.h"
 #include "learner/learner_server.h"
 #include "learner/run_log.h"
@@ -67,6 +71,72 @@ TEST(GuidedTrainingTest, LabelsFillTheBufferAndPretrainingHandsOverToPpoWithImit
   }
   EXPECT_EQ(iterations, kIterations);
   EXPECT_EQ((*server)->metrics().Get("juggle_demo_labels_total"), 2.0 * kT * kIterations);
+}
+
+// A demonstration file of `rows` random (observation, label) pairs of these dims at `path`.
+void WriteDemos(const std::string& path, int rows, int obs_dim, int act_dim) {
+  DemoBuffer demos(rows, obs_dim, act_dim);
+  Rng rng(11);
+  UnrollBatch b;
+  b.num_unrolls = 1;
+  b.unroll_length = rows;
+  b.obs_dim = obs_dim;
+  b.act_dim = act_dim;
+  b.labelled = {1};
+  for (int i = 0; i < rows * obs_dim; ++i) b.obs.push_back(float(rng.Normal()));
+  for (int i = 0; i < rows * act_dim; ++i) b.labels.push_back(float(rng.Uniform(-0.5, 0.5)));
+  demos.AddLabelled(b);
+  ASSERT_TRUE(WriteFileAtomically(path, demos.Serialize()).ok());
+}
+
+TEST(GuidedTrainingTest, OfflineDemonstrationsSeedARunWithoutLabellers) {
+  const std::string dir = MakeTempDir("juggle_guided_offline_");
+  LearnerOptions o = GuidedOptions(dir);
+  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(o.config);
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  constexpr int kRows = 300;
+  WriteDemos(dir + "/offline.jgld", kRows, (*spec)->obs_dim(), (*spec)->act_dim());
+  config::ImitationConfig* im = o.config.run.mutable_imitation();
+  im->set_label_envs(0);
+  im->set_expert_envs(0);
+  im->set_initial_demos(dir + "/offline.jgld");
+  auto server = LearnerServer::Start(o);
+  ASSERT_TRUE(server.ok()) << server.status();
+  ASSERT_TRUE(TrainWithOneWorker(**server).ok());  // no labeller: none is asked for
+
+  absl::StatusOr<RunLog> log = ReadRunLog(RunLogPath(dir));
+  ASSERT_TRUE(log.ok()) << log.status();
+  int iterations = 0;
+  for (const runlog::RunLogRecord& r : log->records) {
+    if (!r.has_iteration()) continue;
+    const runlog::IterationRecord& it = r.iteration();
+    ++iterations;
+    SCOPED_TRACE(it.iteration());
+    EXPECT_EQ(it.labelled_share(), 0);
+    EXPECT_EQ(it.demo_buffer(), kRows);  // the offline pairs, and nothing more
+    EXPECT_GT(it.imitation_loss(), 0);
+    EXPECT_EQ(it.cloning_only(), it.iteration() <= 2);
+  }
+  EXPECT_EQ(iterations, kIterations);
+}
+
+TEST(GuidedTrainingTest, MissingOrMismatchedOfflineDemonstrationsAreRefusedAtTheStart) {
+  const std::string dir = MakeTempDir("juggle_guided_offline_refused_");
+  LearnerOptions o = GuidedOptions(dir);
+  o.config.run.mutable_imitation()->set_initial_demos(dir + "/none.jgld");
+  absl::StatusOr<std::unique_ptr<LearnerServer>> server = LearnerServer::Start(o);
+  ASSERT_FALSE(server.ok());
+  EXPECT_NE(server.status().message().find("imitation.initial_demos"), std::string::npos)
+      << server.status();
+  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(o.config);
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  WriteDemos(dir + "/wide.jgld", 10, (*spec)->obs_dim() + 1, (*spec)->act_dim());
+  o.config.run.mutable_imitation()->set_initial_demos(dir + "/wide.jgld");
+  server = LearnerServer::Start(o);
+  ASSERT_FALSE(server.ok());
+  EXPECT_EQ(server.status().code(), absl::StatusCode::kInvalidArgument) << server.status();
+  EXPECT_NE(server.status().message().find("observations"), std::string::npos)
+      << server.status();
 }
 
 TEST(GuidedTrainingTest, AWorkerWithoutAnExpertRefusesARunThatAsksForLabels) {

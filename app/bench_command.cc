@@ -24,7 +24,7 @@ CommandBody AddBenchCommand(CLI::App* cmd) {
   CLI::App* pl = cmd->add_subcommand("planner", "the planner's rollouts on 1 and 2 threads and "
                                                 "snapshot restores vs bare mj_step");
   pl->add_option("--config", plan->config, "run config (its planner settings)")->capture_default_str();
-  pl->add_option("--replans", plan->replans, "re-plans from visited states per measurement")
+  pl->add_option("--replans", plan->replans, "re-plans of the planner's own episode per measurement")
       ->check(Between(1, 10000))->capture_default_str();
   pl->add_option("--repeats", plan->repeats, "alternating repeats (best is reported)")
       ->check(Between(1, 100))->capture_default_str();

@@ -22,7 +22,7 @@ absl::Status RunSimBench(const SimBenchOptions& options);
 
 struct PlannerBenchOptions {
   std::string config = "configs/right_foot_planner.textproto";
-  int replans = 12;   // re-plans from visited states per measurement
+  int replans = 40;   // re-plans of the planner's own episode per measurement
   int repeats = 2;    // alternating repeats (best is reported)
 };
 // The planner's rollouts (1 and 2 threads) and snapshot restores vs bare mj_step.

@@ -40,6 +40,11 @@ absl::Status WriteRows(const planner::LabelSpreadReport& r, int obs_dim, int lab
     demos.AddLabelled(b);
     first += steps;
   }
+  return WriteFileAtomically(path, demos.Serialize());
+}
+
+// The folder `path` will be written to, made before a long measurement rather than after it.
+absl::Status MakeParentFolder(const std::string& path) {
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
   std::error_code error;
   if (!parent.empty()) std::filesystem::create_directories(parent, error);
@@ -47,7 +52,7 @@ absl::Status WriteRows(const planner::LabelSpreadReport& r, int obs_dim, int lab
     return absl::PermissionDeniedError(
         absl::StrCat("cannot create ", parent.string(), ": ", error.message()));
   }
-  return WriteFileAtomically(path, demos.Serialize());
+  return absl::OkStatus();
 }
 
 }  // namespace
@@ -118,6 +123,10 @@ CommandBody AddLabelSpreadCommand(CLI::App* cmd) {
       f->options.student = student->policy.get();
     }
     f->options.keep_rows = !f->dump_demos.empty() || !f->dump_kicks.empty();
+    for (const std::string& path : {f->dump_demos, f->dump_kicks}) {
+      if (path.empty()) continue;
+      if (absl::Status s = MakeParentFolder(path); !s.ok()) return Fail(s);
+    }
     const config::PlannerConfig& pc = config->run.planner();
     std::printf("planner: %d samples x %d iterations, horizon %d, re-plan every %d, kick "
                 "consistency %g; %d forks per re-plan state\n",

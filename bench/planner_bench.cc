@@ -34,13 +34,14 @@ struct SearchRate {
   double seconds_per_replan = 0;
   double wall_s_per_sim_s = 0;    // what `juggle eval` reports for the planner
   int64_t rescues = 0;
+  int64_t replans = 0;
 };
 
 // The planner driving its own episode (the start of stream (11, 0, 0); a new one if it ends)
 // for `replans` × replan_every control steps on `threads` threads: what an evaluation spends, warm starts and
 // rescues included. The planner's results do not depend on its threads, so every call visits
 // the same states. `snapshots` (may be null) receives the state every 4th control step.
-SearchRate PlannerEpisodeRate(std::shared_ptr<const JuggleSpec> spec,
+absl::StatusOr<SearchRate> PlannerEpisodeRate(std::shared_ptr<const JuggleSpec> spec,
                               const config::PlannerConfig& config, int replans, int threads,
                               std::vector<std::unique_ptr<EnvSnapshot>>* snapshots) {
   RolloutPool pool(spec, threads);
@@ -55,7 +56,7 @@ SearchRate PlannerEpisodeRate(std::shared_ptr<const JuggleSpec> spec,
   const int64_t steps_to_run = int64_t(replans) * config.replan_every();
   while (control_steps < steps_to_run) {
     if (snapshots != nullptr && control_steps % 4 == 0) snapshots->push_back(env.Snapshot());
-    (void)planner->Act(env, action);
+    if (absl::Status s = planner->Act(env, action); !s.ok()) return s;
     ++control_steps;
     if (env.Step(action, walk).outcome != Outcome::kRunning) {
       done.replans += planner->totals().replans;
@@ -68,14 +69,18 @@ SearchRate PlannerEpisodeRate(std::shared_ptr<const JuggleSpec> spec,
   const double seconds = Seconds(start);
   const int64_t steps = done.rollout_steps + planner->totals().rollout_steps;
   const int64_t made = done.replans + planner->totals().replans;
-  return {double(steps) * spec->env().substeps() / seconds, seconds / std::max<int64_t>(made, 1),
-          seconds / (control_steps * spec->control_dt()),
-          done.rescues + planner->totals().rescues};
+  return SearchRate{double(steps) * spec->env().substeps() / seconds,
+                    seconds / std::max<int64_t>(made, 1),
+                    seconds / (control_steps * spec->control_dt()),
+                    done.rescues + planner->totals().rescues, made};
 }
 
 }  // namespace
 
 absl::Status RunPlannerBench(const PlannerBenchOptions& o) {
+  if (o.replans < 1 || o.repeats < 1) {
+    return absl::InvalidArgumentError("the planner bench needs at least 1 re-plan and 1 repeat");
+  }
   absl::StatusOr<LoadedConfig> config = LoadRunConfig(o.config);
   if (!config.ok()) return config.status();
   absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = JuggleSpec::Create(*config);
@@ -91,11 +96,13 @@ absl::Status RunPlannerBench(const PlannerBenchOptions& o) {
   JuggleEnv env(*spec, Rng(0));
   for (int r = 0; r < o.repeats; ++r) {  // interleaved, best of each
     mj = std::max(mj, BareMjStepRate(**spec, states));
-    const SearchRate a =
+    absl::StatusOr<SearchRate> a =
         PlannerEpisodeRate(*spec, planner, o.replans, 1, visited.empty() ? &visited : nullptr);
-    const SearchRate b = PlannerEpisodeRate(*spec, planner, o.replans, 2, nullptr);
-    if (a.substeps_per_s > one.substeps_per_s) one = a;
-    if (b.substeps_per_s > two.substeps_per_s) two = b;
+    if (!a.ok()) return a.status();
+    absl::StatusOr<SearchRate> b = PlannerEpisodeRate(*spec, planner, o.replans, 2, nullptr);
+    if (!b.ok()) return b.status();
+    if (a->substeps_per_s > one.substeps_per_s) one = *a;
+    if (b->substeps_per_s > two.substeps_per_s) two = *b;
     const auto start = Clock::now();
     constexpr int kRestores = 2000;
     for (int i = 0; i < kRestores; ++i) (void)env.Restore(*visited[i % visited.size()]);
@@ -112,9 +119,9 @@ absl::Status RunPlannerBench(const PlannerBenchOptions& o) {
   std::printf("planner rollouts, 1 thread: %.0f substeps/s (%.3f of bare mj_step), %.3f s per "
               "re-plan\n", one.substeps_per_s, one.substeps_per_s / mj, one.seconds_per_replan);
   std::printf("planner rollouts, 2 threads: %.0f substeps/s, %.3f s per re-plan = %.1f wall s "
-              "per simulated s (%ld rescues in %d re-plans)\n",
+              "per simulated s (%ld rescues in %ld re-plans)\n",
               two.substeps_per_s, two.seconds_per_replan, two.wall_s_per_sim_s,
-              static_cast<long>(two.rescues), o.replans);
+              static_cast<long>(two.rescues), static_cast<long>(two.replans));
   std::printf("mjstep_per_s=%.0f rollout_substeps_per_s_t1=%.0f rollout_substeps_per_s_t2=%.0f "
               "rollout_over_mjstep=%.3f threads2_over_threads1=%.3f restore_us=%.1f "
               "restore_share=%.4f replan_s_t2=%.3f wall_s_per_sim_s_t1=%.2f "

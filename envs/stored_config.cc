@@ -46,7 +46,12 @@ std::string FileNamedIn(const Message& message, const std::string& prefix) {
 
 StoredConfig StoreConfig(const LoadedConfig& config, const EnvSpec& spec) {
   StoredConfig stored;
-  google::protobuf::TextFormat::PrintToString(config.run, &stored.text);
+  // The run's demonstrations live in its own demos.jgld from the first checkpoint on
+  // (proto/imitation.proto): the file that seeded them is not read again.
+  config::RunConfig run = config.run;
+  run.mutable_imitation()->clear_initial_demos_file();
+  if (run.imitation().ByteSizeLong() == 0) run.clear_imitation();
+  google::protobuf::TextFormat::PrintToString(run, &stored.text);
   stored.model_mjb = SaveModel(spec.model());
   return stored;
 }

@@ -42,6 +42,8 @@ TEST(StoredConfigTest, LoadsTheSameEnvFromAnotherFolderAfterItsFilesAreDeleted) 
   ASSERT_TRUE(original.ok()) << original.status();
   absl::StatusOr<std::shared_ptr<const EnvSpec>> original_spec = CreateEnvSpec(*original);
   ASSERT_TRUE(original_spec.ok()) << original_spec.status();
+  // Offline demonstrations seed a fresh run only (proto/imitation.proto): not stored.
+  original->run.mutable_imitation()->set_initial_demos_file("demos.jgld");
   const StoredConfig stored = StoreConfig(*original, **original_spec);
   fs::remove_all(dir);
 
@@ -51,6 +53,7 @@ TEST(StoredConfigTest, LoadsTheSameEnvFromAnotherFolderAfterItsFilesAreDeleted) 
       LoadStoredConfig(stored, "x.jglpolicy (stored)", dir + "/cfg.textproto");
   ASSERT_TRUE(loaded.ok()) << loaded.status();
   EXPECT_EQ(loaded->run.seed(), 4242u);
+  EXPECT_FALSE(loaded->run.imitation().has_initial_demos_file());
   EXPECT_EQ(loaded->config_path, dir + "/cfg.textproto");
   EXPECT_EQ(loaded->graph->num_nodes(), original->graph->num_nodes());
   absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*loaded);

@@ -68,6 +68,7 @@ int64_t DemoBuffer::AddLabelled(const UnrollBatch& b) {
 }
 
 absl::StatusOr<int64_t> DemoBuffer::AddAll(const DemoBuffer& other) {
+  if (&other == this) return absl::InvalidArgumentError("a buffer cannot add itself");
   if (other.obs_dim_ != obs_dim_ || other.act_dim_ != act_dim_) {
     return absl::InvalidArgumentError(absl::StrCat(
         "the demonstrations hold ", other.obs_dim_, " observations and ", other.act_dim_,

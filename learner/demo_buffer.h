@@ -1,6 +1,6 @@
 // The learner's demonstration buffer (planner-guided training, docs/learning.md): the newest
-// `capacity` (observation, expert label) pairs from the labelled unrolls of the batches,
-// oldest out. Memory grows to capacity × (obs_dim + act_dim) floats and then stays flat. Its
+// `capacity` (observation, expert label) pairs from the labelled unrolls of the batches (and
+// from offline demonstrations, AddAll), oldest out. Memory grows to capacity × (obs_dim + act_dim) floats and then stays flat. Its
 // accounts reconcile: added = size + evicted. It is saved beside the checkpoints
 // (Serialize/Parse) so that a resumed run keeps its labels. Thread-compatible.
 #ifndef JUGGLE_LEARNER_DEMO_BUFFER_H_
@@ -24,7 +24,7 @@ class DemoBuffer {
   // returns the pairs added.
   int64_t AddLabelled(const UnrollBatch& batch);
   // Adds every pair of `other` in the order it was added (its oldest first; a smaller buffer
-  // keeps the newest); returns the pairs added. INVALID_ARGUMENT for other dims.
+  // keeps the newest); returns the pairs added. INVALID_ARGUMENT for other dims or itself.
   absl::StatusOr<int64_t> AddAll(const DemoBuffer& other);
 
   int64_t size() const { return size_; }
@@ -34,7 +34,7 @@ class DemoBuffer {
   // The row of the oldest pair (rows oldest..size−1, then 0..oldest−1 are in the order added).
   int64_t oldest() const { return size_ < capacity_ ? 0 : next_; }
   // Row-major [size, obs_dim] and [size, act_dim], row i of one matching row i of the other
-  // (rows are in no particular order).
+  // (a ring: oldest() gives the order they were added in).
   const float* obs() const { return obs_.data(); }
   const float* labels() const { return labels_.data(); }
   // Per action: the variance of the labels it holds (population; 0 when empty).

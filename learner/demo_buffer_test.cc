@@ -83,7 +83,7 @@ TEST(DemoBufferTest, StaysWithinItsBoundKeepingTheNewestAndReconciles) {
                                       last + 7, last + 12, last + 13, last + 14, last + 15}));
 }
 
-// imitation.initial_demos: a saved buffer seeds a new run's, in the order its pairs were added.
+// imitation.initial_demos_file: a saved buffer seeds a new run's, in the order its pairs were added.
 TEST(DemoBufferTest, AddAllTakesAnotherBuffersPairsOldestFirstAndKeepsTheNewest) {
   DemoBuffer source(5, kD, kA);
   source.AddLabelled(Batch(4, 0));  // keys 4..7, 12..15 into 5: 7, 12..15 held, ring wrapped

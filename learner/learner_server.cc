@@ -111,17 +111,17 @@ absl::Status BuildEnv(const LoadedConfig& config,
   return absl::OkStatus();
 }
 
-// imitation.initial_demos into `demos` (a run without a saved buffer of its own).
+// imitation.initial_demos_file into `demos` (a run without a saved buffer of its own).
 absl::Status SeedDemos(const LoadedConfig& config, DemoBuffer* demos) {
-  const std::string path = ResolvePath(config.config_dir, config.run.imitation().initial_demos());
+  const std::string path = ResolvePath(config.config_dir, config.run.imitation().initial_demos_file());
   auto refuse = [&](const absl::Status& s) {
-    return absl::Status(s.code(), absl::StrCat("imitation.initial_demos: ", path, ": ",
+    return absl::Status(s.code(), absl::StrCat("imitation.initial_demos_file: ", path, ": ",
                                                s.message()));
   };
   absl::StatusOr<std::string> bytes = ReadFile(path);  // its errors name the path
   if (!bytes.ok()) {
     return absl::Status(bytes.status().code(),
-                        absl::StrCat("imitation.initial_demos: ", bytes.status().message()));
+                        absl::StrCat("imitation.initial_demos_file: ", bytes.status().message()));
   }
   absl::StatusOr<DemoBuffer> saved = DemoBuffer::Parse(*bytes);
   if (!saved.ok()) return refuse(saved.status());
@@ -129,6 +129,11 @@ absl::Status SeedDemos(const LoadedConfig& config, DemoBuffer* demos) {
   if (!added.ok()) return refuse(added.status());
   std::printf("the demonstration buffer starts with %ld demonstrations from %s\n",
               static_cast<long>(demos->size()), path.c_str());
+  if (demos->size() < config.run.imitation().min_buffer()) {
+    std::fprintf(stderr, "warning: %ld demonstrations are fewer than imitation.min_buffer (%d): "
+                 "no cloning or imitation term until labelling envs add more\n",
+                 static_cast<long>(demos->size()), config.run.imitation().min_buffer());
+  }
   return absl::OkStatus();
 }
 
@@ -148,7 +153,7 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
                                             config.run.seed());
   s->walk = std::make_unique<AdaptiveWalk>(config.graph.get());
   const config::ImitationConfig& imitation = config.run.imitation();
-  if (imitation.label_envs() > 0 || !imitation.initial_demos().empty()) {
+  if (imitation.label_envs() > 0 || !imitation.initial_demos_file().empty()) {
     // Saved with every checkpoint (State::Checkpoint) and loaded on --resume below.
     s->demos = std::make_unique<DemoBuffer>(config.run.imitation().buffer_size(),
                                             s->bootstrap.obs_dim, s->bootstrap.act_dim);
@@ -196,7 +201,7 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
       }
     }
   }
-  if (s->demos && s->demos->added() == 0 && !imitation.initial_demos().empty()) {
+  if (s->demos && !s->options.resume && !imitation.initial_demos_file().empty()) {
     RETURN_IF_ERROR(SeedDemos(config, s->demos.get()));
   }
   std::random_device entropy;  // incarnation ids only; never seeds training

@@ -14,6 +14,12 @@
 
 namespace juggle::planner {
 
+namespace {
+// Salts the DART noise's streams apart from the episode starts' and the planners' (which use
+// the same seed and small stream numbers).
+constexpr uint64_t kNoiseSalt = 0x6e6f697365ULL;  // "noise"
+}  // namespace
+
 absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
     std::shared_ptr<const EnvSpec> spec, const LoadedConfig& config,
     const LabelSpreadOptions& o, const std::function<void(const std::string&)>& progress) {
@@ -54,7 +60,7 @@ absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
     SoccerPlanner driver(soccer, pc, &pool, uint64_t(e) << 8);
     const int steps = static_cast<int>(std::lround(o.seconds / spec->control_dt()));
     std::vector<float> a(act), fa(act), executed(act);
-    Rng noise_rng = Rng::ForStream(o.seed, 2, e);
+    Rng noise_rng = Rng::ForStream(o.seed ^ kNoiseSalt, 0, e);
     std::vector<double> noise(act, 0.0);
     int juggles = 0;
     const int steps_before = report.steps;

@@ -37,7 +37,7 @@ struct LabelSpreadOptions {
   // DART (docs/learning.md): Gaussian noise of this std (policy units) added to every executed
   // action (then clamped to [-1, 1]; the label stays the clean action), drawn anew every
   // `noise_hold_steps` control steps (1: independent per step; more: a held offset, like a
-  // student's bias). Streams (seed, 2, episode).
+  // student's bias). Streams (seed ^ kNoiseSalt, 0, episode) (label_spread.cc).
   double expert_noise = 0;
   int noise_hold_steps = 1;
   // Keep every visited state's observation, label and the kick variables the planner had

@@ -146,14 +146,14 @@ TEST_F(LabelSpreadTest, ExpertNoiseIsAddedToTheExecutedActionAndHeldForItsSteps)
   o.keep_rows = true;
   absl::StatusOr<LabelSpreadReport> r = MeasureLabelSpread(spec_, config_, o, nullptr);
   ASSERT_TRUE(r.ok()) << r.status();
-  // The same episode stepped directly: the constant action plus the noise of streams
-  // (seed, 2, episode), drawn every 4th step, clamped.
+  // The same episode stepped directly: the constant action plus the noise of the salted
+  // streams, drawn every 4th step, clamped.
   const std::vector<float> zeros(spec_->obs_dim(), 0.0f);
   const float action = student.MeanActions(zeros.data(), 1)(0, 0);
   const AdaptiveWalk walk(&spec_->graph());
   std::unique_ptr<Env> env = spec_->NewEnv(Rng::ForStream(o.seed, 0, 0));
   env->Reset(walk);
-  Rng noise = Rng::ForStream(o.seed, 2, 0);
+  Rng noise = Rng::ForStream(o.seed ^ 0x6e6f697365ULL, 0, 0);  // label_spread.cc's kNoiseSalt
   const int act = spec_->act_dim(), dim = spec_->obs_dim();
   std::vector<double> draw(act);
   std::vector<float> obs(dim);
@@ -175,10 +175,17 @@ TEST_F(LabelSpreadTest, ExpertNoiseIsAddedToTheExecutedActionAndHeldForItsSteps)
   absl::StatusOr<LabelSpreadReport> clean = MeasureLabelSpread(spec_, config_, o, nullptr);
   ASSERT_TRUE(clean.ok()) << clean.status();
   EXPECT_NE(clean->row_obs, r->row_obs);
+  // The labels are the planner's clean actions: at the first state, before any noise acted,
+  // the noisy run's label equals the noiseless run's.
+  ASSERT_GE(clean->row_labels.size(), size_t(act));
+  EXPECT_TRUE(std::equal(r->row_labels.begin(), r->row_labels.begin() + act,
+                         clean->row_labels.begin()));
 }
 
 TEST_F(LabelSpreadTest, RefusesBadMixesForksAndNoise) {
   LabelSpreadOptions o;
+  o.episodes = 1;
+  o.seconds = 0.1;  // a check that went missing would cost little before the test failed
   o.forks = 0;
   o.student_mix = 0.5;
   EXPECT_EQ(MeasureLabelSpread(spec_, config_, o, nullptr).status().code(),

@@ -1,7 +1,7 @@
 // Planner-guided training end to end (learner + one worker over loopback, the real planner
 // labelling real envs): labels reach the demonstration buffer, expert-driven unrolls stay out
 // of PPO's samples, pretraining clones and then PPO runs with the scheduled weight, and the run
-// log carries it all. Offline demonstrations (imitation.initial_demos) seed a run without
+// log carries it all. Offline demonstrations (imitation.initial_demos_file) seed a run without
 // labellers, and a file that is missing or of other dims is refused when the run starts.
 #include <string>
 
@@ -95,11 +95,12 @@ TEST(GuidedTrainingTest, OfflineDemonstrationsSeedARunWithoutLabellers) {
   absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(o.config);
   ASSERT_TRUE(spec.ok()) << spec.status();
   constexpr int kRows = 300;
-  WriteDemos(dir + "/offline.jgld", kRows, (*spec)->obs_dim(), (*spec)->act_dim());
+  ASSERT_NO_FATAL_FAILURE(
+      WriteDemos(dir + "/offline.jgld", kRows, (*spec)->obs_dim(), (*spec)->act_dim()));
   config::ImitationConfig* im = o.config.run.mutable_imitation();
   im->set_label_envs(0);
   im->set_expert_envs(0);
-  im->set_initial_demos(dir + "/offline.jgld");
+  im->set_initial_demos_file(dir + "/offline.jgld");
   auto server = LearnerServer::Start(o);
   ASSERT_TRUE(server.ok()) << server.status();
   ASSERT_TRUE(TrainWithOneWorker(**server).ok());  // no labeller: none is asked for
@@ -118,20 +119,35 @@ TEST(GuidedTrainingTest, OfflineDemonstrationsSeedARunWithoutLabellers) {
     EXPECT_EQ(it.cloning_only(), it.iteration() <= 2);
   }
   EXPECT_EQ(iterations, kIterations);
+
+  // Resumed, the run keeps its own buffer (demos.jgld): the file is not added a second time.
+  o.resume = true;
+  o.max_iterations = kIterations + 1;
+  auto resumed = LearnerServer::Start(o);
+  ASSERT_TRUE(resumed.ok()) << resumed.status();
+  ASSERT_TRUE(TrainWithOneWorker(**resumed).ok());
+  log = ReadRunLog(RunLogPath(dir));
+  ASSERT_TRUE(log.ok()) << log.status();
+  double last_buffer = -1;
+  for (const runlog::RunLogRecord& r : log->records) {
+    if (r.has_iteration()) last_buffer = r.iteration().demo_buffer();
+  }
+  EXPECT_EQ(last_buffer, kRows);
 }
 
 TEST(GuidedTrainingTest, MissingOrMismatchedOfflineDemonstrationsAreRefusedAtTheStart) {
   const std::string dir = MakeTempDir("juggle_guided_offline_refused_");
   LearnerOptions o = GuidedOptions(dir);
-  o.config.run.mutable_imitation()->set_initial_demos(dir + "/none.jgld");
+  o.config.run.mutable_imitation()->set_initial_demos_file(dir + "/none.jgld");
   absl::StatusOr<std::unique_ptr<LearnerServer>> server = LearnerServer::Start(o);
   ASSERT_FALSE(server.ok());
-  EXPECT_NE(server.status().message().find("imitation.initial_demos"), std::string::npos)
+  EXPECT_NE(server.status().message().find("imitation.initial_demos_file"), std::string::npos)
       << server.status();
   absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(o.config);
   ASSERT_TRUE(spec.ok()) << spec.status();
-  WriteDemos(dir + "/wide.jgld", 10, (*spec)->obs_dim() + 1, (*spec)->act_dim());
-  o.config.run.mutable_imitation()->set_initial_demos(dir + "/wide.jgld");
+  ASSERT_NO_FATAL_FAILURE(
+      WriteDemos(dir + "/wide.jgld", 10, (*spec)->obs_dim() + 1, (*spec)->act_dim()));
+  o.config.run.mutable_imitation()->set_initial_demos_file(dir + "/wide.jgld");
   server = LearnerServer::Start(o);
   ASSERT_FALSE(server.ok());
   EXPECT_EQ(server.status().code(), absl::StatusCode::kInvalidArgument) << server.status();

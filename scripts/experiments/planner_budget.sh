@@ -2,7 +2,8 @@
 # Juggles against the planner's budget (docs/planner.md, "Budget"): the same held-out starts
 # evaluated once per setting with scripts/experiments/planner_eval.sh (resumable: a finished
 # episode is skipped), then one table row per setting: median and mean juggles, core-seconds
-# per simulated second (one planner thread per episode, SLOTS episodes side by side).
+# per simulated second (one planner thread per episode, SLOTS episodes side by side: wall
+# seconds, so core-seconds only while SLOTS <= free cores).
 #
 #   scripts/experiments/planner_budget.sh OUT CONFIG EPISODES SECONDS SLOTS LABEL=SETTINGS ...
 #   e.g. scripts/experiments/planner_budget.sh runs/budget configs/right_foot_planner.textproto \
@@ -25,16 +26,21 @@ for setting in "$@"; do
   fields=${setting#*=}
   [ -n "$label" ] && [ "$label" != "$setting" ] || {
     echo "planner_budget.sh: '$setting' is not LABEL=SETTINGS" >&2; exit 2; }
-  echo "== $label: ${fields:-(the config's settings)}"
-  summary=$("$here/planner_eval.sh" "$out/$label" "$config" "$episodes" "$seconds" "$slots" "$fields" \
-    | grep '^episodes=')
+  [[ "$fields" != *"|"* ]] || { echo "planner_budget.sh: '|' in '$setting'" >&2; exit 2; }
+  shown=${fields:-"(as the config has them)"}
+  echo "== $label: $shown"
+  # Progress goes to the terminal and OUT/LABEL.log; the summary line is kept for the table.
+  "$here/planner_eval.sh" "$out/$label" "$config" "$episodes" "$seconds" "$slots" "$fields" \
+    | tee "$out/$label.log"
+  summary=$(grep '^episodes=' "$out/$label.log" | tail -1)
   rows+=("$label|$fields|$summary")
 done
 echo
-echo "| setting | planner settings | median | mean | core-s per sim-s |"
-echo "|---|---|---|---|---|"
+echo "| setting | planner settings | episodes | median | mean | core-s per sim-s |"
+echo "|---|---|---|---|---|---|"
 for row in "${rows[@]}"; do
   IFS='|' read -r label fields summary <<< "$row"
   value() { grep -o "$1=[0-9.]*" <<< "$summary" | cut -d= -f2; }
-  echo "| $label | ${fields:-—} | $(value median_juggles) | $(value mean_juggles) | $(value core_s_per_sim_s) |"
+  echo "| $label | ${fields:-—} | $(value episodes) | $(value median_juggles) |" \
+       "$(value mean_juggles) | $(value core_s_per_sim_s) |"
 done

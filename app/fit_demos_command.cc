@@ -31,7 +31,8 @@ CommandBody AddFitDemosCommand(CLI::App* cmd) {
   };
   auto f = std::make_shared<Flags>();
   cmd->add_option("--demos", f->demos, "a saved demonstration buffer, or the run directory "
-                  "that holds one (RUN_DIR/demos.jgld)")
+                  "that holds one (RUN_DIR/demos.jgld); several, comma-separated, are joined "
+                  "in that order (the last one's newest rows are held out)")
       ->required();
   cmd->add_option("--config", f->config,
                   "run config whose model is fitted and whose imitation.min_label_std weights "
@@ -101,13 +102,34 @@ CommandBody AddFitDemosCommand(CLI::App* cmd) {
       }
       f->options.actions.push_back(index);
     }
-    std::string path = f->demos;
-    if (path.size() < 5 || path.substr(path.size() - 5) != ".jgld") path += "/demos.jgld";
-    absl::StatusOr<std::string> bytes = ReadFile(path);
-    if (!bytes.ok()) return Fail(bytes.status());
-    absl::StatusOr<DemoBuffer> demos = DemoBuffer::Parse(*bytes);
-    if (!demos.ok()) {
-      return Fail(absl::InvalidArgumentError(absl::StrCat(path, ": ", demos.status().message())));
+    // One buffer, or several joined in the order given (the last one's newest rows are the
+    // newest of all, so held out first).
+    std::vector<DemoBuffer> parts;
+    std::string path;
+    for (absl::string_view one : absl::StrSplit(f->demos, ',', absl::SkipEmpty())) {
+      std::string p(one);
+      if (p.size() < 5 || p.substr(p.size() - 5) != ".jgld") p += "/demos.jgld";
+      absl::StatusOr<std::string> bytes = ReadFile(p);
+      if (!bytes.ok()) return Fail(bytes.status());
+      absl::StatusOr<DemoBuffer> part = DemoBuffer::Parse(*bytes);
+      if (!part.ok()) {
+        return Fail(absl::InvalidArgumentError(absl::StrCat(p, ": ", part.status().message())));
+      }
+      parts.push_back(*std::move(part));
+      path += (path.empty() ? "" : ",") + p;
+    }
+    if (parts.empty()) return Fail(absl::InvalidArgumentError("--demos names no buffer"));
+    absl::StatusOr<DemoBuffer> demos = parts[0];
+    if (parts.size() > 1) {
+      int64_t rows = 0;
+      for (const DemoBuffer& part : parts) rows += part.size();
+      demos = DemoBuffer(std::max<int64_t>(rows, 1), parts[0].obs_dim(), parts[0].act_dim());
+      for (const DemoBuffer& part : parts) {
+        if (absl::StatusOr<int64_t> added = demos->AddAll(part); !added.ok()) {
+          return Fail(absl::InvalidArgumentError(
+              absl::StrCat("--demos: ", added.status().message())));
+        }
+      }
     }
     std::printf("fit-demos: %lld labelled states (%d observations, %d actions) from %s; the "
                 "newest %.0f%% held out; %d epochs of minibatch %d, lr %g\n",

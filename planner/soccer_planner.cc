@@ -25,6 +25,9 @@ uint64_t StateFingerprint(const Env& env, const mjModel* m) {
   return h;
 }
 
+// Salts the robust cost's noise streams apart from the search's (same seed, stream and re-plan).
+constexpr uint64_t kRobustNoiseSalt = 0x726f62757374ULL;  // "robust"
+
 }  // namespace
 
 using soccer_juggle::JuggleEnv;
@@ -62,7 +65,8 @@ SoccerPlanner::SoccerPlanner(std::shared_ptr<const soccer_juggle::JuggleSpec> sp
 
 SoccerPlanner::RolloutResult SoccerPlanner::Rollout(JuggleEnv* env, const double* theta,
                                                     PlanClock clock,
-                                                    std::vector<uint64_t>* trace, double bound) {
+                                                    std::vector<uint64_t>* trace, double bound,
+                                                    const float* noise) {
   RolloutResult result;
   SoccerRolloutScorer scorer(config_.cost(), layout_.horizon, &anchors_);
   scorer.Begin(*env);
@@ -72,6 +76,10 @@ SoccerPlanner::RolloutResult SoccerPlanner::Rollout(JuggleEnv* env, const double
   int end = layout_.horizon;
   for (; t < end; ++t, ++clock.step) {
     SoccerPlanAction(*env, layout_, theta, clock, action);
+    if (noise != nullptr) {
+      const float* n = noise + size_t(t) * kNumActions;
+      for (int i = 0; i < kNumActions; ++i) action[i] = std::clamp(action[i] + n[i], -1.0f, 1.0f);
+    }
     const StepResult r = env->Step(action, walk_);
     if (trace != nullptr) trace->push_back(StateFingerprint(*env, spec_->model()));
     scorer.AfterStep(*env, action, r);
@@ -110,13 +118,17 @@ SoccerPlanner::RolloutResult SoccerPlanner::Rollout(JuggleEnv* env, const double
 
 absl::StatusOr<double> SoccerPlanner::Evaluate(const JuggleEnv& env,
                                                const std::vector<double>& theta,
-                                               KickOutcome* kick) {
+                                               KickOutcome* kick, int draw) {
   JUGGLE_CHECK(static_cast<int>(theta.size()) == layout_.dim(), "plan of the wrong size");
+  JUGGLE_CHECK(draw == 0 || (draw <= config_.robust().draws() && !robust_noise_.empty()),
+               "no such robust draw (PlannerConfig.robust, after a re-plan)");
   const std::unique_ptr<EnvSnapshot> snapshot = env.Snapshot();
   double cost = 0;
   absl::Status s = pool_->Run(*snapshot, 1, [&](int, Env* copy) {
     const PlanClock clock{env.steps() - KnotAtOrBefore(layout_, env.steps()), 0};
-    const RolloutResult r = Rollout(static_cast<JuggleEnv*>(copy), theta.data(), clock);
+    const RolloutResult r =
+        Rollout(static_cast<JuggleEnv*>(copy), theta.data(), clock, nullptr,
+                std::numeric_limits<double>::infinity(), draw > 0 ? RobustNoise(draw) : nullptr);
     cost = r.cost;
     if (kick != nullptr) *kick = r.first_kick;
   });
@@ -128,12 +140,37 @@ absl::StatusOr<std::vector<SoccerPlanner::RolloutResult>> SoccerPlanner::Rollout
     const EnvSnapshot& snapshot, PlanClock clock, const std::vector<double>& candidates, int n,
     double bound) {
   const int dim = layout_.dim();
-  std::vector<RolloutResult> results(n);
-  RETURN_IF_ERROR(pool_->Run(snapshot, n, [&](int i, Env* copy) {
-    results[i] =
-        Rollout(static_cast<JuggleEnv*>(copy), candidates.data() + i * dim, clock, nullptr, bound);
+  const int draws = config_.robust().draws();
+  if (draws == 0) {
+    std::vector<RolloutResult> results(n);
+    RETURN_IF_ERROR(pool_->Run(snapshot, n, [&](int i, Env* copy) {
+      results[i] =
+          Rollout(static_cast<JuggleEnv*>(copy), candidates.data() + i * dim, clock, nullptr, bound);
+    }));
+    for (const RolloutResult& r : results) totals_.rollout_steps += r.steps;
+    return results;
+  }
+  // Job j: candidate j / (1 + draws), draw j % (1 + draws) (0: noiseless). No pruning: a
+  // bound on the mean does not bound one rollout.
+  const int per = 1 + draws;
+  std::vector<RolloutResult> all(size_t(n) * per);
+  RETURN_IF_ERROR(pool_->Run(snapshot, n * per, [&](int j, Env* copy) {
+    const int draw = j % per;
+    all[j] = Rollout(static_cast<JuggleEnv*>(copy), candidates.data() + (j / per) * dim, clock,
+                     nullptr, std::numeric_limits<double>::infinity(),
+                     draw > 0 ? RobustNoise(draw) : nullptr);
   }));
-  for (const RolloutResult& r : results) totals_.rollout_steps += r.steps;
+  std::vector<RolloutResult> results(n);
+  for (int i = 0; i < n; ++i) {
+    results[i] = all[size_t(i) * per];
+    double sum = 0;
+    for (int d = 0; d < per; ++d) {
+      sum += all[size_t(i) * per + d].cost;
+      totals_.rollout_steps += all[size_t(i) * per + d].steps;
+    }
+    results[i].cost = sum / per;
+  }
+  totals_.rollouts += int64_t(n) * draws;
   return results;
 }
 
@@ -207,6 +244,25 @@ absl::Status SoccerPlanner::Refine(const EnvSnapshot& snapshot, PlanClock clock,
   return absl::OkStatus();
 }
 
+void SoccerPlanner::DrawRobustNoise() {
+  const config::RobustCost& robust = config_.robust();
+  if (robust.draws() == 0) return;
+  robust_noise_.assign(size_t(robust.draws()) * robust_rows() * kNumActions, 0.0f);
+  Rng rng = Rng::ForStream(config_.seed() ^ kRobustNoiseSalt, stream_,
+                           static_cast<uint64_t>(replan_count_));
+  for (int d = 1; d <= robust.draws(); ++d) {
+    float* noise = robust_noise_.data() + size_t(d - 1) * robust_rows() * kNumActions;
+    for (int t = 0; t < robust_rows(); ++t) {
+      float* row = noise + size_t(t) * kNumActions;
+      if (t % robust.hold_steps() == 0) {
+        for (int i = 0; i < kNumActions; ++i) row[i] = float(robust.action_noise() * rng.Normal());
+      } else {
+        std::copy_n(row - kNumActions, kNumActions, row);
+      }
+    }
+  }
+}
+
 double SoccerPlanner::Inconsistency(const double* theta, const std::vector<double>& warm) const {
   const double w = config_.cost().kick_consistency();
   if (w <= 0 || !has_plan_) return 0;
@@ -225,7 +281,9 @@ absl::Status SoccerPlanner::Replan(const JuggleEnv& env) {
                                         : std::vector<double>(layout_.dim(), 0.0);
   const PlanClock clock{env.steps() - knot0, 0};
   const std::unique_ptr<EnvSnapshot> snapshot = env.Snapshot();
-  Rng rng = Rng::ForStream(config_.seed(), stream_, static_cast<uint64_t>(replan_count_++));
+  Rng rng = Rng::ForStream(config_.seed(), stream_, static_cast<uint64_t>(replan_count_));
+  DrawRobustNoise();
+  ++replan_count_;
   absl::Status status;
   const BatchCost cost = [&](const std::vector<double>& candidates, int n, double bound,
                              std::vector<double>* costs) {

@@ -64,9 +64,11 @@ class SoccerPlanner {
   absl::Status Act(const soccer_juggle::JuggleEnv& env, float* action);
 
   // The cost of `theta` from `env`'s current state, and its first predicted kick (tests,
-  // tools): the rollout the search runs for one candidate.
+  // tools): the rollout the search runs for one candidate. `draw` d in [1, robust.draws]: with
+  // the action noise of the last re-plan's d-th draw (PlannerConfig.robust) instead.
   absl::StatusOr<double> Evaluate(const soccer_juggle::JuggleEnv& env,
-                                  const std::vector<double>& theta, KickOutcome* kick = nullptr);
+                                  const std::vector<double>& theta, KickOutcome* kick = nullptr,
+                                  int draw = 0);
 
   // A copy (plan, warm start, clocks) that draws its searches from random stream `stream` from
   // now on: several re-plans of one state (planner/label_spread.h).
@@ -94,10 +96,19 @@ class SoccerPlanner {
   };
   // `clock`: where the rollout's first state is in the plan.
   // With `trace`, the fingerprint of the state after every step is appended to it. With
-  // config.prune, stops once the cost so far reaches `bound`.
+  // config.prune, stops once the cost so far reaches `bound`. `noise`: added to the action of
+  // step t from noise[t·kNumActions] on (robust_rows() steps), or none.
   RolloutResult Rollout(soccer_juggle::JuggleEnv* env, const double* theta, PlanClock clock,
                         std::vector<uint64_t>* trace = nullptr,
-                        double bound = std::numeric_limits<double>::infinity());
+                        double bound = std::numeric_limits<double>::infinity(),
+                        const float* noise = nullptr);
+  // PlannerConfig.robust: draws this re-plan's noise (robust_noise_), and the noise of draw
+  // d in [1, draws].
+  void DrawRobustNoise();
+  int robust_rows() const { return layout_.horizon + kReleaseSteps; }
+  const float* RobustNoise(int draw) const {
+    return robust_noise_.data() + size_t(draw - 1) * robust_rows() * soccer_juggle::kNumActions;
+  }
   absl::Status Replan(const soccer_juggle::JuggleEnv& env);
   // PlannerConfig.warm_start_from_executed: the plan's map from the current kick set to the
   // action at the state just acted in (RecordActionMap), and the move of that set toward the
@@ -106,7 +117,10 @@ class SoccerPlanner {
   void FollowExecutedAction(const soccer_juggle::JuggleEnv& env);
   // The kick-consistency cost of `theta` against the warm start `warm` (PlannerCost).
   double Inconsistency(const double* theta, const std::vector<double>& warm) const;
-  // Rolls out candidates[i·dim .. (i+1)·dim) for i < n from `snapshot`; counts them.
+  // Rolls out candidates[i·dim .. (i+1)·dim) for i < n from `snapshot`; counts the steps, and
+  // the rollouts of robust draws (the callers count one per candidate). With robust draws a
+  // result's cost is the mean over the noiseless rollout and the draws, the rest the
+  // noiseless rollout's.
   absl::StatusOr<std::vector<RolloutResult>> RolloutBatch(
       const EnvSnapshot& snapshot, PlanClock clock, const std::vector<double>& candidates, int n,
       double bound = std::numeric_limits<double>::infinity());
@@ -137,6 +151,8 @@ class SoccerPlanner {
   int last_node_ = -1;
   int cycle_ = 0;
   int64_t replan_count_ = 0;
+  // The current re-plan's robust noise: draws × robust_rows() × kNumActions.
+  std::vector<float> robust_noise_;
   // The chosen plan's predicted state fingerprints, from origin_step_ + 1 on.
   std::vector<uint64_t> predicted_;
   ReplanReport last_;

@@ -405,6 +405,56 @@ TEST_F(SoccerPlannerTest, AKickConsistencyTermKeepsRePlansNearTheWarmStart) {
   EXPECT_LT(held_churn, free_churn / 10) << "free " << free_churn;
 }
 
+// PlannerConfig.robust: the search scores a candidate by the mean of its noiseless rollout and
+// its noisy draws (each re-evaluated here on its own), while its prediction stays noiseless.
+TEST_F(SoccerPlannerTest, ARobustPlanCostsTheMeanOfItsNoiselessAndNoisyRollouts) {
+  config::RobustCost& robust = *config_.run.mutable_planner()->mutable_robust();
+  robust.set_draws(2);
+  robust.set_action_noise(0.05);
+  robust.set_hold_steps(3);
+  config_.run.mutable_planner()->mutable_rescue()->set_cost_above(0);  // one search, quicker
+  std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.03);
+  std::unique_ptr<SoccerPlanner> planner = NewPlanner();
+  float action[kNumActions];
+  ASSERT_TRUE(planner->Act(*env, action).ok());
+  const std::vector<double> plan = planner->plan();
+  KickOutcome kick;
+  absl::StatusOr<double> noiseless = planner->Evaluate(*env, plan, &kick);
+  absl::StatusOr<double> first = planner->Evaluate(*env, plan, nullptr, 1);
+  absl::StatusOr<double> second = planner->Evaluate(*env, plan, nullptr, 2);
+  ASSERT_TRUE(noiseless.ok() && first.ok() && second.ok());
+  EXPECT_NE(*first, *noiseless);
+  EXPECT_NE(*second, *first);
+  EXPECT_DOUBLE_EQ(planner->last_replan().best_cost, (*noiseless + *first + *second) / 3);
+  ASSERT_TRUE(kick.valid);
+  EXPECT_EQ(planner->last_replan().predicted_kick.timing, kick.timing);
+  EXPECT_EQ(planner->last_replan().predicted_kick.dx, kick.dx);
+  // Every candidate was simulated three times, and the chosen plan once more for its prediction.
+  EXPECT_EQ(planner->totals().rollouts, 3 * planner->last_replan().evaluations + 1);
+}
+
+// The robust draws have their own random streams: with zero noise they change no plan.
+TEST_F(SoccerPlannerTest, RobustDrawsWithoutNoiseChooseTheSamePlans) {
+  std::vector<std::vector<float>> runs;
+  for (int draws : {0, 2}) {
+    config::RobustCost& robust = *config_.run.mutable_planner()->mutable_robust();
+    robust.set_draws(draws);
+    robust.set_action_noise(0);
+    config_.run.mutable_planner()->set_prune(false);  // robust draws never prune
+    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.03);
+    std::unique_ptr<SoccerPlanner> planner = NewPlanner();
+    std::vector<float> actions;
+    float action[kNumActions];
+    for (int t = 0; t < 10; ++t) {
+      ASSERT_TRUE(planner->Act(*env, action).ok());
+      actions.insert(actions.end(), action, action + kNumActions);
+      env->Step(action, *walk_);
+    }
+    runs.push_back(actions);
+  }
+  EXPECT_EQ(runs[0], runs[1]);
+}
+
 TEST_F(SoccerPlannerTest, AShiftedPlanActsAsBefore) {
   config::PlannerConfig p = config_.run.planner();
   p.set_body_knot_steps(5);

@@ -4,7 +4,9 @@
 Reads the "episode" lines of every file given, refuses an episode that appears twice, and
 prints the juggles distribution as `juggle eval` does (median, p10, p90 with the same linear
 interpolation as eval/summary.cc), the endings, and the planner cost when the logs beside the
-JSON files (same name, .log) carry `wall_s=`.
+JSON files (same name, .log) carry `wall_s=` (wall time: core-seconds only while the parts had
+a core each) and `planner_rollout_steps=` (control steps simulated by the planner's rollouts:
+its budget, the same whatever else ran on the machine).
 
   scripts/analysis/eval_parts.py runs/planner_eval60/ep_*.jsonl
 """
@@ -29,6 +31,7 @@ def percentile(values, q):
 def main(paths):
     episodes = {}
     wall = 0.0
+    rollout_steps = 0
     for path in paths:
         with open(path) as f:
             for number, line in enumerate(f, 1):
@@ -42,6 +45,8 @@ def main(paths):
         if os.path.exists(log):
             found = re.findall(r"wall_s=([0-9.]+)", open(log).read())
             wall += float(found[-1]) if found else 0.0
+            steps = re.findall(r"planner_rollout_steps=([0-9]+)", open(log).read())
+            rollout_steps += int(steps[-1]) if steps else 0
     if not episodes:
         sys.exit("no episode lines in " + " ".join(paths))
     juggles = [e["juggles"] for e in episodes.values()]
@@ -54,7 +59,8 @@ def main(paths):
           f"p90_juggles={percentile(juggles, 0.9):g} mean_juggles={sum(juggles) / len(juggles):.2f} "
           f"mean_episode_s={seconds / len(juggles):.2f} "
           + " ".join(f"{k}={v}" for k, v in sorted(endings.items()))
-          + (f" wall_s={wall:.0f} core_s_per_sim_s={wall / seconds:.2f}" if wall > 0 else ""))
+          + (f" wall_s={wall:.0f} core_s_per_sim_s={wall / seconds:.2f}" if wall > 0 else "")
+          + (f" rollout_steps_per_sim_s={rollout_steps / seconds:.0f}" if rollout_steps > 0 else ""))
     print("juggles by episode: " + " ".join(f"{k}:{episodes[k]['juggles']}" for k in sorted(episodes)))
 
 

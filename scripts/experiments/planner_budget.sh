@@ -1,9 +1,10 @@
 #!/bin/bash
 # Juggles against the planner's budget (docs/planner.md, "Budget"): the same held-out starts
 # evaluated once per setting with scripts/experiments/planner_eval.sh (resumable: a finished
-# episode is skipped), then one table row per setting: median and mean juggles, core-seconds
-# per simulated second (one planner thread per episode, SLOTS episodes side by side: wall
-# seconds, so core-seconds only while SLOTS <= free cores).
+# episode is skipped), then one table row per setting: median and mean juggles, the planner's
+# rollout steps per simulated second (its budget, independent of what else runs), and
+# core-seconds per simulated second (one planner thread per episode, SLOTS episodes side by
+# side: wall seconds, so core-seconds only while SLOTS <= free cores and nothing else runs).
 #
 #   scripts/experiments/planner_budget.sh OUT CONFIG EPISODES SECONDS SLOTS LABEL=SETTINGS ...
 #   e.g. scripts/experiments/planner_budget.sh runs/budget configs/right_foot_planner.textproto \
@@ -36,11 +37,11 @@ for setting in "$@"; do
   rows+=("$label|$fields|$summary")
 done
 echo
-echo "| setting | planner settings | episodes | median | mean | core-s per sim-s |"
-echo "|---|---|---|---|---|---|"
+echo "| setting | planner settings | episodes | median | mean | rollout steps per sim-s | core-s per sim-s |"
+echo "|---|---|---|---|---|---|---|"
 for row in "${rows[@]}"; do
   IFS='|' read -r label fields summary <<< "$row"
   value() { grep -o "$1=[0-9.]*" <<< "$summary" | cut -d= -f2; }
   echo "| $label | ${fields:-—} | $(value episodes) | $(value median_juggles) |" \
-       "$(value mean_juggles) | $(value core_s_per_sim_s) |"
+       "$(value mean_juggles) | $(value rollout_steps_per_sim_s) | $(value core_s_per_sim_s) |"
 done

@@ -22,24 +22,13 @@ namespace juggle {
 
 namespace {
 
-// The kept rows as a demonstration buffer, one unroll per episode (juggle fit-demos reads it).
+// The kept rows as a demonstration buffer, in the order they were visited (juggle fit-demos
+// reads it).
 absl::Status WriteRows(const planner::LabelSpreadReport& r, int obs_dim, int label_dim,
                        const std::vector<float>& labels, const std::string& path) {
-  DemoBuffer demos(std::max(r.steps, 1), obs_dim, label_dim);
-  int64_t first = 0;
-  for (int steps : r.episode_steps) {
-    UnrollBatch b;
-    b.num_unrolls = 1;
-    b.unroll_length = steps;
-    b.obs_dim = obs_dim;
-    b.act_dim = label_dim;
-    b.labelled = {1};
-    b.obs.assign(r.row_obs.begin() + first * obs_dim, r.row_obs.begin() + (first + steps) * obs_dim);
-    b.labels.assign(labels.begin() + first * label_dim,
-                    labels.begin() + (first + steps) * label_dim);
-    demos.AddLabelled(b);
-    first += steps;
-  }
+  const int64_t rows = static_cast<int64_t>(r.row_obs.size()) / obs_dim;
+  DemoBuffer demos(std::max<int64_t>(rows, 1), obs_dim, label_dim);
+  demos.AddPairs(r.row_obs.data(), labels.data(), rows);
   return WriteFileAtomically(path, demos.Serialize());
 }
 

@@ -67,6 +67,11 @@ int64_t DemoBuffer::AddLabelled(const UnrollBatch& b) {
   return n;
 }
 
+int64_t DemoBuffer::AddPairs(const float* obs, const float* labels, int64_t n) {
+  for (int64_t i = 0; i < n; ++i) AddRow(obs + i * obs_dim_, labels + i * act_dim_);
+  return n;
+}
+
 absl::StatusOr<int64_t> DemoBuffer::AddAll(const DemoBuffer& other) {
   if (&other == this) return absl::InvalidArgumentError("a buffer cannot add itself");
   if (other.obs_dim_ != obs_dim_ || other.act_dim_ != act_dim_) {

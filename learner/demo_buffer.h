@@ -23,6 +23,9 @@ class DemoBuffer {
   // Adds every step of `batch`'s labelled unrolls (REQUIRES: a validated batch of these dims);
   // returns the pairs added.
   int64_t AddLabelled(const UnrollBatch& batch);
+  // Adds n pairs, row i from obs[i·obs_dim ..] and labels[i·act_dim ..], in row order (tools
+  // that make demonstrations outside a batch); returns n.
+  int64_t AddPairs(const float* obs, const float* labels, int64_t n);
   // Adds every pair of `other` in the order it was added (its oldest first; a smaller buffer
   // keeps the newest); returns the pairs added. INVALID_ARGUMENT for other dims or itself.
   absl::StatusOr<int64_t> AddAll(const DemoBuffer& other);

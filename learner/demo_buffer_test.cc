@@ -84,6 +84,19 @@ TEST(DemoBufferTest, StaysWithinItsBoundKeepingTheNewestAndReconciles) {
 }
 
 // imitation.initial_demos_file: a saved buffer seeds a new run's, in the order its pairs were added.
+TEST(DemoBufferTest, AddPairsTakesRowsInOrderAndKeepsTheNewest) {
+  std::vector<float> obs, labels;
+  for (int i = 0; i < 6; ++i) {
+    obs.insert(obs.end(), {float(10 + i), 0, 0});
+    labels.insert(labels.end(), {-float(10 + i), 0.5f});
+  }
+  DemoBuffer d(4, kD, kA);
+  EXPECT_EQ(d.AddPairs(obs.data(), labels.data(), 6), 6);
+  EXPECT_EQ(Keys(d), (std::set<float>{12, 13, 14, 15}));
+  EXPECT_EQ(d.obs()[d.oldest() * kD], 12);
+  EXPECT_EQ(d.evicted(), 2);
+}
+
 TEST(DemoBufferTest, AddAllTakesAnotherBuffersPairsOldestFirstAndKeepsTheNewest) {
   DemoBuffer source(5, kD, kA);
   source.AddLabelled(Batch(4, 0));  // keys 4..7, 12..15 into 5: 7, 12..15 held, ring wrapped

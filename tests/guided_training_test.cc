@@ -77,15 +77,10 @@ TEST(GuidedTrainingTest, LabelsFillTheBufferAndPretrainingHandsOverToPpoWithImit
 void WriteDemos(const std::string& path, int rows, int obs_dim, int act_dim) {
   DemoBuffer demos(rows, obs_dim, act_dim);
   Rng rng(11);
-  UnrollBatch b;
-  b.num_unrolls = 1;
-  b.unroll_length = rows;
-  b.obs_dim = obs_dim;
-  b.act_dim = act_dim;
-  b.labelled = {1};
-  for (int i = 0; i < rows * obs_dim; ++i) b.obs.push_back(float(rng.Normal()));
-  for (int i = 0; i < rows * act_dim; ++i) b.labels.push_back(float(rng.Uniform(-0.5, 0.5)));
-  demos.AddLabelled(b);
+  std::vector<float> obs, labels;
+  for (int i = 0; i < rows * obs_dim; ++i) obs.push_back(float(rng.Normal()));
+  for (int i = 0; i < rows * act_dim; ++i) labels.push_back(float(rng.Uniform(-0.5, 0.5)));
+  demos.AddPairs(obs.data(), labels.data(), rows);
   ASSERT_TRUE(WriteFileAtomically(path, demos.Serialize()).ok());
 }
 

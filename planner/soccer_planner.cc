@@ -141,33 +141,23 @@ absl::StatusOr<std::vector<SoccerPlanner::RolloutResult>> SoccerPlanner::Rollout
     double bound) {
   const int dim = layout_.dim();
   const int draws = config_.robust().draws();
-  if (draws == 0) {
-    std::vector<RolloutResult> results(n);
-    RETURN_IF_ERROR(pool_->Run(snapshot, n, [&](int i, Env* copy) {
-      results[i] =
-          Rollout(static_cast<JuggleEnv*>(copy), candidates.data() + i * dim, clock, nullptr, bound);
-    }));
-    for (const RolloutResult& r : results) totals_.rollout_steps += r.steps;
-    return results;
-  }
-  // Job j: candidate j / (1 + draws), draw j % (1 + draws) (0: noiseless). No pruning: a
-  // bound on the mean does not bound one rollout.
+  // Job j: candidate j / (1 + draws), draw j % (1 + draws) (0: noiseless). Pruning only
+  // without draws: a bound on the mean does not bound one rollout.
   const int per = 1 + draws;
+  const double rollout_bound = draws == 0 ? bound : std::numeric_limits<double>::infinity();
   std::vector<RolloutResult> all(size_t(n) * per);
   RETURN_IF_ERROR(pool_->Run(snapshot, n * per, [&](int j, Env* copy) {
     const int draw = j % per;
     all[j] = Rollout(static_cast<JuggleEnv*>(copy), candidates.data() + (j / per) * dim, clock,
-                     nullptr, std::numeric_limits<double>::infinity(),
-                     draw > 0 ? RobustNoise(draw) : nullptr);
+                     nullptr, rollout_bound, draw > 0 ? RobustNoise(draw) : nullptr);
   }));
+  for (const RolloutResult& r : all) totals_.rollout_steps += r.steps;
+  if (per == 1) return all;
   std::vector<RolloutResult> results(n);
   for (int i = 0; i < n; ++i) {
     results[i] = all[size_t(i) * per];
     double sum = 0;
-    for (int d = 0; d < per; ++d) {
-      sum += all[size_t(i) * per + d].cost;
-      totals_.rollout_steps += all[size_t(i) * per + d].steps;
-    }
+    for (int d = 0; d < per; ++d) sum += all[size_t(i) * per + d].cost;
     results[i].cost = sum / per;
   }
   totals_.rollouts += int64_t(n) * draws;

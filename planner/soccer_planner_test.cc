@@ -114,19 +114,24 @@ TEST_F(SoccerPlannerTest, RescuesAKickTheBaseControllerMissesExactlyAsPredicted)
 }
 
 
+// The planner's actions over `steps` steps of `env`, which it drives.
+std::vector<float> ActionsOver(SoccerPlanner* planner, JuggleEnv* env, const AdaptiveWalk& walk,
+                               int steps) {
+  std::vector<float> actions;
+  float action[kNumActions];
+  for (int t = 0; t < steps; ++t) {
+    EXPECT_TRUE(planner->Act(*env, action).ok());
+    actions.insert(actions.end(), action, action + kNumActions);
+    env->Step(action, walk);
+  }
+  return actions;
+}
+
 TEST_F(SoccerPlannerTest, TheSameSeedGivesTheSamePlan) {
   std::vector<std::vector<float>> runs;
   for (uint64_t seed : {7, 7, 8}) {
     std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.03);
-    std::unique_ptr<SoccerPlanner> planner = NewPlanner(seed);
-    std::vector<float> actions;
-    float action[kNumActions];
-    for (int t = 0; t < 12; ++t) {
-      ASSERT_TRUE(planner->Act(*env, action).ok());
-      actions.insert(actions.end(), action, action + kNumActions);
-      env->Step(action, *walk_);
-    }
-    runs.push_back(actions);
+    runs.push_back(ActionsOver(NewPlanner(seed).get(), env.get(), *walk_, 12));
   }
   EXPECT_EQ(runs[0], runs[1]);
   EXPECT_NE(runs[0], runs[2]);
@@ -442,15 +447,7 @@ TEST_F(SoccerPlannerTest, RobustDrawsWithoutNoiseChooseTheSamePlans) {
     robust.set_action_noise(0);
     config_.run.mutable_planner()->set_prune(false);  // robust draws never prune
     std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.03);
-    std::unique_ptr<SoccerPlanner> planner = NewPlanner();
-    std::vector<float> actions;
-    float action[kNumActions];
-    for (int t = 0; t < 10; ++t) {
-      ASSERT_TRUE(planner->Act(*env, action).ok());
-      actions.insert(actions.end(), action, action + kNumActions);
-      env->Step(action, *walk_);
-    }
-    runs.push_back(actions);
+    runs.push_back(ActionsOver(NewPlanner().get(), env.get(), *walk_, 10));
   }
   EXPECT_EQ(runs[0], runs[1]);
 }

@@ -28,6 +28,8 @@ CommandBody AddBenchCommand(CLI::App* cmd) {
       ->check(Between(1, 10000))->capture_default_str();
   pl->add_option("--repeats", plan->repeats, "alternating repeats (best is reported)")
       ->check(Between(1, 100))->capture_default_str();
+  pl->add_option("--planner-set", plan->planner_set,
+                 "planner settings over the config's, text format (e.g. 'samples: 8 iterations: 2')");
 
   CLI::App* m = cmd->add_subcommand("moe", "layer-wise vs weight-blended MoE, PPO update and "
                                              "Eigen inference speed");

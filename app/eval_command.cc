@@ -213,20 +213,24 @@ int Evaluate(EvalFlags f) {
       sweep.magnitudes.push_back(k * f.force_step);
     }
     sweep.min_median_juggles = f.min_median_juggles;
+    sweep.baseline = summary;  // the plain evaluation above: the same episodes without force
     sweep.episodes = options;
     sweep.episodes.record = false;
     // Controllers of their own: the gate statistics above stay those of the plain evaluation.
     // The planner plans with each swept config, so its model includes the force.
     const std::string kind = f.controller;
     const std::shared_ptr<const EigenPolicy> policy = source ? source->policy : nullptr;
+    // The swept planners report progress too: a sweep is many planner evaluations in a row.
+    const auto progress = PlannerProgress(*spec, f.episodes, started, f.planner_trace);
     const ControllerFactory controllers =
-        [kind, policy](std::shared_ptr<const EnvSpec> s,
-                       const LoadedConfig& c) -> absl::StatusOr<std::unique_ptr<Controller>> {
+        [kind, policy, progress](std::shared_ptr<const EnvSpec> s, const LoadedConfig& c)
+        -> absl::StatusOr<std::unique_ptr<Controller>> {
       if (kind == "policy") return std::make_unique<PolicyController>(policy);
       if (kind == "planner") {
         absl::StatusOr<std::unique_ptr<planner::PlannerController>> p =
             planner::PlannerController::Create(s, c);
         if (!p.ok()) return p.status();
+        (*p)->set_on_replan(progress);
         return std::unique_ptr<Controller>(std::move(*p));
       }
       return std::make_unique<ZeroController>(s->act_dim());

@@ -24,6 +24,7 @@ struct PlannerBenchOptions {
   std::string config = "configs/right_foot_planner.textproto";
   int replans = 40;   // re-plans of the planner's own episode per measurement
   int repeats = 2;    // alternating repeats (best is reported)
+  std::string planner_set;  // text-format PlannerConfig fields laid over the config's
 };
 // The planner's rollouts (1 and 2 threads) and snapshot restores vs bare mj_step.
 absl::Status RunPlannerBench(const PlannerBenchOptions& options);

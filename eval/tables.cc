@@ -94,7 +94,7 @@ absl::StatusOr<ForceSweepReport> RunForceSweep(
     return Summarize(report->episodes, (*spec)->control_dt(), (*spec)->outcome_names());
   };
   ForceSweepReport report;
-  std::optional<EvalSummary> baseline;
+  std::optional<EvalSummary> baseline = o.baseline;
   const char axes[3] = {'x', 'y', 'z'};
   for (int axis = 0; axis < 3; ++axis) {
     for (const double sign : {1.0, -1.0}) {

@@ -11,6 +11,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,9 @@ struct ForceSweepOptions {
   std::vector<double> magnitudes = {0, 1, 2, 3, 4, 5};  // N, ascending; 0 is the baseline
   double min_median_juggles = 10;
   EpisodeOptions episodes;  // the same episodes (seeds) at every force
+  // The 0 N evaluation, when the caller has already run these episodes without force (juggle
+  // eval's plain evaluation): used for every direction's 0 N row instead of running it again.
+  std::optional<EvalSummary> baseline;
 };
 
 struct ForceSweepRow {

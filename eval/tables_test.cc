@@ -152,6 +152,40 @@ TEST(TablesTest, TossSweepsHorizontalWindOnlyAndFindsTheLargestPassingForce) {
                         "\"episodes\":2,\"median_juggles\":"));
 }
 
+// A baseline the caller has already evaluated is every direction's 0 N row, and no
+// controller is made for it; without one the sweep evaluates 0 N once.
+TEST(TablesTest, SweepUsesAGivenBaselineForTheZeroForceRows) {
+  const LoadedConfig config = EvalConfig("toss_catch", 1);
+  int controllers_made = 0;
+  const ControllerFactory zero = ZeroControllers(ActDim(config));
+  const ControllerFactory counted = [&](std::shared_ptr<const EnvSpec> spec,
+                                        const LoadedConfig& c) {
+    ++controllers_made;
+    return zero(spec, c);
+  };
+  ForceSweepOptions o;
+  o.magnitudes = {0, 0.5};
+  o.episodes.episodes = 2;
+  absl::StatusOr<ForceSweepReport> r = RunForceSweep(config, counted, o, nullptr);
+  ASSERT_TRUE(r.ok()) << r.status();
+  EXPECT_EQ(controllers_made, 3);  // 0 N once, then ±x at 0.5 N
+  const EvalSummary evaluated = r->rows[0].summary;
+  const EvalSummary forced_plus_x = r->rows[1].summary;
+
+  EvalSummary given = evaluated;
+  given.median_juggles = 42;  // marks the given summary
+  o.baseline = given;
+  controllers_made = 0;
+  r = RunForceSweep(config, counted, o, nullptr);
+  ASSERT_TRUE(r.ok()) << r.status();
+  EXPECT_EQ(controllers_made, 2);
+  ASSERT_EQ(r->rows.size(), 4u);
+  EXPECT_EQ(r->rows[0].summary.median_juggles, 42);  // +x, 0 N
+  EXPECT_EQ(r->rows[2].summary.median_juggles, 42);  // -x, 0 N
+  // The forced rows are those of the first sweep: the same episodes, deterministic.
+  EXPECT_EQ(r->rows[1].summary.mean_return, forced_plus_x.mean_return);
+}
+
 TEST(TablesTest, SoccerForceHookSetsTheBallForce) {
   LoadedConfig config = EvalConfig("right_foot", 1);
   const double force[3] = {0, -1.5, 2};

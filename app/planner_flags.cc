@@ -11,12 +11,7 @@ void AddPlannerFlags(CLI::App* cmd, PlannerFlags* flags) {
 }
 
 absl::Status ApplyPlannerFlags(const PlannerFlags& flags, LoadedConfig* config) {
-  if (flags.set.empty()) return absl::OkStatus();
-  config::PlannerConfig changes;
-  absl::StatusOr<SourceLocator> parsed = ParseTextMessage(flags.set, "--planner-set", &changes);
-  if (!parsed.ok()) return parsed.status();
-  config->run.mutable_planner()->MergeFrom(changes);
-  return absl::OkStatus();
+  return planner::ApplyPlannerSettings(flags.set, config);
 }
 
 absl::StatusOr<ControllerFactory> PlannerControllerFactory(const PlannerFlags& flags) {

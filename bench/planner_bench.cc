@@ -12,9 +12,9 @@
 
 #include "bench/benchmarks.h"
 #include "bench/physics_reference.h"
-#include "common/config_loader.h"
 #include "envs/registry.h"
 #include "envs/soccer_juggle/env.h"
+#include "planner/planner_controller.h"
 #include "planner/rollout_pool.h"
 #include "planner/soccer_planner.h"
 
@@ -84,12 +84,7 @@ absl::Status RunPlannerBench(const PlannerBenchOptions& o) {
   }
   absl::StatusOr<LoadedConfig> config = LoadRunConfig(o.config);
   if (!config.ok()) return config.status();
-  if (!o.planner_set.empty()) {
-    config::PlannerConfig changes;
-    absl::StatusOr<SourceLocator> parsed = ParseTextMessage(o.planner_set, "--planner-set", &changes);
-    if (!parsed.ok()) return parsed.status();
-    config->run.mutable_planner()->MergeFrom(changes);
-  }
+  if (absl::Status s = planner::ApplyPlannerSettings(o.planner_set, &*config); !s.ok()) return s;
   absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = JuggleSpec::Create(*config);
   if (!spec.ok()) return spec.status();
   const config::PlannerConfig& planner = config->run.planner();

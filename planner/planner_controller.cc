@@ -10,6 +10,15 @@ using soccer_juggle::JuggleEnv;
 using soccer_juggle::JuggleSpec;
 using soccer_juggle::kNumActions;
 
+absl::Status ApplyPlannerSettings(const std::string& text, LoadedConfig* config) {
+  if (text.empty()) return absl::OkStatus();
+  config::PlannerConfig changes;
+  absl::StatusOr<SourceLocator> parsed = ParseTextMessage(text, "--planner-set", &changes);
+  if (!parsed.ok()) return parsed.status();
+  config->run.mutable_planner()->MergeFrom(changes);
+  return absl::OkStatus();
+}
+
 absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
   const config::PlannerConfig& p = config.run.planner();
   auto where = [&](const char* field) { return config.root.Where({{"planner"}, {field}}); };

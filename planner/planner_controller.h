@@ -26,6 +26,11 @@ namespace juggle::planner {
 // horizon steps, a family the planner cannot drive.
 absl::Status ValidatePlannerConfig(const LoadedConfig& config);
 
+// Lays `text` (text-format PlannerConfig fields, e.g. "samples: 8 iterations: 2") over
+// config->run.planner; empty text changes nothing. INVALID_ARGUMENT "--planner-set:1:col: ..."
+// for text that does not parse or a value out of range.
+absl::Status ApplyPlannerSettings(const std::string& text, LoadedConfig* config);
+
 class PlannerController final : public Controller {
  public:
   // Validates config.run.planner (ValidatePlannerConfig) for `spec` (made from `config`).

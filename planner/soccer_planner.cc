@@ -165,7 +165,8 @@ absl::StatusOr<std::vector<SoccerPlanner::RolloutResult>> SoccerPlanner::Rollout
 }
 
 absl::Status SoccerPlanner::Refine(const EnvSnapshot& snapshot, PlanClock clock, int set,
-                                   std::vector<double>* theta, double* cost) {
+                                   const std::vector<double>& warm, std::vector<double>* theta,
+                                   double* cost) {
   const int dim = layout_.dim();
   const int first = layout_.kick(set);
   const config::PlannerCost& w = config_.cost();
@@ -205,6 +206,15 @@ absl::Status SoccerPlanner::Refine(const EnvSnapshot& snapshot, PlanClock clock,
         A[i * kKickVariables + j] = s;
       }
     }
+    // The kick prior (PlannerCost.kick_prior) as residual rows √(prior / kick)·v / spread_v.
+    const double prior = w.kick() > 0 ? w.kick_prior() / w.kick() : 0;
+    for (int i = 0; i < kKickVariables; ++i) {
+      const double s = space_.sigma[first + i];
+      if (prior > 0 && s > 0) {
+        A[i * kKickVariables + i] += prior / (s * s);
+        b[i] -= prior * (*theta)[first + i] / (s * s);
+      }
+    }
     for (int i = 0; i < kKickVariables; ++i) {
       A[i * kKickVariables + i] += 0.1 * A[i * kKickVariables + i] + 1e-3;
     }
@@ -225,6 +235,7 @@ absl::Status SoccerPlanner::Refine(const EnvSnapshot& snapshot, PlanClock clock,
     totals_.rollouts += 3;
     int best = -1;
     for (int k = 0; k < 3; ++k) {
+      steps[k].cost += Regularization(batch.data() + k * dim, warm);
       if (steps[k].cost < *cost && (best < 0 || steps[k].cost < steps[best].cost)) best = k;
     }
     if (best < 0) return absl::OkStatus();
@@ -234,12 +245,11 @@ absl::Status SoccerPlanner::Refine(const EnvSnapshot& snapshot, PlanClock clock,
   return absl::OkStatus();
 }
 
-void SoccerPlanner::DrawRobustNoise() {
+void SoccerPlanner::DrawRobustNoise(uint64_t draw_index) {
   const config::RobustCost& robust = config_.robust();
   if (robust.draws() == 0) return;
   robust_noise_.assign(size_t(robust.draws()) * robust_rows() * kNumActions, 0.0f);
-  Rng rng = Rng::ForStream(config_.seed() ^ kRobustNoiseSalt, stream_,
-                           static_cast<uint64_t>(replan_count_));
+  Rng rng = Rng::ForStream(config_.seed() ^ kRobustNoiseSalt, stream_, draw_index);
   for (int d = 1; d <= robust.draws(); ++d) {
     float* noise = robust_noise_.data() + size_t(d - 1) * robust_rows() * kNumActions;
     for (int t = 0; t < robust_rows(); ++t) {
@@ -253,26 +263,37 @@ void SoccerPlanner::DrawRobustNoise() {
   }
 }
 
-double SoccerPlanner::Inconsistency(const double* theta, const std::vector<double>& warm) const {
-  const double w = config_.cost().kick_consistency();
-  if (w <= 0 || !has_plan_) return 0;
+double SoccerPlanner::Regularization(const double* theta, const std::vector<double>& warm) const {
+  const double consistency = has_plan_ ? config_.cost().kick_consistency() : 0;
+  const double prior = config_.cost().kick_prior();
+  if (consistency <= 0 && prior <= 0) return 0;
   double sum = 0;
   for (int v = 0; v < layout_.kick_dim(); ++v) {
-    if (space_.sigma[v] > 0) sum += std::pow((theta[v] - warm[v]) / space_.sigma[v], 2);
+    if (space_.sigma[v] <= 0) continue;
+    sum += consistency * std::pow((theta[v] - warm[v]) / space_.sigma[v], 2) +
+           prior * std::pow(theta[v] / space_.sigma[v], 2);
   }
-  return w * sum;
+  return sum;
 }
 
 absl::Status SoccerPlanner::Replan(const JuggleEnv& env) {
   const int knot0 = KnotAtOrBefore(layout_, env.steps());
   const int moved = layout_.knot_steps > 0 ? (knot0 - knot0_step_) / layout_.knot_steps : 0;
-  const std::vector<double> start = has_plan_
-                                        ? ShiftSoccerPlan(layout_, theta_, moved, cycle_ - origin_cycle_)
-                                        : std::vector<double>(layout_.dim(), 0.0);
+  // The previous plan shifted to now (the consistency term's reference and a frozen kick's
+  // value), and the search's start: the same, or the configured swing (cold_start).
+  const std::vector<double> shifted = has_plan_
+                                          ? ShiftSoccerPlan(layout_, theta_, moved, cycle_ - origin_cycle_)
+                                          : std::vector<double>(layout_.dim(), 0.0);
+  const std::vector<double> start =
+      config_.cold_start() ? std::vector<double>(layout_.dim(), 0.0) : shifted;
   const PlanClock clock{env.steps() - knot0, 0};
   const std::unique_ptr<EnvSnapshot> snapshot = env.Snapshot();
-  Rng rng = Rng::ForStream(config_.seed(), stream_, static_cast<uint64_t>(replan_count_));
-  DrawRobustNoise();
+  // A cold start draws from the state's step, so the same state gets the same answer whatever
+  // came before it; otherwise from the re-plan's count.
+  const uint64_t draw_index = config_.cold_start() ? static_cast<uint64_t>(env.steps())
+                                                   : static_cast<uint64_t>(replan_count_);
+  Rng rng = Rng::ForStream(config_.seed(), stream_, draw_index);
+  DrawRobustNoise(draw_index);
   ++replan_count_;
   absl::Status status;
   const BatchCost cost = [&](const std::vector<double>& candidates, int n, double bound,
@@ -285,7 +306,7 @@ absl::Status SoccerPlanner::Replan(const JuggleEnv& env) {
       return;
     }
     for (int i = 0; i < n; ++i) {
-      (*costs)[i] = (*r)[i].cost + Inconsistency(&candidates[size_t(i) * layout_.dim()], start);
+      (*costs)[i] = (*r)[i].cost + Regularization(&candidates[size_t(i) * layout_.dim()], shifted);
     }
   };
   // Seeds: the shifted plan, and the same with the nominal kick (a carried kick that no longer
@@ -300,10 +321,10 @@ absl::Status SoccerPlanner::Replan(const JuggleEnv& env) {
   const bool released = env.state().kick_touched && !env.state().touched_this_step;
   if (config_.kick().freeze_after_release() && released && layout_.kick_sets > 0) {
     for (int v = 0; v < kKickVariables; ++v) {
-      space.lower[v] = space.upper[v] = start[v];
+      space.lower[v] = space.upper[v] = shifted[v];
       space.sigma[v] = 0;
     }
-    for (std::vector<double>& seed : seeds) std::copy_n(start.begin(), kKickVariables, seed.begin());
+    for (std::vector<double>& seed : seeds) std::copy_n(shifted.begin(), kKickVariables, seed.begin());
   }
   CemResult result = MinimizeCem(space, settings_, seeds, &rng, cost);
   if (!status.ok()) return status;
@@ -339,7 +360,7 @@ absl::Status SoccerPlanner::Replan(const JuggleEnv& env) {
     // The set of the next kick inside the horizon (not a frozen one).
     const int set = std::min(env.state().kick_touched ? 1 : 0, layout_.kick_sets - 1);
     if (!(set == 0 && released && config_.kick().freeze_after_release())) {
-      RETURN_IF_ERROR(Refine(*snapshot, clock, set, &result.best, &result.best_cost));
+      RETURN_IF_ERROR(Refine(*snapshot, clock, set, shifted, &result.best, &result.best_cost));
     }
   }
   theta_ = result.best;

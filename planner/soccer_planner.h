@@ -102,9 +102,9 @@ class SoccerPlanner {
                         std::vector<uint64_t>* trace = nullptr,
                         double bound = std::numeric_limits<double>::infinity(),
                         const float* noise = nullptr);
-  // PlannerConfig.robust: draws this re-plan's noise (robust_noise_), and the noise of draw
-  // d in [1, draws].
-  void DrawRobustNoise();
+  // PlannerConfig.robust: draws this re-plan's noise (robust_noise_) from random stream
+  // (seed, stream, draw_index), and the noise of draw d in [1, draws].
+  void DrawRobustNoise(uint64_t draw_index);
   int robust_rows() const { return layout_.horizon + kReleaseSteps; }
   const float* RobustNoise(int draw) const {
     return robust_noise_.data() + size_t(draw - 1) * robust_rows() * soccer_juggle::kNumActions;
@@ -115,8 +115,9 @@ class SoccerPlanner {
   // action that was applied there instead (FollowExecutedAction, at the next state).
   void RecordActionMap(const soccer_juggle::JuggleEnv& env, PlanClock clock, const float* action);
   void FollowExecutedAction(const soccer_juggle::JuggleEnv& env);
-  // The kick-consistency cost of `theta` against the warm start `warm` (PlannerCost).
-  double Inconsistency(const double* theta, const std::vector<double>& warm) const;
+  // The kick-consistency cost of `theta` against the previous plan `warm` and its kick prior
+  // (PlannerCost.kick_consistency, kick_prior).
+  double Regularization(const double* theta, const std::vector<double>& warm) const;
   // Rolls out candidates[i·dim .. (i+1)·dim) for i < n from `snapshot`; counts the steps, and
   // the rollouts of robust draws (the callers count one per candidate). With robust draws a
   // result's cost is the mean over the noiseless rollout and the draws, the rest the
@@ -124,10 +125,10 @@ class SoccerPlanner {
   absl::StatusOr<std::vector<RolloutResult>> RolloutBatch(
       const EnvSnapshot& snapshot, PlanClock clock, const std::vector<double>& candidates, int n,
       double bound = std::numeric_limits<double>::infinity());
-  // Gauss-Newton steps on kick set `set`'s variables of `theta` (cost `cost`); returns the
-  // refined plan and its cost.
+  // Gauss-Newton steps on kick set `set`'s variables of `theta` (cost `cost`, regularized
+  // against the previous plan `warm`); returns the refined plan and its cost.
   absl::Status Refine(const EnvSnapshot& snapshot, PlanClock clock, int set,
-                      std::vector<double>* theta, double* cost);
+                      const std::vector<double>& warm, std::vector<double>* theta, double* cost);
 
   std::shared_ptr<const soccer_juggle::JuggleSpec> spec_;
   const config::PlannerConfig config_;

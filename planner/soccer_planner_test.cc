@@ -410,6 +410,57 @@ TEST_F(SoccerPlannerTest, AKickConsistencyTermKeepsRePlansNearTheWarmStart) {
   EXPECT_LT(held_churn, free_churn / 10) << "free " << free_churn;
 }
 
+// cold_start: a re-plan's answer depends on the state only. A planner that drove the episode to
+// step 12 and a fresh one asked at that state give the same action; with warm starts they do
+// not (the driver's plan carries its history).
+TEST_F(SoccerPlannerTest, AColdStartLabelIsAFunctionOfTheStateNotOfThePlansHistory) {
+  config_.run.mutable_planner()->set_replan_every(3);
+  for (const bool cold : {false, true}) {
+    config_.run.mutable_planner()->set_cold_start(cold);
+    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.03);
+    std::unique_ptr<SoccerPlanner> driver = NewPlanner();
+    float action[kNumActions];
+    for (int t = 0; t < 12; ++t) {
+      ASSERT_TRUE(driver->Act(*env, action).ok());
+      ASSERT_EQ(env->Step(action, *walk_).outcome, Outcome::kRunning);
+    }
+    ASSERT_TRUE(driver->Act(*env, action).ok());
+    ASSERT_EQ(driver->last_replan().env_step, 12);
+    float fresh[kNumActions];
+    ASSERT_TRUE(NewPlanner()->Act(*env, fresh).ok());
+    double differs = 0;
+    for (int a = 0; a < kNumActions; ++a) differs += std::abs(fresh[a] - action[a]);
+    if (cold) {
+      EXPECT_EQ(differs, 0);
+    } else {
+      EXPECT_GT(differs, 1e-4) << "a warm-started re-plan should carry its history";
+    }
+  }
+}
+
+// kick_prior: among kicks that land alike the search settles on smaller changes of the swing.
+TEST_F(SoccerPlannerTest, AKickPriorShrinksTheChosenKickVariables) {
+  auto kick_size = [&](double prior) {
+    config_.run.mutable_planner()->mutable_cost()->set_kick_prior(prior);
+    config_.run.mutable_planner()->set_refine_iterations(2);
+    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.06);
+    std::unique_ptr<SoccerPlanner> planner = NewPlanner();
+    float action[kNumActions];
+    EXPECT_TRUE(planner->Act(*env, action).ok());
+    // In units of the search spreads (the prior's units).
+    const config::KickVariables& k = config_.run.planner().kick();
+    double size = std::pow(planner->plan()[0] / k.phase_sigma_s(), 2);
+    for (int v = 1; v < kKickVariables; ++v) size += std::pow(planner->plan()[v] / k.angle_sigma(), 2);
+    return std::sqrt(size);
+  };
+  const double free = kick_size(0);
+  const double held = kick_size(100);
+  // The ball 6 cm ahead needs a kick change of about two spreads; the prior gives up some landing
+  // for a smaller one (measured: 2.3 spreads free, 1.4 at prior 100).
+  EXPECT_GT(free, 1);
+  EXPECT_LT(held, 0.75 * free) << "free " << free;
+}
+
 // PlannerConfig.robust: the search scores a candidate by the mean of its noiseless rollout and
 // its noisy draws (each re-evaluated here on its own), while its prediction stays noiseless.
 TEST_F(SoccerPlannerTest, ARobustPlanCostsTheMeanOfItsNoiselessAndNoisyRollouts) {

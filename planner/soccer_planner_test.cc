@@ -228,6 +228,38 @@ TEST_F(SoccerPlannerTest, AHorizonEndingInContactRunsOnToTheReleaseAndScoresTheK
   }
 }
 
+// run_on_every_kick: false runs on only the current cycle's kick. A horizon that ends with the
+// foot on the ball at the next cycle's touch stops there; with true it runs on past it.
+TEST_F(SoccerPlannerTest, WithoutRunOnEveryKickALaterCyclesKickIsNotRunOn) {
+  // The zero action's second touch, a new touch after the first kick has left the foot (from
+  // this start the zero action makes one; from most it does not).
+  std::unique_ptr<JuggleEnv> probe = StartWithBallAhead(0.01, 3);
+  const float zero[kNumActions] = {0};
+  int second_touch = 0;
+  bool released = false;
+  for (int t = 1; t <= 150 && second_touch == 0; ++t) {
+    ASSERT_EQ(probe->Step(zero, *walk_).outcome, Outcome::kRunning) << "step " << t;
+    if (probe->state().kick_touched && !probe->state().touched_this_step) released = true;
+    if (released && probe->state().touched_this_step) second_touch = t;
+  }
+  ASSERT_GT(second_touch, 0) << "the zero action should touch the ball a second time";
+  for (const bool every : {false, true}) {
+    config::PlannerConfig p = NominalOnly(config_.run.planner(), second_touch);
+    p.set_run_on_every_kick(every);
+    p.set_prune(false);
+    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.01, 3);
+    SoccerPlanner planner(spec_, p, pool_.get(), 0);
+    float action[kNumActions];
+    ASSERT_TRUE(planner.Act(*env, action).ok());
+    const int predicted_steps = planner.last_replan().predicted_end_step - env->steps();
+    if (every) {
+      EXPECT_GT(predicted_steps, second_touch);
+    } else {
+      EXPECT_EQ(predicted_steps, second_touch);
+    }
+  }
+}
+
 // A horizon that ends after the clock has passed the contact with no touch in the cycle
 // predicts a miss, which costs a failure; one that ends before the contact does not.
 TEST_F(SoccerPlannerTest, AHorizonEndingPastAMissedContactCostsAFailure) {

@@ -1,5 +1,6 @@
 #include "render/render_job.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -31,6 +32,22 @@ absl::Status TimedFrame(const mjModel* model, const Trajectory& t, double time, 
   report->render_seconds += std::chrono::duration<double>(Clock::now() - start).count();
   ++report->frames;
   return absl::OkStatus();
+}
+
+// The highest any ball (a body whose name starts with "ball") reaches over `t`'s samples (m);
+// 0 without balls. Poses `scratch`.
+double HighestBall(const mjModel* model, const Trajectory& t, mjData* scratch) {
+  std::vector<int> balls;
+  for (int b = 0; b < model->nbody; ++b) {
+    const char* name = mj_id2name(model, mjOBJ_BODY, b);
+    if (name != nullptr && absl::StartsWith(name, "ball")) balls.push_back(b);
+  }
+  double top = 0;
+  for (int i = 0; !balls.empty() && i < t.num_samples(); ++i) {
+    PoseAt(model, t, t.time[i], scratch);
+    for (int b : balls) top = std::max(top, scratch->xpos[3 * b + 2]);
+  }
+  return top;
 }
 
 }  // namespace
@@ -159,6 +176,8 @@ absl::StatusOr<RenderJobReport> RunRenderJob(const RenderJobOptions& o) {
   if (!o.record.empty()) RETURN_IF_ERROR(WriteTrajectory(trajectory, o.record));
 
   MjDataPtr scratch(mj_makeData(model));
+  // Tall patterns (a 7-ball cascade's apex) stay in the frame.
+  if (renderer != nullptr) renderer->FitHeight(HighestBall(model, trajectory, scratch.get()));
   Image frame;
   if (IsMp4(o.out)) {
     const double seconds = o.replay.empty() ? o.seconds : report.duration;

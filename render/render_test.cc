@@ -129,6 +129,23 @@ class RenderTest : public ::testing::Test {
   int down_ = -1;
 };
 
+// A tall pattern's apex fits the frame: the camera rises and backs off for a high top, and a
+// top the default framing already shows changes nothing.
+TEST_F(RenderTest, FitHeightFramesATallPatternAndLeavesALowOneAlone) {
+  std::unique_ptr<Renderer> renderer = MakeRenderer();
+  ASSERT_NE(renderer, nullptr);
+  const RenderOptions before = renderer->options();
+  renderer->FitHeight(1.4);  // the soccer ball's apex
+  EXPECT_EQ(renderer->options().lookat_height, before.lookat_height);
+  EXPECT_EQ(renderer->options().distance, before.distance);
+  renderer->FitHeight(4.0);
+  const double half_fovy = 0.5 * spec_->model()->vis.global.fovy * mjPI / 180.0;
+  EXPECT_DOUBLE_EQ(renderer->options().lookat_height, 2.1);
+  // From the look-at point, the ray to the apex plus margin is inside half the field of view.
+  EXPECT_LE(std::atan((4.2 - 2.1) / renderer->options().distance), half_fovy);
+  EXPECT_GT(renderer->options().distance, before.distance);
+}
+
 TEST_F(RenderTest, FrameShowsAnUprightHumanoidSilhouetteInTheCentre) {
   std::unique_ptr<Renderer> renderer = MakeRenderer();
   ASSERT_NE(renderer, nullptr);

@@ -1,5 +1,7 @@
 #include "render/renderer.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "absl/strings/str_cat.h"
@@ -50,6 +52,18 @@ Renderer::Renderer(std::unique_ptr<GlContext> gl, mjModel* model, const RenderOp
   mjr_defaultContext(&context_);
   mjr_makeContext(model_, &context_, options_.font_scale);
   mjr_setBuffer(mjFB_OFFSCREEN, &context_);
+}
+
+void Renderer::FitHeight(double top) {
+  // The frame shows up to the look-at height plus the distance times the tangent of half
+  // MuJoCo's vertical field of view (a tenth kept spare); `top` gets a 0.2 m margin.
+  const double tan_half_fovy = std::tan(0.5 * model_->vis.global.fovy * mjPI / 180.0);
+  const double wanted = top + 0.2;
+  if (wanted <= options_.lookat_height + options_.distance * tan_half_fovy / 1.1) return;
+  options_.lookat_height = std::max(options_.lookat_height, 0.5 * wanted);
+  options_.distance =
+      std::max(options_.distance, 1.1 * (wanted - options_.lookat_height) / tan_half_fovy);
+  camera_.distance = options_.distance;
 }
 
 Renderer::~Renderer() {

@@ -52,6 +52,11 @@ class Renderer {
   absl::Status Render(const mjData* data, const std::string& labels, const std::string& values,
                       Image* out);
 
+  // When `top` (m, plus a margin) is above what the frame shows, raises the look-at point and
+  // backs the camera off so that the floor to `top` fits the vertical field of view; never
+  // lower or closer than the options'. render_job.cc calls it with a recording's highest ball.
+  void FitHeight(double top);
+
   const RenderOptions& options() const { return options_; }
   // The GL renderer string, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
   const std::string& gl_renderer() const { return gl_->renderer(); }

@@ -20,7 +20,7 @@
 # their own starts.
 set -euo pipefail
 if [ $# -lt 4 ]; then
-  sed -n '2,15p' "$0"
+  sed -n '2,20p' "$0"
   exit 2
 fi
 out=$1; config=$2; demos=$3; rounds=$4; episodes=${5:-24}; seconds=${6:-6}; planner=${7:-}

@@ -411,7 +411,10 @@ absl::Status SoccerPlanner::Act(const JuggleEnv& env, float* action) {
   }
   const bool follow = config_.warm_start_from_executed() && layout_.kick_sets > 0;
   if (follow && has_plan_) FollowExecutedAction(env);
-  if (!has_plan_ || env.steps() - origin_step_ >= config_.replan_every()) {
+  const bool due = config_.replan_at_cycle_start()
+                       ? cycle_ != origin_cycle_
+                       : env.steps() - origin_step_ >= config_.replan_every();
+  if (!has_plan_ || due) {
     if (absl::Status s = Replan(env); !s.ok()) return s;
   }
   PlanClock clock{env.steps() - knot0_step_, cycle_ - origin_cycle_};

@@ -260,6 +260,35 @@ TEST_F(SoccerPlannerTest, WithoutRunOnEveryKickALaterCyclesKickIsNotRunOn) {
   }
 }
 
+// With replan_at_cycle_start the planner decides once per juggle cycle: it re-plans at the
+// episode's first step and at every DOWN entry, nowhere else, and acts open loop in between.
+TEST_F(SoccerPlannerTest, ReplanAtCycleStartReplansOnlyWhenADownNodeIsEntered) {
+  config::PlannerConfig p = config_.run.planner();
+  p.set_replan_at_cycle_start(true);
+  SoccerPlanner planner(spec_, p, pool_.get(), 0);
+  std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.0);
+  std::vector<int> down_entries = {env->steps()};
+  std::vector<int> replan_steps;
+  int64_t replans = 0;
+  int node = env->node();
+  float action[kNumActions];
+  for (int t = 0; t < 120; ++t) {
+    if (env->node() != node) {
+      node = env->node();
+      if (spec_->graph().node(node).stage == config::DOWN) down_entries.push_back(env->steps());
+    }
+    ASSERT_TRUE(planner.Act(*env, action).ok());
+    if (planner.totals().replans != replans) {
+      replans = planner.totals().replans;
+      replan_steps.push_back(planner.last_replan().env_step);
+    }
+    if (env->Step(action, *walk_).outcome != Outcome::kRunning) break;
+  }
+  ASSERT_GE(down_entries.size(), 2u) << "the planner's kick should bring the ball back down";
+  EXPECT_EQ(replan_steps, down_entries);
+  EXPECT_EQ(planner.totals().prediction_mismatches, 0);
+}
+
 // A horizon that ends after the clock has passed the contact with no touch in the cycle
 // predicts a miss, which costs a failure; one that ends before the contact does not.
 TEST_F(SoccerPlannerTest, AHorizonEndingPastAMissedContactCostsAFailure) {

@@ -1,12 +1,13 @@
 // The receding-horizon planner of one soccer env (docs/planner.md): every `replan_every`
-// control steps it snapshots the env, searches the plan (planner/soccer_plan.h) whose
-// simulated rollout over `horizon_steps` costs least (planner/soccer_cost.h) with the
-// cross-entropy method (planner/cem_search.h), warm-started from the previous plan shifted to
-// now (or from the configured swing: PlannerConfig.cold_start), and then acts with the best
-// plan until the next re-plan. The rollouts run the env's own Step on restored copies, so the
-// executed future equals the predicted one while nothing outside the plan acts. The planner
-// never changes the env it plans for: it only returns actions. Thread-compatible; the pool may
-// be shared by planners used one at a time.
+// control steps (or once per juggle cycle: PlannerConfig.replan_at_cycle_start) it snapshots
+// the env, searches the plan (planner/soccer_plan.h) whose simulated rollout over
+// `horizon_steps` costs least (planner/soccer_cost.h) with the cross-entropy method
+// (planner/cem_search.h), warm-started from the previous plan shifted to now (or from the
+// configured swing: PlannerConfig.cold_start), and then acts with the best plan until the next
+// re-plan. The rollouts run the env's own Step on restored copies, so the executed future
+// equals the predicted one while nothing outside the plan acts. The planner never changes the
+// env it plans for: it only returns actions. Thread-compatible; the pool may be shared by
+// planners used one at a time.
 #ifndef JUGGLE_PLANNER_SOCCER_PLANNER_H_
 #define JUGGLE_PLANNER_SOCCER_PLANNER_H_
 

@@ -1,13 +1,16 @@
 #!/usr/bin/env python3
 """Plots the ablation study's learning curves as one SVG (standard library only).
 
-usage: scripts/analysis/plot_ablation.py OUT_DIR OUT.svg
+usage: scripts/analysis/plot_ablation.py OUT_DIR OUT.svg [--x samples|minutes] [--eval median|mean]
 
-Reads OUT_DIR/<config>_s<seed>/metrics.jsonl (scripts/experiments/ablation.sh's runs). Panels over
-training samples: juggles per episode and node completions per episode (training episodes,
-moving average over 20 iterations), and the in-run evaluation's median juggles. Each config is
-one colour: the mean over its seeds as a line, the range over seeds as a band.
+Reads OUT_DIR/<config>_s<seed>/metrics.jsonl (scripts/experiments/ablation.sh's and
+ab_learning.sh's runs). Panels over training samples (or training wall-clock minutes,
+`train_s`, with --x minutes): juggles per episode and node completions per episode (training
+episodes, moving average over 20 iterations), and the in-run evaluation's median juggles (or
+mean juggles with --eval mean). Each config is one colour: the mean over its seeds as a line,
+the range over seeds as a band, over the points all its seeds reached.
 """
+import bisect
 import glob
 import json
 import os
@@ -19,8 +22,9 @@ from svg_axes import axes, moving_average, write_svg
 COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"]
 
 
-def load_runs(out_dir):
-    """{config: [(samples, juggles, completions, eval_samples, eval_median), ...] per seed}."""
+def load_runs(out_dir, x_key="samples", eval_key="median_juggles"):
+    """{config: [(iterations, evaluations), ...] per seed}: iterations as (x, juggles,
+    completions), evaluations as (x, eval_key's value); x is samples or train_s minutes."""
     runs = {}
     for path in sorted(glob.glob(os.path.join(out_dir, "*_s*", "metrics.jsonl"))):
         match = re.match(r"(.+)_s(\d+)$", os.path.basename(os.path.dirname(path)))
@@ -31,10 +35,15 @@ def load_runs(out_dir):
             if not line.strip():
                 continue
             row = json.loads(line)
+            if row.get("event") not in (None, "eval"):
+                continue
+            if x_key == "minutes" and "train_s" not in row:
+                sys.exit(f"{path}: a record without train_s: no wall-clock axis")
+            x = row["train_s"] / 60 if x_key == "minutes" else row["samples"]
             if row.get("event") == "eval":
-                ev.append((row["samples"], row["median_juggles"]))
-            elif "event" not in row:
-                it.append((row["samples"], row.get("juggles_per_episode", 0.0),
+                ev.append((x, row[eval_key]))
+            else:
+                it.append((x, row.get("juggles_per_episode", 0.0),
                            row.get("completions_per_episode", 0.0)))
         if it:
             runs.setdefault(match.group(1), []).append((it, ev))
@@ -42,20 +51,41 @@ def load_runs(out_dir):
 
 
 def mean_curve(series):
-    """Mean and range over seeds at the shortest run's points: [(x, mean, lo, hi)]."""
-    n = min(len(s) for s in series)
+    """Mean and range over seeds at the points of the seed that got least far: [(x, mean, lo,
+    hi)]; every other seed contributes its last point at or before each x (runs of the same
+    samples per iteration line up exactly; runs of different speeds on a minutes axis do not)."""
+    grid = min(series, key=lambda s: s[-1][0])
     out = []
-    for i in range(n):
-        ys = [s[i][1] for s in series]
-        out.append((series[0][i][0], sum(ys) / len(ys), min(ys), max(ys)))
+    for x, _ in grid:
+        ys = []
+        for s in series:
+            xs = [p[0] for p in s]
+            i = bisect.bisect_right(xs, x) - 1
+            ys.append(s[max(i, 0)][1])
+        out.append((x, sum(ys) / len(ys), min(ys), max(ys)))
     return out
 
 
+def option(argv, name, choices, default):
+    """The value of `name VALUE` in argv (removed from it), one of choices."""
+    if name not in argv:
+        return default
+    i = argv.index(name)
+    if i + 1 >= len(argv) or argv[i + 1] not in choices:
+        sys.exit(f"{name} takes one of {', '.join(choices)}")
+    value = argv[i + 1]
+    del argv[i:i + 2]
+    return value
+
+
 def main(argv):
-    if len(argv) < 3:
+    argv = list(argv)
+    x_key = option(argv, "--x", ("samples", "minutes"), "samples")
+    eval_stat = option(argv, "--eval", ("median", "mean"), "median")
+    if len(argv) != 3:
         print(__doc__)
         return 2
-    runs = load_runs(argv[1])
+    runs = load_runs(argv[1], x_key, eval_stat + "_juggles")
     if not runs:
         print("no runs with metrics.jsonl in", argv[1])
         return 1
@@ -68,7 +98,7 @@ def main(argv):
     panels = [("juggles per episode (training)", lambda it, ev: [(s, j) for s, j, _ in it], 20),
               ("node completions per episode (training)",
                lambda it, ev: [(s, c) for s, _, c in it], 20),
-              ("median juggles (in-run evaluation)", lambda it, ev: ev, 1)]
+              (f"{eval_stat} juggles (in-run evaluation)", lambda it, ev: ev, 1)]
     curves = {}
     for title, pick, window in panels:
         for config, seeds in runs.items():
@@ -104,8 +134,9 @@ def main(argv):
             if p == 0:
                 svg.append(f'<text x="{width-160}" y="{top+16+16*k}" font-size="12" fill="{colour}" '
                            f'font-family="sans-serif">{config} ({len(runs[config])} seeds)</text>')
-    write_svg(argv[2], svg,
-              [(70 + (width - 240) * f, f"{x_max*f/1e6:.2f} M samples") for f in (0, 0.5, 1)],
+    label = ((lambda f: f"{x_max*f:.0f} minutes") if x_key == "minutes"
+             else (lambda f: f"{x_max*f/1e6:.2f} M samples"))
+    write_svg(argv[2], svg, [(70 + (width - 240) * f, label(f)) for f in (0, 0.5, 1)],
               height - 14)
     print(f"wrote {argv[2]} ({len(runs)} configs, {sum(len(s) for s in runs.values())} runs)")
     return 0

@@ -6,7 +6,8 @@
 # per run to OUT_DIR/summary.tsv. Runs in OUT_DIR/<config name>_s<seed>/.
 # Resumable: a run directory with a checkpoint continues (`juggle train --resume`) for what is
 # left of MINUTES of its cumulative training time (metrics.jsonl's train_s); a run that has had
-# its MINUTES is not trained again; one already evaluated (final_eval.txt) is not re-evaluated.
+# its MINUTES is not trained again; one already evaluated (final_eval.txt) is not re-evaluated
+# unless it trains further (a later call with more MINUTES).
 #
 # usage: scripts/experiments/ab_learning.sh OUT_DIR MINUTES "SEED..." CONFIG [CONFIG...]
 #   EPISODES=50 JUGGLE=build/release/juggle scripts/experiments/ab_learning.sh runs/ab 30 "1 2 3" \
@@ -38,6 +39,7 @@ for seed in $seeds; do
       rm -rf "$dir"
     fi
     [ "$left" = 0 ] && continue
+    rm -f "$dir/final_eval.txt"  # its evaluation was of fewer minutes
     echo "$name seed $seed: training for $left of $minutes minutes ${resume[*]}"
     "$juggle" train --config="$config" --seed="$seed" --run_dir="$dir" --minutes="$left" \
         "${resume[@]}" --workers=1 --threads=1 >> "$out/${name}_s$seed.log" 2>&1 &

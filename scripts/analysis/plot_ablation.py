@@ -55,13 +55,10 @@ def mean_curve(series):
     hi)]; every other seed contributes its last point at or before each x (runs of the same
     samples per iteration line up exactly; runs of different speeds on a minutes axis do not)."""
     grid = min(series, key=lambda s: s[-1][0])
+    xs = [[p[0] for p in s] for s in series]
     out = []
     for x, _ in grid:
-        ys = []
-        for s in series:
-            xs = [p[0] for p in s]
-            i = bisect.bisect_right(xs, x) - 1
-            ys.append(s[max(i, 0)][1])
+        ys = [s[max(bisect.bisect_right(sx, x) - 1, 0)][1] for s, sx in zip(series, xs)]
         out.append((x, sum(ys) / len(ys), min(ys), max(ys)))
     return out
 

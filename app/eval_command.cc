@@ -4,6 +4,7 @@
 // (eval/tables.h) and JSON lines. The last line is key=value pairs (eval/summary.h).
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <chrono>
 #include <functional>
 #include <cstdio>
@@ -76,6 +77,9 @@ std::function<void(int, const planner::ReplanReport&)> PlannerProgress(
       if (k.valid) {
         std::printf("  kick: timing %+.0f ms, landing %+.3f %+.3f m, apex %+.3f m",
                     k.timing * 1000, k.dx, k.dy, k.apex);
+        if (std::isfinite(k.impact_acceleration)) {
+          std::printf(", impact %+.1f m/s^2", k.impact_acceleration);
+        }
       }
       std::printf("\n");
       return;

@@ -114,6 +114,66 @@ double BallClearance(const JuggleEnv& env) {
   return std::max(best, 0.0);
 }
 
+void ImpactTracker::Begin(const JuggleEnv& env) {
+  const JuggleSpec& spec = env.spec();
+  const mjModel* m = spec.model();
+  bodies_.clear();
+  for (int b = 1; b < m->nbody; ++b) {
+    for (int n = 0; n < spec.graph().num_nodes(); ++n) {
+      if (spec.node_runtime(n).contact_allowed[b]) {
+        bodies_.push_back(b);
+        break;
+      }
+    }
+  }
+  jacobian_.resize(3 * m->nv);
+  recorded_ = 0;
+  was_touched_ = env.state().kick_touched;
+  Record(env);
+}
+
+void ImpactTracker::Record(const JuggleEnv& env) {
+  const mjModel* m = env.spec().model();
+  const mjData* d = env.data();
+  velocity_[1].swap(velocity_[0]);
+  velocity_[0].resize(3 * bodies_.size());
+  for (size_t i = 0; i < bodies_.size(); ++i) {
+    // The joint velocities are the step's end, the Jacobian of its last substep's start
+    // (mj_step's kinematics): one substep of motion apart.
+    mj_jacBodyCom(m, d, jacobian_.data(), nullptr, bodies_[i]);
+    mju_mulMatVec(velocity_[0].data() + 3 * i, jacobian_.data(), d->qvel, 3, m->nv);
+  }
+  mju_copy3(ball_velocity_, d->qvel + env.spec().ball_dof());
+  ++recorded_;
+}
+
+double ImpactTracker::AfterStep(const JuggleEnv& env) {
+  const JuggleSpec& spec = env.spec();
+  const mjData* d = env.data();
+  const bool first_touch = env.state().kick_touched && !was_touched_;
+  was_touched_ = env.state().kick_touched;
+  double acceleration = std::numeric_limits<double>::quiet_NaN();
+  const int body = env.state().touched_body;
+  const auto tracked = std::find(bodies_.begin(), bodies_.end(), body);
+  if (first_touch && recorded_ >= 2 && tracked != bodies_.end()) {
+    // The impulse's direction: the ball's velocity change less gravity's share.
+    const double dt = spec.control_dt();
+    double n[3];
+    mju_sub3(n, d->qvel + spec.ball_dof(), ball_velocity_);
+    n[2] += spec.env().gravity() * dt;
+    if (mju_normalize3(n) < 0.05) {  // a graze: straight up
+      n[0] = n[1] = 0;
+      n[2] = 1;
+    }
+    const size_t i = tracked - bodies_.begin();
+    double change[3];
+    mju_sub3(change, velocity_[0].data() + 3 * i, velocity_[1].data() + 3 * i);
+    acceleration = mju_dot3(change, n) / dt;
+  }
+  Record(env);
+  return acceleration;
+}
+
 double BodyCost(const JuggleEnv& env, const config::PlannerCost& w) {
   const JuggleSpec& spec = env.spec();
   const mjData* d = env.data();
@@ -160,6 +220,7 @@ void SoccerRolloutScorer::Begin(const JuggleEnv& env) {
   // A kick whose ball is already on its way was scored by an earlier plan; one whose ball is
   // still on the body is this plan's to score.
   scored_this_cycle_ = env.state().kick_touched && !env.state().touched_this_step;
+  impact_.Begin(env);
 }
 
 void SoccerRolloutScorer::AfterStep(const JuggleEnv& env, const float* action,
@@ -174,9 +235,18 @@ void SoccerRolloutScorer::AfterStep(const JuggleEnv& env, const float* action,
   has_previous_ = true;
   effort_ += (cost_.action() * a2 + cost_.action_change() * change2) / kNumActions;
   const soccer_juggle::JuggleEnvState& s = env.state();
+  const double impact = impact_.AfterStep(env);
+  if (std::isfinite(impact)) {
+    cycle_impact_ = impact;
+    const double outside = std::max({impact - cost_.impact_acceleration_max(),
+                                     cost_.impact_acceleration_min() - impact, 0.0});
+    impact_cost_ +=
+        cost_.impact_acceleration() * Square(outside / cost_.impact_acceleration_scale());
+  }
   if (!s.kick_touched && scored_this_cycle_) {
     scored_this_cycle_ = false;  // a new cycle
     clearance_ = 1e9;
+    cycle_impact_ = std::numeric_limits<double>::quiet_NaN();
   }
   if (!s.kick_touched) clearance_ = std::min(clearance_, BallClearance(env));
   if (r.terminated()) {
@@ -190,7 +260,8 @@ void SoccerRolloutScorer::AfterStep(const JuggleEnv& env, const float* action,
   // that sends it down scores its early crossing).
   if (s.kick_touched && !s.touched_this_step && !scored_this_cycle_) {
     scored_this_cycle_ = true;
-    const KickOutcome k = PredictKickOutcome(env, anchors_);
+    KickOutcome k = PredictKickOutcome(env, anchors_);
+    k.impact_acceleration = cycle_impact_;
     if (k.valid) {
       if (kicks_ == 0) first_kick_ = k;
       ++kicks_;
@@ -202,7 +273,7 @@ void SoccerRolloutScorer::AfterStep(const JuggleEnv& env, const float* action,
 }
 
 double SoccerRolloutScorer::Finish(const JuggleEnv& env) {
-  double total = failure_ + kick_ + effort_;
+  double total = failure_ + kick_ + impact_cost_ + effort_;
   total += body_ / horizon_;
   if (failed_) return total;
   total += cost_.terminal() * BodyCost(env, cost_);

@@ -6,6 +6,7 @@
 #define JUGGLE_PLANNER_SOCCER_COST_H_
 
 #include <array>
+#include <limits>
 #include <vector>
 
 #include "envs/env.h"
@@ -20,6 +21,9 @@ struct KickOutcome {
   double timing = 0;    // crossing of the contact height minus the nominal contact (s)
   double dx = 0, dy = 0;  // crossing point minus root + ball target (m, world axes)
   double apex = 0;      // apex minus the node's apex height (m)
+  // The kicking body's acceleration along the kick's impulse just before the touch (m/s²,
+  // ImpactTracker); NaN when not measured.
+  double impact_acceleration = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Where a landing is measured from. The node's ball target is relative to the root; with
@@ -54,6 +58,31 @@ bool MissedThisCycle(const soccer_juggle::JuggleEnv& env);
 // touch it (geom centres less their bounding radii: a ranking, not a collision distance).
 double BallClearance(const soccer_juggle::JuggleEnv& env);
 
+// How the body that kicks moved into the ball: at a cycle's first touch, its centre of mass's
+// acceleration along the direction of the ball's velocity change (the impulse, gravity taken
+// out) over the control step before the touch (docs/planner.md, "Impact acceleration").
+// Negative: the foot decelerates into the ball, which damps apex errors from kick to kick.
+// The touching body is the env's (JuggleEnvState.touched_body).
+class ImpactTracker {
+ public:
+  // At the first state.
+  void Begin(const soccer_juggle::JuggleEnv& env);
+  // After each step: the acceleration (m/s²) when this step holds a cycle's first touch and two
+  // steps before it were recorded; NaN otherwise.
+  double AfterStep(const soccer_juggle::JuggleEnv& env);
+
+ private:
+  void Record(const soccer_juggle::JuggleEnv& env);
+  // The bodies some node allows to touch the ball, and their centre-of-mass velocities (3 per
+  // body, world axes) one and two steps back.
+  std::vector<int> bodies_;
+  std::vector<double> velocity_[2];
+  std::vector<double> jacobian_;  // scratch, 3 × nv
+  double ball_velocity_[3] = {0, 0, 0};  // one step back
+  int recorded_ = 0;
+  bool was_touched_ = false;
+};
+
 // Body terms at one state (each already weight × (value/scale)²).
 double BodyCost(const soccer_juggle::JuggleEnv& env, const config::PlannerCost& cost);
 
@@ -77,7 +106,7 @@ class SoccerRolloutScorer {
   }
   // The cost so far: never more than the total (every term is non-negative and the per-step
   // body terms are summed over the horizon).
-  double partial() const { return failure_ + kick_ + effort_ + body_ / horizon_; }
+  double partial() const { return failure_ + kick_ + impact_cost_ + effort_ + body_ / horizon_; }
   // The kick outcomes scored (the first one), for tests and tools.
   const KickOutcome& first_kick() const { return first_kick_; }
   int kicks() const { return kicks_; }
@@ -92,6 +121,9 @@ class SoccerRolloutScorer {
   bool scored_this_cycle_ = false;
   // The closest the ball came to an allowed body in the current cycle before a touch.
   double clearance_ = 1e9;
+  ImpactTracker impact_;
+  double impact_cost_ = 0;
+  double cycle_impact_ = std::numeric_limits<double>::quiet_NaN();  // this cycle's touch
   bool failed_ = false;
   bool missed_ = false;
   int kicks_ = 0;

@@ -120,6 +120,7 @@ Outcome JuggleEnv::CheckBallContacts(double substep_phase) {
     const int body = model_->geom_bodyid[other];
     if (!rt.contact_allowed[body]) return kBadContact;
     s_.touched_this_step = true;
+    s_.touched_body = body;
     if (!stall && std::abs(spec_->cursor().SecondsFromContact(s_.cursor, substep_phase)) >
                       node.contact_window_s() + 1e-9) {
       return kContactTiming;
@@ -181,6 +182,7 @@ float JuggleEnv::TrackKick() {
 StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
   s_.events.clear();
   s_.touched_this_step = false;
+  s_.touched_body = -1;
   const double phase0 = s_.cursor.phase;
   base_.UpdateSwingAdjust(*data_, s_.cursor, s_.kick_touched, &s_.swing_adjust);
   ComputeReferencePose(*spec_, s_.cursor.current, phase0, &s_.reference, s_.swing_adjust);

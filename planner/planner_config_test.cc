@@ -86,6 +86,19 @@ TEST(PlannerConfigTest, ReplanningBeyondTheHorizonIsRefused) {
               HasSubstr("planner.replan_every"));
 }
 
+TEST(PlannerConfigTest, AnEmptyImpactAccelerationBandIsRefused) {
+  LoadedConfig config;
+  ASSERT_TRUE(Load("band.textproto",
+                   Config("cost { impact_acceleration_min: -2 impact_acceleration_max: -3 }"),
+                   &config).ok());
+  EXPECT_THAT(std::string(ValidatePlannerConfig(config).message()),
+              HasSubstr("planner.cost.impact_acceleration_min"));
+  ASSERT_TRUE(Load("band.textproto",
+                   Config("cost { impact_acceleration_min: -3 impact_acceleration_max: -3 }"),
+                   &config).ok());
+  EXPECT_TRUE(ValidatePlannerConfig(config).ok());
+}
+
 TEST(PlannerConfigTest, BodyActionsNameJointsAndAxesOfTheCharacter) {
   LoadedConfig config;
   ASSERT_TRUE(Load("bad_joint.textproto", Config("body_actions: \"left_toe\""), &config).ok());

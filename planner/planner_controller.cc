@@ -42,6 +42,12 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
         config.root.Where({{"planner"}, {"rescue"}, {"body"}}),
         ": the rescue searches the whole-body knots, but planner.body_knot_steps is 0 (none)"));
   }
+  if (p.cost().impact_acceleration_min() > p.cost().impact_acceleration_max()) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where({{"planner"}, {"cost"}, {"impact_acceleration_min"}}), ": ",
+        p.cost().impact_acceleration_min(), " m/s^2 is above impact_acceleration_max (",
+        p.cost().impact_acceleration_max(), "): the band is empty"));
+  }
   if (p.replan_every() > p.horizon_steps()) {
     return absl::InvalidArgumentError(
         absl::StrCat(where("replan_every"), ": re-planning every ", p.replan_every(),

@@ -59,27 +59,30 @@ bool MissedThisCycle(const soccer_juggle::JuggleEnv& env);
 double BallClearance(const soccer_juggle::JuggleEnv& env);
 
 // How the body that kicks moved into the ball: at a cycle's first touch, its centre of mass's
-// acceleration along the direction of the ball's velocity change (the impulse, gravity taken
-// out) over the control step before the touch (docs/planner.md, "Impact acceleration").
-// Negative: the foot decelerates into the ball, which damps apex errors from kick to kick.
-// The touching body is the env's (JuggleEnvState.touched_body).
+// acceleration along the direction of the ball's velocity change (the impulse; gravity and the
+// env's ball force taken out) over the control step before the touch (docs/planner.md,
+// "Impact acceleration"). Negative: the foot decelerates into the ball, which damps apex
+// errors from kick to kick. The touching body is the env's (JuggleEnvState.touched_body). A
+// touch in the first step after Begin is measured against the velocities one step back at the
+// first state's acceleration. A cycle already touched at Begin, or whose touch comes in the
+// same step as its DOWN node, is not measured.
 class ImpactTracker {
  public:
   // At the first state.
   void Begin(const soccer_juggle::JuggleEnv& env);
-  // After each step: the acceleration (m/s²) when this step holds a cycle's first touch and two
-  // steps before it were recorded; NaN otherwise.
+  // After each step: the acceleration (m/s²) when this step holds a cycle's first touch; NaN
+  // otherwise.
   double AfterStep(const soccer_juggle::JuggleEnv& env);
 
  private:
-  void Record(const soccer_juggle::JuggleEnv& env);
-  // The bodies some node allows to touch the ball, and their centre-of-mass velocities (3 per
-  // body, world axes) one and two steps back.
+  // The tracked bodies' centre-of-mass velocities (3 per body, world axes) at `qvel`.
+  void BodyVelocities(const soccer_juggle::JuggleEnv& env, const double* qvel,
+                      std::vector<double>* out);
+  // The bodies some node allows to touch the ball, and their velocities one and two steps back.
   std::vector<int> bodies_;
   std::vector<double> velocity_[2];
   std::vector<double> jacobian_;  // scratch, 3 × nv
   double ball_velocity_[3] = {0, 0, 0};  // one step back
-  int recorded_ = 0;
   bool was_touched_ = false;
 };
 

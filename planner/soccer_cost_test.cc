@@ -1,6 +1,7 @@
 // The impact acceleration (planner/soccer_cost.h, ImpactTracker) on the real simulator: it
-// agrees with the kicking body's velocity taken another way (its Jacobian times the joint
-// velocities), and the planner's cost on it makes the chosen kick meet the ball decelerating.
+// agrees with the kicking foot's velocity from a separate forward pass, a tracker begun one step
+// before the touch measures it too, and the planner's cost on it is the squared distance
+// outside its band.
 #include "planner/soccer_cost.h"
 
 #include <cmath>
@@ -40,12 +41,10 @@ class ImpactAccelerationTest : public ::testing::Test {
     down_ = *spec_->graph().FindNode("right_foot_down");
   }
 
-  // An env at the apex of the DOWN node, its ball `forward` m ahead of the target.
-  std::unique_ptr<JuggleEnv> Start(double forward, uint64_t seed) {
+  // An env at the apex of the DOWN node (its start varied by `seed`).
+  std::unique_ptr<JuggleEnv> Start(uint64_t seed) {
     auto env = std::make_unique<JuggleEnv>(spec_, Rng(seed));
     env->ResetAt(down_, *walk_);
-    env->data()->qpos[spec_->ball_qpos()] += forward;
-    mj_forward(spec_->model(), env->data());
     return env;
   }
 
@@ -75,8 +74,11 @@ TEST_F(ImpactAccelerationTest, AgreesWithTheFootsVelocityFromAForwardPass) {
   const double dt = spec_->control_dt();
   const float zero[kNumActions] = {0};
   int measured = 0;
+  std::vector<uint64_t> touch_seeds;
+  std::vector<int> touch_steps;
+  std::vector<double> impacts;
   for (uint64_t seed = 1; seed <= 4; ++seed) {
-    std::unique_ptr<JuggleEnv> env = Start(0.0, seed);
+    std::unique_ptr<JuggleEnv> env = Start(seed);
     ImpactTracker tracker;
     tracker.Begin(*env);
     std::vector<std::vector<double>> velocities = {VelocitiesAfterForward(m, env->data())};
@@ -89,6 +91,9 @@ TEST_F(ImpactAccelerationTest, AgreesWithTheFootsVelocityFromAForwardPass) {
       const mjData* d = env->data();
       if (env->state().kick_touched && !touched_before) {
         ASSERT_TRUE(std::isfinite(impact)) << "seed " << seed << " step " << t;
+        touch_seeds.push_back(seed);
+        touch_steps.push_back(t);
+        impacts.push_back(impact);
         // The impulse's direction from the ball's velocity change, gravity taken out.
         double n[3];
         for (int i = 0; i < 3; ++i) n[i] = d->qvel[spec_->ball_dof() + i] - ball[i];
@@ -99,6 +104,7 @@ TEST_F(ImpactAccelerationTest, AgreesWithTheFootsVelocityFromAForwardPass) {
         // apex start does not use).
         const int body = mj_name2id(m, mjOBJ_BODY, "right_ankle");
         ASSERT_GT(body, 0);
+        EXPECT_EQ(env->state().touched_body, body);
         const std::vector<double>& one = velocities[velocities.size() - 1];
         const std::vector<double>& two = velocities[velocities.size() - 2];
         double expected = 0;
@@ -116,12 +122,26 @@ TEST_F(ImpactAccelerationTest, AgreesWithTheFootsVelocityFromAForwardPass) {
     }
   }
   EXPECT_GE(measured, 3) << "the base controller kicks from most apex starts";
+
+  // A tracker begun one step before the touch (history from the state's acceleration) measures
+  // the same kick nearly alike.
+  for (size_t k = 0; k < touch_steps.size(); ++k) {
+    std::unique_ptr<JuggleEnv> env = Start(touch_seeds[k]);
+    for (int t = 0; t < touch_steps[k]; ++t) {
+      ASSERT_EQ(env->Step(zero, *walk_).outcome, Outcome::kRunning);
+    }
+    ImpactTracker late;
+    late.Begin(*env);
+    env->Step(zero, *walk_);
+    EXPECT_NEAR(late.AfterStep(*env), impacts[k], 0.1 * std::abs(impacts[k]) + 0.5)
+        << "seed " << touch_seeds[k];
+  }
 }
 
 // The cost adds weight × (distance outside [min, max] / scale)² for the kick, nothing inside.
 TEST_F(ImpactAccelerationTest, ItsCostIsTheSquaredDistanceOutsideItsBandPerKick) {
   RolloutPool pool(spec_, 2);
-  std::unique_ptr<JuggleEnv> env = Start(0.0, 3);
+  std::unique_ptr<JuggleEnv> env = Start(3);
   auto cost_of_zero_plan = [&](double weight, double min, double max, KickOutcome* kick) {
     config::PlannerCost& cost = *config_.run.mutable_planner()->mutable_cost();
     cost.set_impact_acceleration(weight);
@@ -139,7 +159,8 @@ TEST_F(ImpactAccelerationTest, ItsCostIsTheSquaredDistanceOutsideItsBandPerKick)
   ASSERT_TRUE(kick.valid);
   const double a = kick.impact_acceleration;
   ASSERT_TRUE(std::isfinite(a));
-  const double tolerance = 1e-6 * free;
+  ASSERT_LT(free, 1e4) << "the zero plan kicks without failing inside the horizon";
+  const double tolerance = 1e-6;
   EXPECT_NEAR(cost_of_zero_plan(7, -1000, a - 2, &kick) - free, 7 * 0.25, tolerance);
   EXPECT_NEAR(cost_of_zero_plan(7, a + 6, 1000, &kick) - free, 7 * 2.25, tolerance);
   EXPECT_NEAR(cost_of_zero_plan(7, a - 1, a + 1, &kick) - free, 0, tolerance);

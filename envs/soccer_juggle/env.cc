@@ -60,7 +60,8 @@ bool JuggleEnv::ResetAt(int node, const AdaptiveWalk& walk) {
 
 void JuggleEnv::StartEpisode() {
   s_.steps = 0;
-  s_.kick_touched = s_.kick_rewarded = false;
+  s_.kick_touched = s_.kick_rewarded = s_.touched_this_step = false;
+  s_.touched_body = -1;
   s_.swing_adjust = {};
   s_.reward = {};
   s_.previous_action.fill(0.0f);
@@ -120,7 +121,7 @@ Outcome JuggleEnv::CheckBallContacts(double substep_phase) {
     const int body = model_->geom_bodyid[other];
     if (!rt.contact_allowed[body]) return kBadContact;
     s_.touched_this_step = true;
-    s_.touched_body = body;
+    if (s_.touched_body < 0) s_.touched_body = body;
     if (!stall && std::abs(spec_->cursor().SecondsFromContact(s_.cursor, substep_phase)) >
                       node.contact_window_s() + 1e-9) {
       return kContactTiming;

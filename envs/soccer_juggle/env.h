@@ -48,7 +48,7 @@ struct JuggleEnvState {
   bool kick_touched = false;
   bool kick_rewarded = false;
   bool touched_this_step = false;
-  int touched_body = -1;  // the body of the step's last allowed touch (−1: none this step)
+  int touched_body = -1;  // the body of the step's first allowed touch (−1: none this step)
   RewardTerms reward;  // the last step's reward, term by term (zero after a reset)
   // The last step's action as applied (clamped; zeros after a reset).
   std::array<float, kNumActions> previous_action{};

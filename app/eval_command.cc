@@ -4,11 +4,11 @@
 // (eval/tables.h) and JSON lines. The last line is key=value pairs (eval/summary.h).
 #include <algorithm>
 #include <cerrno>
-#include <cmath>
 #include <chrono>
-#include <functional>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,6 +24,7 @@
 #include "eval/episode_runner.h"
 #include "eval/summary.h"
 #include "eval/tables.h"
+#include "planner/impact_observer.h"
 #include "planner/planner_controller.h"
 
 namespace juggle {
@@ -50,6 +51,9 @@ struct EvalFlags {
   double force_step = 1.0;
   double force_max = 5.0;
   double min_median_juggles = 10;
+  // The stable band of the foot's acceleration at impact for this ball (restitution 0.8):
+  // −2g(1+e²)/(1+e)² < a < 0 (docs/planner.md, "Impact acceleration").
+  std::vector<double> impact_band = {-9.9, 0.0};
 };
 
 // A progress line at most every 10 s of wall time: the planner is far slower than real time.
@@ -118,6 +122,10 @@ int Evaluate(EvalFlags f) {
     return UsageError(f.policy.empty() ? "--controller=policy needs --policy=PATH"
                                        : "--policy needs --controller=policy (or none)");
   }
+  if (f.impact_band[0] > f.impact_band[1]) {
+    return UsageError(absl::StrFormat("--impact-band: MIN %g is above MAX %g", f.impact_band[0],
+                                      f.impact_band[1]));
+  }
   std::optional<PolicySource> source;
   LoadedConfig config;
   if (f.controller == "policy") {
@@ -172,7 +180,8 @@ int Evaluate(EvalFlags f) {
   options.first_episode = f.first_episode;
   options.record = !f.record.empty();
   options.config_path = RecordedConfigName(config);
-  absl::StatusOr<EpisodeReport> report = RunEpisodes(*spec, controller.get(), options);
+  planner::ImpactObservingController observed(controller.get());
+  absl::StatusOr<EpisodeReport> report = RunEpisodes(*spec, &observed, options);
   if (!report.ok()) return Fail(report.status());
   if (report->trajectory) {
     if (absl::Status s = WriteTrajectory(*report->trajectory, f.record); !s.ok()) return Fail(s);
@@ -194,6 +203,10 @@ int Evaluate(EvalFlags f) {
         "prediction_checks=%d prediction_mismatches=%d wall_s=%.1f wall_s_per_sim_s=%.3f",
         t.replans, t.rollouts, t.rollout_steps, t.rescues, t.prediction_checks, t.prediction_mismatches,
         wall, wall / std::max(sim_seconds, 1e-9)));
+  }
+  if (observed.envs_measured() > 0) {
+    absl::StrAppend(&line, planner::ImpactSummary(observed.accelerations(), f.impact_band[0],
+                                                  f.impact_band[1]));
   }
   if (policy_controller != nullptr && policy_controller->gates().rows() > 0) {
     const GateStatistics g = ComputeGateStatistics(policy_controller->gates());
@@ -323,6 +336,12 @@ CommandBody AddEvalCommand(CLI::App* cmd) {
   cmd->add_option("--min-median-juggles", f->min_median_juggles,
                   "a force passes when the median juggles stay at or above this")
       ->check(AtLeast(0))
+      ->capture_default_str();
+  cmd->add_option("--impact-band", f->impact_band,
+                  "soccer: the band of the kicking body's acceleration at impact (m/s^2, MIN MAX) "
+                  "whose share impact_in_band reports; the default is this ball's stable band")
+      ->expected(2)
+      ->delimiter(',')
       ->capture_default_str();
   return [f] { return Evaluate(*f); };
 }

@@ -61,7 +61,15 @@ bool NamesFilesByDefault(const google::protobuf::Descriptor* type, int depth = 0
 
 }  // namespace
 
-void RebaseFileNames(const std::string& from_dir, const std::string& to_dir, Message* message) {
+void RebaseFileNames(const std::string& from_dir_name, const std::string& to_dir_name,
+                     Message* message) {
+  std::string from_dir = from_dir_name, to_dir = to_dir_name;
+  if (std::filesystem::path(from_dir).is_absolute() != std::filesystem::path(to_dir).is_absolute()) {
+    // One absolute, one relative (a base named by absolute path): no relative path joins them
+    // until both are absolute, from the working directory.
+    from_dir = std::filesystem::absolute(from_dir).string();
+    to_dir = std::filesystem::absolute(to_dir).string();
+  }
   if ((std::filesystem::path(from_dir) / "x").lexically_normal() ==
       (std::filesystem::path(to_dir) / "x").lexically_normal()) {
     return;  // the same folder: nothing to rewrite (and defaults stay unset)

@@ -1,6 +1,8 @@
 // MergeOver and RebaseFileNames on RunConfig messages.
 #include "common/config_merge.h"
 
+#include <filesystem>
+
 #include "google/protobuf/text_format.h"
 #include "google/protobuf/util/message_differencer.h"
 #include "gtest/gtest.h"
@@ -58,6 +60,17 @@ TEST(RebaseFileNamesTest, AbsoluteNamesAndTheSameFolderAreLeftAlone) {
   RebaseFileNames("configs", "configs/.", &same);
   EXPECT_EQ(same.soccer_juggle().graph_file(), "g.textproto");
   EXPECT_FALSE(same.soccer_juggle().env().has_model_file());
+}
+
+TEST(RebaseFileNamesTest, ABaseInAnAbsoluteFolderKeepsNamingItsFilesFromARelativeOne) {
+  const std::string cwd = std::filesystem::current_path().string();
+  config::RunConfig run = Parse("soccer_juggle { graph_file: \"graphs/a.textproto\" env { } }");
+  RebaseFileNames(cwd + "/configs", "runs/search", &run);
+  EXPECT_EQ(run.soccer_juggle().graph_file(), "../../configs/graphs/a.textproto");
+  EXPECT_EQ(run.soccer_juggle().env().model_file(), "../../configs/models/juggle_scene.xml");
+  config::RunConfig back = Parse("soccer_juggle { graph_file: \"a.textproto\" }");
+  RebaseFileNames("configs", cwd + "/runs", &back);
+  EXPECT_EQ(back.soccer_juggle().graph_file(), "../configs/a.textproto");
 }
 
 }  // namespace

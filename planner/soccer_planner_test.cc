@@ -1,9 +1,10 @@
 // The soccer planner on the real simulator: its plans execute exactly as predicted, it rescues
 // a kick the base controller misses, it is deterministic for a seed, and its actions replayed
 // through a plain env give the same episode; the impact acceleration it can score is measured
-// right and costs what its band says.
+// right, costs what its band says, and is reported for every kick an evaluation executes.
 #include "planner/soccer_planner.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -11,6 +12,8 @@
 #include "envs/registry.h"
 #include "envs/testing/test_configs.h"
 #include "gtest/gtest.h"
+#include "eval/episode_runner.h"
+#include "planner/impact_observer.h"
 #include "planner/soccer_cost.h"
 #include "planner/soccer_plan.h"
 
@@ -769,6 +772,51 @@ TEST_F(SoccerPlannerTest, ImpactAccelerationCostIsTheSquaredDistanceOutsideItsBa
   EXPECT_NEAR(cost_of_zero_plan(7, -1000, a - 2, &kick) - free, 7 * 0.25, tolerance);
   EXPECT_NEAR(cost_of_zero_plan(7, a + 6, 1000, &kick) - free, 7 * 2.25, tolerance);
   EXPECT_NEAR(cost_of_zero_plan(7, a - 1, a + 1, &kick) - free, 0, tolerance);
+}
+
+TEST_F(SoccerPlannerTest, ImpactObserverReportsEveryExecutedKickAsATrackerSteppedAlongside) {
+  EpisodeOptions options;
+  options.episodes = 3;
+  options.seed = 77;
+  options.start_node = down_;
+  ZeroController zero_controller(kNumActions);
+  absl::StatusOr<EpisodeReport> plain = RunEpisodes(spec_, &zero_controller, options);
+  ASSERT_TRUE(plain.ok()) << plain.status();
+  ImpactObservingController observed(&zero_controller);
+  absl::StatusOr<EpisodeReport> report = RunEpisodes(spec_, &observed, options);
+  ASSERT_TRUE(report.ok()) << report.status();
+  EXPECT_EQ(observed.envs_measured(), 3);
+  // Observing changes no action: the same episodes.
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(report->episodes[i].steps, plain->episodes[i].steps) << "episode " << i;
+    EXPECT_EQ(report->episodes[i].juggles, plain->episodes[i].juggles) << "episode " << i;
+  }
+  // The same episodes stepped by hand with a tracker; the step that ends an episode is not
+  // measured by the observer.
+  std::vector<double> expected;
+  const float zero[kNumActions] = {0};
+  for (int i = 0; i < 3; ++i) {
+    JuggleEnv env(spec_, Rng::ForStream(77, 0, i));
+    ASSERT_TRUE(env.ResetAt(down_, *walk_));
+    ImpactTracker tracker;
+    tracker.Begin(env);
+    while (env.Step(zero, *walk_).outcome == Outcome::kRunning) {
+      const double a = tracker.AfterStep(env);
+      if (std::isfinite(a)) expected.push_back(a);
+    }
+  }
+  ASSERT_FALSE(expected.empty()) << "zero action kicks at least once from an apex start";
+  std::vector<double> got = observed.accelerations();
+  std::sort(got.begin(), got.end());
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(got, expected);
+}
+
+TEST(ImpactSummaryTest, ReportsThePercentilesAndTheShareInsideTheBand) {
+  EXPECT_EQ(ImpactSummary({}, -9.9, 0), " impact_kicks=0");
+  EXPECT_EQ(ImpactSummary({-12, -5, -3, 1}, -9.9, 0),
+            " impact_kicks=4 impact_p10=-9.90 impact_median=-4.00 impact_p90=-0.20 "
+            "impact_in_band=0.500");
 }
 
 }  // namespace

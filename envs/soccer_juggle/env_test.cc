@@ -315,6 +315,39 @@ TEST_F(JuggleEnvTest, RaisedCosineSwingIsSineSquaredAndComesToRestWhereTheCycleW
   EXPECT_LT(raised_speed, 0.005);
 }
 
+TEST_F(JuggleEnvTest, FlatTopSwingIsOneMinusCosineToTheFourthAndFlatAtItsPeak) {
+  LoadedConfig config = spec_->config();
+  config::ControlGraph* graph = config.run.mutable_soccer_juggle()->mutable_graph();
+  for (config::NodeSpec& node : *graph->mutable_node()) {
+    node.mutable_pose()->mutable_leg_swing()->set_profile(config::FLAT_TOP);
+  }
+  absl::StatusOr<ControlGraph> built = ControlGraph::Build(*graph, config.graph_locator);
+  ASSERT_TRUE(built.ok()) << built.status();
+  config.graph = std::make_shared<const ControlGraph>(*std::move(built));
+  auto flat = JuggleSpec::Create(config);
+  ASSERT_TRUE(flat.ok()) << flat.status();
+  const config::LegSwing& swing = spec_->graph().node(down_).spec.pose().leg_swing();
+  ASSERT_EQ(swing.phase_lead(), 0);
+  const int knee = spec_->joint(kRightKnee).qpos_adr;
+  auto knee_at = [&](double phase) {
+    CharacterPose pose;
+    ComputeReferencePose(**flat, down_, phase, &pose);
+    return pose[knee];
+  };
+  for (double phase : {0.1, 0.25, 0.4, 0.5}) {
+    const double c = std::cos(M_PI * phase);
+    EXPECT_NEAR(knee_at(phase), -swing.knee_amplitude() * (1 - c * c * c * c), 1e-12) << phase;
+  }
+  // Curvature at the peak (second difference over ±0.02 of a cycle): the raised cosine's is
+  // 2π² of the amplitude; the flat top's is of order (π·0.02)², two orders smaller.
+  constexpr double kH = 0.02;
+  const double curvature =
+      std::abs(knee_at(0.5 + kH) - 2 * knee_at(0.5) + knee_at(0.5 - kH)) / (kH * kH);
+  EXPECT_LT(curvature, 0.05 * 2 * M_PI * M_PI * swing.knee_amplitude());
+  // At rest where the cycle wraps.
+  EXPECT_LT(std::abs(knee_at(1e-4) - knee_at(0)) / 1e-4, 0.005);
+}
+
 TEST_F(JuggleEnvTest, KickFeedbackMovesTheSwingByTheGainsTimesThePredictedBallOffset) {
   LoadedConfig config = spec_->config();
   config::KickFeedback* f = config.run.mutable_soccer_juggle()->mutable_env()->mutable_kick_feedback();

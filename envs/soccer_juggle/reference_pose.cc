@@ -49,6 +49,21 @@ namespace {
 constexpr int kX = 0;
 constexpr int kZ = 2;
 
+// The swing's share of its peak at phase φ in [0, 1) (config::SwingProfile).
+double SwingShape(config::SwingProfile profile, double phi) {
+  const double sine = std::sin(M_PI * phi);
+  switch (profile) {
+    case config::RAISED_COSINE:
+      return sine * sine;
+    case config::FLAT_TOP: {
+      const double cosine = std::cos(M_PI * phi);
+      return 1 - cosine * cosine * cosine * cosine;
+    }
+    default:
+      return sine;
+  }
+}
+
 void LegSwingPose(const JuggleSpec& spec, const config::LegSwing& g, const SwingAdjust& adjust,
                   double phase, CharacterPose* pose) {
   double phi = phase;
@@ -58,10 +73,7 @@ void LegSwingPose(const JuggleSpec& spec, const config::LegSwing& g, const Swing
   }
   const double hip_amplitude = g.hip_amplitude() + adjust.hip;
   const double abduction = g.hip_abduction() + adjust.abduction;
-  const double sine = std::sin(M_PI * phi);
-  const double s = g.hold_peak()                        ? 1.0
-                   : g.profile() == config::RAISED_COSINE ? sine * sine
-                                                          : sine;
+  const double s = g.hold_peak() ? 1.0 : SwingShape(g.profile(), phi);
   const bool left = g.side() == config::LEFT;
   const JointId hip = left ? kLeftHip : kRightHip;
   const JointId knee = left ? kLeftKnee : kRightKnee;

@@ -37,6 +37,23 @@ class JuggleEnvTest : public ::testing::Test {
   const double* BodyPos(const char* name) {
     return env_->data()->xpos + 3 * mj_name2id(spec_->model(), mjOBJ_BODY, name);
   }
+  // The fixture's spec with every node's leg swing shaped by `profile` (null on failure, with
+  // the test failed).
+  std::shared_ptr<const JuggleSpec> SpecWithSwingProfile(config::SwingProfile profile) {
+    LoadedConfig config = spec_->config();
+    config::ControlGraph* graph = config.run.mutable_soccer_juggle()->mutable_graph();
+    for (config::NodeSpec& node : *graph->mutable_node()) {
+      node.mutable_pose()->mutable_leg_swing()->set_profile(profile);
+    }
+    absl::StatusOr<ControlGraph> built = ControlGraph::Build(*graph, config.graph_locator);
+    EXPECT_TRUE(built.ok()) << built.status();
+    if (!built.ok()) return nullptr;
+    config.graph = std::make_shared<const ControlGraph>(*std::move(built));
+    auto spec = JuggleSpec::Create(config);
+    EXPECT_TRUE(spec.ok()) << spec.status();
+    if (!spec.ok()) return nullptr;
+    return *spec;
+  }
 
   std::shared_ptr<const JuggleSpec> spec_;
   std::unique_ptr<AdaptiveWalk> walk_;
@@ -283,16 +300,8 @@ TEST_F(JuggleEnvTest, PreviousActionObservationIsTheLastAppliedActionClampedAndZ
 }
 
 TEST_F(JuggleEnvTest, RaisedCosineSwingIsSineSquaredAndComesToRestWhereTheCycleWraps) {
-  LoadedConfig config = spec_->config();
-  config::ControlGraph* graph = config.run.mutable_soccer_juggle()->mutable_graph();
-  for (config::NodeSpec& node : *graph->mutable_node()) {
-    node.mutable_pose()->mutable_leg_swing()->set_profile(config::RAISED_COSINE);
-  }
-  absl::StatusOr<ControlGraph> built = ControlGraph::Build(*graph, config.graph_locator);
-  ASSERT_TRUE(built.ok()) << built.status();
-  config.graph = std::make_shared<const ControlGraph>(*std::move(built));
-  auto raised = JuggleSpec::Create(config);
-  ASSERT_TRUE(raised.ok()) << raised.status();
+  const std::shared_ptr<const JuggleSpec> raised = SpecWithSwingProfile(config::RAISED_COSINE);
+  ASSERT_NE(raised, nullptr);
   const config::LegSwing& swing = spec_->graph().node(down_).spec.pose().leg_swing();
   ASSERT_EQ(swing.phase_lead(), 0);  // the paper's swing: s(φ) itself
   const int knee = spec_->joint(kRightKnee).qpos_adr;
@@ -303,35 +312,27 @@ TEST_F(JuggleEnvTest, RaisedCosineSwingIsSineSquaredAndComesToRestWhereTheCycleW
   };
   for (double phase : {0.1, 0.25, 0.4, 0.5}) {
     const double s = std::sin(M_PI * phase);
-    EXPECT_NEAR(knee_at(**raised, phase), -swing.knee_amplitude() * s * s, 1e-12) << phase;
+    EXPECT_NEAR(knee_at(*raised, phase), -swing.knee_amplitude() * s * s, 1e-12) << phase;
     EXPECT_NEAR(knee_at(*spec_, phase), -swing.knee_amplitude() * s, 1e-12) << phase;
   }
   // Speed of the knee just after the wrap: the sine starts at amplitude·π per cycle, the raised
   // cosine from rest.
   constexpr double kDelta = 1e-4;
   const double sine_speed = std::abs(knee_at(*spec_, kDelta) - knee_at(*spec_, 0)) / kDelta;
-  const double raised_speed = std::abs(knee_at(**raised, kDelta) - knee_at(**raised, 0)) / kDelta;
+  const double raised_speed = std::abs(knee_at(*raised, kDelta) - knee_at(*raised, 0)) / kDelta;
   EXPECT_NEAR(sine_speed, swing.knee_amplitude() * M_PI, 1e-3);
   EXPECT_LT(raised_speed, 0.005);
 }
 
 TEST_F(JuggleEnvTest, FlatTopSwingIsOneMinusCosineToTheFourthAndFlatAtItsPeak) {
-  LoadedConfig config = spec_->config();
-  config::ControlGraph* graph = config.run.mutable_soccer_juggle()->mutable_graph();
-  for (config::NodeSpec& node : *graph->mutable_node()) {
-    node.mutable_pose()->mutable_leg_swing()->set_profile(config::FLAT_TOP);
-  }
-  absl::StatusOr<ControlGraph> built = ControlGraph::Build(*graph, config.graph_locator);
-  ASSERT_TRUE(built.ok()) << built.status();
-  config.graph = std::make_shared<const ControlGraph>(*std::move(built));
-  auto flat = JuggleSpec::Create(config);
-  ASSERT_TRUE(flat.ok()) << flat.status();
+  const std::shared_ptr<const JuggleSpec> flat = SpecWithSwingProfile(config::FLAT_TOP);
+  ASSERT_NE(flat, nullptr);
   const config::LegSwing& swing = spec_->graph().node(down_).spec.pose().leg_swing();
   ASSERT_EQ(swing.phase_lead(), 0);
   const int knee = spec_->joint(kRightKnee).qpos_adr;
   auto knee_at = [&](double phase) {
     CharacterPose pose;
-    ComputeReferencePose(**flat, down_, phase, &pose);
+    ComputeReferencePose(*flat, down_, phase, &pose);
     return pose[knee];
   };
   for (double phase : {0.1, 0.25, 0.4, 0.5}) {

@@ -54,19 +54,31 @@ def load(path):
     return channels, [values[i * width:(i + 1) * width] for i in range(n)], header
 
 
-def kicks(channels, records, nq, args):
-    """Yields (kick number, apex error, dx, dy, time error) or (kick number, None...)."""
+def columns(channels, nq):
+    """(channel name -> record column, first qpos column, ball qpos column)."""
     c = {name: 1 + i for i, name in enumerate(channels)}
     q0 = 1 + len(channels)
-    ball = q0 + nq - 7  # the ball's free joint is the model's last
-    cycle = 2 * math.sqrt(2 * (args.apex - args.contact) / 9.81)
+    return c, q0, q0 + nq - 7  # the ball's free joint is the model's last
+
+
+def episode_contacts(channels, records, nq, contact):
+    """Yields (rows, ball heights, contact indices) per episode: a contact is a local minimum
+    of the ball's height below contact + 0.4 m."""
+    c, _, ball = columns(channels, nq)
     episodes = {}
     for r in records:
         episodes.setdefault(int(r[c['episode']]), []).append(r)
     for rows in episodes.values():
         z = [r[ball + 2] for r in rows]
-        contacts = [i for i in range(1, len(z) - 1)
-                    if z[i] < z[i - 1] and z[i + 1] > z[i] and z[i] < args.contact + 0.4]
+        yield rows, z, [i for i in range(1, len(z) - 1)
+                        if z[i] < z[i - 1] and z[i + 1] > z[i] and z[i] < contact + 0.4]
+
+
+def kicks(channels, records, nq, args):
+    """Yields (kick number, apex error, dx, dy, time error) or (kick number, None...)."""
+    c, q0, ball = columns(channels, nq)
+    cycle = 2 * math.sqrt(2 * (args.apex - args.contact) / 9.81)
+    for rows, z, contacts in episode_contacts(channels, records, nq, args.contact):
         for k, i in enumerate(contacts, start=1):
             j = i + 1
             while j < len(z) and not (z[j - 1] >= args.contact > z[j]):

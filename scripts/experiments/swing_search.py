@@ -104,18 +104,10 @@ def kick_quality(args, trajectory):
     """The summed quality of every kick (see the module doc) per episode."""
     channels, records, header = kick_stats.load(trajectory)
     dt, nq = float(header["control_dt"]), int(header["nq"])
-    c = {name: 1 + i for i, name in enumerate(channels)}
-    q0 = 1 + len(channels)
-    ball = q0 + nq - 7  # the ball's free joint is the model's last
+    c, q0, ball = kick_stats.columns(channels, nq)
     cycle = 2 * math.sqrt(2 * (APEX - CONTACT) / GRAVITY)
-    episodes = {}
-    for r in records:
-        episodes.setdefault(int(r[c["episode"]]), []).append(r)
     total = 0.0
-    for rows in episodes.values():
-        z = [r[ball + 2] for r in rows]
-        contacts = [i for i in range(1, len(z) - 1)
-                    if z[i] < z[i - 1] and z[i + 1] > z[i] and z[i] < CONTACT + 0.4]
+    for rows, z, contacts in kick_stats.episode_contacts(channels, records, nq, CONTACT):
         for i in contacts:
             a, b = i + 2, i + 3  # two samples of the free flight after the release
             if b >= len(rows) or z[b] <= z[a]:

@@ -16,6 +16,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "app/commands.h"
+#include "app/controller_factory.h"
 #include "app/planner_flags.h"
 #include "app/policy_source.h"
 #include "common/file_io.h"
@@ -26,6 +27,7 @@
 #include "eval/tables.h"
 #include "planner/impact_observer.h"
 #include "planner/planner_controller.h"
+#include "planner/replan_trace.h"
 
 namespace juggle {
 namespace {
@@ -59,33 +61,12 @@ struct EvalFlags {
 // A progress line at most every 10 s of wall time: the planner is far slower than real time.
 // With `trace`, a line per re-plan.
 std::function<void(int, const planner::ReplanReport&)> PlannerProgress(
-    std::shared_ptr<const EnvSpec> spec, int episodes,
+    std::shared_ptr<const EnvSpec> spec, const planner::PlanningTask* task, int episodes,
     std::chrono::steady_clock::time_point started, bool trace) {
   auto last = std::make_shared<std::chrono::steady_clock::time_point>(started);
-  return [spec, episodes, started, last, trace](int slot, const planner::ReplanReport& r) {
+  return [spec, task, episodes, started, last, trace](int slot, const planner::ReplanReport& r) {
     if (trace) {
-      const planner::KickOutcome& k = r.predicted_kick;
-      std::printf("  re-plan slot %d step %d: cost %.4g -> %.4g (%d rollouts)", slot,
-                  r.env_step, r.incumbent_cost, r.best_cost, r.evaluations);
-      if (r.rescued) std::printf(" rescue");
-      if (r.predicts_failure) {
-        std::printf(" ends %s at step %d",
-                    spec->outcome_names()[static_cast<int>(r.predicted_end)].c_str(),
-                    r.predicted_end_step);
-      }
-      if (r.predicts_miss) std::printf(" misses a contact at step %d", r.predicted_end_step);
-      if (!r.kick.empty()) {
-        std::printf("  vars %+.0f ms %+.2f %+.2f %+.2f %+.2f", r.kick[0] * 1000, r.kick[1],
-                    r.kick[2], r.kick[3], r.kick[4]);
-      }
-      if (k.valid) {
-        std::printf("  kick: timing %+.0f ms, landing %+.3f %+.3f m, apex %+.3f m",
-                    k.timing * 1000, k.dx, k.dy, k.apex);
-        if (std::isfinite(k.impact_acceleration)) {
-          std::printf(", impact %+.1f m/s^2", k.impact_acceleration);
-        }
-      }
-      std::printf("\n");
+      std::printf("%s\n", planner::FormatReplanTrace(*task, *spec, slot, r).c_str());
       return;
     }
     const auto now = std::chrono::steady_clock::now();
@@ -151,28 +132,27 @@ int Evaluate(EvalFlags f) {
     // Fail before evaluating, not after.
     if (absl::Status s = WriteJsonLines(f.json, {}); !s.ok()) return Fail(s);
   }
-  std::unique_ptr<Controller> controller;
   PolicyController* policy_controller = nullptr;
   planner::PlannerController* planner_controller = nullptr;
   const auto started = std::chrono::steady_clock::now();
-  if (source) {
-    auto p = std::make_unique<PolicyController>(source->policy, /*keep_gates=*/true);
-    policy_controller = p.get();
-    controller = std::move(p);
-  } else if (f.controller == "planner") {
-    absl::StatusOr<std::unique_ptr<planner::PlannerController>> p =
-        planner::PlannerController::Create(*spec, config);
-    if (!p.ok()) return Fail(p.status());
-    planner_controller = p->get();
-    planner_controller->set_on_replan(PlannerProgress(*spec, f.episodes, started, f.planner_trace));
-    controller = std::move(*p);
+  ControllerChoice choice;
+  choice.kind = f.controller;
+  if (source) choice.policy = source->policy;
+  choice.keep_gates = true;
+  choice.on_planner = [&](planner::PlannerController* p) {
+    planner_controller = p;
+    p->set_on_replan(PlannerProgress(*spec, &p->task(), f.episodes, started, f.planner_trace));
+  };
+  absl::StatusOr<std::unique_ptr<Controller>> made = MakeController(choice, *spec, config);
+  if (!made.ok()) return Fail(made.status());
+  std::unique_ptr<Controller> controller = *std::move(made);
+  policy_controller = dynamic_cast<PolicyController*>(controller.get());
+  if (planner_controller != nullptr) {
     const config::PlannerConfig& pc = config.run.planner();
     std::printf("planner: %d samples x %d iterations, horizon %d steps, re-plan every %d, "
                 "%d threads\n",
                 pc.samples(), pc.iterations(), pc.horizon_steps(), pc.replan_every(),
                 pc.threads());
-  } else {
-    controller = std::make_unique<ZeroController>((*spec)->act_dim());
   }
   EpisodeOptions options;
   options.episodes = f.episodes;
@@ -235,28 +215,23 @@ int Evaluate(EvalFlags f) {
     sweep.episodes.record = false;
     // Controllers of their own: the gate statistics above stay those of the plain evaluation.
     // The planner plans with each swept config, so its model includes the force.
-    const std::string kind = f.controller;
-    const std::shared_ptr<const EigenPolicy> policy = source ? source->policy : nullptr;
     // The swept planners report progress too: a sweep is many planner evaluations in a row.
-    const auto progress = PlannerProgress(*spec, f.episodes, started, f.planner_trace);
-    const ControllerFactory controllers =
-        [kind, policy, progress](std::shared_ptr<const EnvSpec> s, const LoadedConfig& c)
-        -> absl::StatusOr<std::unique_ptr<Controller>> {
-      if (kind == "policy") return std::make_unique<PolicyController>(policy);
-      if (kind == "planner") {
-        absl::StatusOr<std::unique_ptr<planner::PlannerController>> p =
-            planner::PlannerController::Create(s, c);
-        if (!p.ok()) return p.status();
-        (*p)->set_on_replan(progress);
-        return std::unique_ptr<Controller>(std::move(*p));
-      }
-      return std::make_unique<ZeroController>(s->act_dim());
+    ControllerChoice swept_choice;
+    swept_choice.kind = f.controller;
+    if (source) swept_choice.policy = source->policy;
+    const int episodes = f.episodes;
+    const bool trace = f.planner_trace;
+    const std::shared_ptr<const EnvSpec> swept_spec = *spec;
+    swept_choice.on_planner = [swept_spec, episodes, started, trace](planner::PlannerController* p) {
+      p->set_on_replan(PlannerProgress(swept_spec, &p->task(), episodes, started, trace));
     };
+    absl::StatusOr<ControllerFactory> controllers = MakeControllerFactory(std::move(swept_choice));
+    if (!controllers.ok()) return Fail(controllers.status());
     std::printf("force sweep: constant force on the ball, %zu magnitudes per direction, "
                 "%d episodes each, pass: median juggles >= %g\n",
                 sweep.magnitudes.size(), f.episodes, f.min_median_juggles);
     absl::StatusOr<ForceSweepReport> swept =
-        RunForceSweep(config, controllers, sweep, [](const std::string& l) {
+        RunForceSweep(config, *controllers, sweep, [](const std::string& l) {
           std::printf("  %s\n", l.c_str());
           std::fflush(stdout);
         });

@@ -16,7 +16,6 @@
 #include "envs/registry.h"
 #include "learner/demo_buffer.h"
 #include "planner/label_spread.h"
-#include "planner/soccer_plan.h"
 
 namespace juggle {
 
@@ -147,7 +146,7 @@ CommandBody AddLabelSpreadCommand(CLI::App* cmd) {
       const std::string& path = kicks ? f->dump_kicks : f->dump_demos;
       if (path.empty()) continue;
       if (absl::Status s = WriteRows(*r, (*spec)->obs_dim(),
-                                     kicks ? planner::kKickVariables : (*spec)->act_dim(),
+                                     kicks ? r->decision_size : (*spec)->act_dim(),
                                      kicks ? r->row_kicks : r->row_labels, path);
           !s.ok()) {
         return Fail(s);

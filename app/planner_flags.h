@@ -10,7 +10,6 @@
 
 #include "absl/status/statusor.h"
 #include "common/config_loader.h"
-#include "eval/controller.h"
 
 namespace juggle {
 
@@ -24,10 +23,6 @@ void AddPlannerFlags(CLI::App* cmd, PlannerFlags* flags);
 // Lays the flags' settings over config->run.planner. INVALID_ARGUMENT "--planner-set:1:col:
 // ..." for text that does not parse or a value out of range.
 absl::Status ApplyPlannerFlags(const PlannerFlags& flags, LoadedConfig* config);
-
-// A factory of planner controllers for each spec and config it is given, with the flags'
-// settings over the config's. Errors as ApplyPlannerFlags (checked here, once).
-absl::StatusOr<ControllerFactory> PlannerControllerFactory(const PlannerFlags& flags);
 
 }  // namespace juggle
 

@@ -6,6 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "app/commands.h"
+#include "app/controller_factory.h"
 #include "app/planner_flags.h"
 #include "app/policy_source.h"
 #include "render/render_job.h"
@@ -28,7 +29,10 @@ int Render(RenderFlags f) {
     if (!f.policy.empty() || f.zero_action || !o.replay.empty()) {
       return UsageError("--controller=planner excludes --policy, --zero-action and --replay");
     }
-    absl::StatusOr<ControllerFactory> factory = PlannerControllerFactory(f.planner);
+    ControllerChoice planner;
+    planner.kind = "planner";
+    planner.planner_set = f.planner.set;
+    absl::StatusOr<ControllerFactory> factory = MakeControllerFactory(std::move(planner));
     if (!factory.ok()) return Fail(factory.status());
     o.controller = *factory;
   } else if (f.controller == "policy" && f.policy.empty()) {

@@ -6,8 +6,8 @@
 
 #include "absl/strings/str_cat.h"
 #include "app/commands.h"
+#include "app/controller_factory.h"
 #include "app/planner_flags.h"
-#include "planner/planner_controller.h"
 #include "common/rng.h"
 #include "envs/registry.h"
 #include "worker/env_pool.h"
@@ -43,11 +43,12 @@ int Simulate(const SimulateFlags& f) {
               num_envs, num_threads, f.seconds, total_steps, static_cast<unsigned long>(run_seed));
   std::vector<float> actions(size_t(num_envs) * (*spec)->act_dim(), 0.0f);
   Rng action_rng(run_seed ^ 0xA5A5A5A5ULL);
-  std::unique_ptr<planner::PlannerController> planner;
+  std::unique_ptr<Controller> planner;
   std::vector<const Env*> envs;
   if (f.policy == "planner") {
-    absl::StatusOr<std::unique_ptr<planner::PlannerController>> p =
-        planner::PlannerController::Create(*spec, *config);
+    ControllerChoice choice;
+    choice.kind = "planner";
+    absl::StatusOr<std::unique_ptr<Controller>> p = MakeController(choice, *spec, *config);
     if (!p.ok()) return Fail(p.status());
     planner = std::move(*p);
     for (int i = 0; i < num_envs; ++i) envs.push_back(&(*pool)->env(i));

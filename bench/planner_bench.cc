@@ -16,7 +16,8 @@
 #include "envs/soccer_juggle/env.h"
 #include "planner/planner_controller.h"
 #include "planner/rollout_pool.h"
-#include "planner/soccer_planner.h"
+#include "planner/receding_horizon.h"
+#include "planner/tasks.h"
 
 namespace juggle {
 namespace {
@@ -49,7 +50,10 @@ absl::StatusOr<SearchRate> PlannerEpisodeRate(std::shared_ptr<const JuggleSpec> 
   JuggleEnv env(spec, Rng::ForStream(11, 0, 0));
   AdaptiveWalk walk(&spec->graph());
   env.Reset(walk);
-  auto planner = std::make_unique<planner::SoccerPlanner>(spec, config, &pool, 0);
+  absl::StatusOr<std::shared_ptr<const planner::PlanningTask>> task =
+      planner::MakePlanningTask(spec, config);
+  if (!task.ok()) return task.status();
+  auto planner = std::make_unique<planner::RecedingHorizonPlanner>(*task, config, &pool, 0);
   planner::PlannerTotals done;  // of the episodes that ended
   int64_t control_steps = 0;
   float action[kNumActions];
@@ -64,7 +68,8 @@ absl::StatusOr<SearchRate> PlannerEpisodeRate(std::shared_ptr<const JuggleSpec> 
       done.rollout_steps += planner->totals().rollout_steps;
       done.rescues += planner->totals().rescues;
       env.Reset(walk);
-      planner = std::make_unique<planner::SoccerPlanner>(spec, config, &pool, control_steps);
+      planner = std::make_unique<planner::RecedingHorizonPlanner>(*task, config, &pool,
+                                                                  control_steps);
     }
   }
   const double seconds = Seconds(start);

@@ -138,6 +138,14 @@ absl::StatusOr<LoadedConfig> ParseSharedRunConfig(const std::string& text,
     return absl::InvalidArgumentError(absl::StrCat(
         loaded.root.Nested({{"service"}}).Where({{"keep_checkpoints"}}), ": must be >= 1"));
   }
+  // The soccer task's settings moved into the planner's task block (proto/planner.proto).
+  for (const char* moved : {"kick", "cost"}) {
+    if (std::string(moved) == "kick" ? run.planner().has_kick() : run.planner().has_cost()) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          loaded.root.Where({{"planner"}, {moved}}), ": moved to planner.soccer_juggle.", moved,
+          " (the soccer juggling task's settings; docs/planner.md)"));
+    }
+  }
   const config::EvaluationConfig& eval = run.evaluation();
   const SourceLocator eval_where = loaded.root.Nested({{"evaluation"}});
   if (!(eval.every_minutes() >= 0) || eval.every_iterations() < 0) {

@@ -11,6 +11,7 @@
 
 #include "absl/status/statusor.h"
 #include "common/config_loader.h"
+#include "common/eigen_policy.h"
 #include "envs/env.h"
 
 namespace juggle {
@@ -22,6 +23,10 @@ class Labeller {
   // step of the env in order (the expert may keep a plan between calls; a new episode shows as
   // the env's step count going back).
   virtual absl::Status Label(const Env& env, float* action) = 0;
+  // The policy acting in the envs of the Label calls that follow (null: none), until the next
+  // call; the caller keeps it alive until then (worker/rollout_collector.cc sets it for each
+  // unroll). A planner may use it as its proposal.
+  virtual void SetPolicy(const EigenPolicy* policy) {}
 };
 
 // Builds the labeller of a run (its config's planner settings) for envs of `spec` on the

@@ -19,7 +19,7 @@ void ClampInto(const SearchSpace& space, double* x) {
 
 }  // namespace
 
-CemResult MinimizeCem(const SearchSpace& space, const CemSettings& settings,
+absl::StatusOr<CemResult> MinimizeCem(const SearchSpace& space, const CemSettings& settings,
                       const std::vector<std::vector<double>>& seeds, Rng* rng,
                       const BatchCost& cost) {
   const int dim = space.dim();
@@ -54,7 +54,7 @@ CemResult MinimizeCem(const SearchSpace& space, const CemSettings& settings,
     }
     costs.assign(fresh, 0.0);
     const double before = it == 0 ? std::numeric_limits<double>::infinity() : result.best_cost;
-    cost(batch, fresh, before, &costs);
+    if (absl::Status s = cost(batch, fresh, before, &costs); !s.ok()) return s;
     result.evaluations += fresh;
     result.iterations = it + 1;
     if (it == 0) {

@@ -9,6 +9,8 @@
 #include <functional>
 #include <vector>
 
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
 #include "common/rng.h"
 
 namespace juggle {
@@ -36,9 +38,10 @@ struct CemSettings {
 // Writes the costs of `n` candidates (row-major [n, dim] in `candidates`) to costs[0..n).
 // `bound` is the best cost found before this batch (infinity for the first): a candidate known
 // to cost at least that much may be given any cost >= bound (it cannot become the best), so
-// its evaluation may stop early; the value must still be deterministic.
-using BatchCost = std::function<void(const std::vector<double>& candidates, int n, double bound,
-                                     std::vector<double>* costs)>;
+// its evaluation may stop early; the value must still be deterministic. An error (e.g. a
+// rollout that could not run) ends the search with that error.
+using BatchCost = std::function<absl::Status(const std::vector<double>& candidates, int n,
+                                             double bound, std::vector<double>* costs)>;
 
 struct CemResult {
   std::vector<double> best;          // [dim]
@@ -52,8 +55,8 @@ struct CemResult {
 // Minimizes `cost` over `space` starting from `seeds` (each [dim], clamped into the box): the
 // first is the incumbent (the initial mean); every seed is a candidate of the first iteration.
 // REQUIRES: at least one seed, space's vectors have equal sizes, lower <= upper,
-// settings.samples >= seeds.size() and settings.iterations >= 1.
-CemResult MinimizeCem(const SearchSpace& space, const CemSettings& settings,
+// settings.samples >= seeds.size() and settings.iterations >= 1. Errors: the cost's.
+absl::StatusOr<CemResult> MinimizeCem(const SearchSpace& space, const CemSettings& settings,
                       const std::vector<std::vector<double>>& seeds, Rng* rng,
                       const BatchCost& cost);
 

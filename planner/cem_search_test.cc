@@ -31,6 +31,7 @@ BatchCost Bowl(int* evaluations = nullptr) {
       (*costs)[i] = c;
     }
     if (evaluations != nullptr) *evaluations += n;
+    return absl::OkStatus();
   };
 }
 
@@ -43,7 +44,7 @@ TEST(CemSearchTest, FindsTheMinimumOfAQuadraticBowl) {
   Rng rng(3);
   int evaluations = 0;
   const CemResult r =
-      MinimizeCem(space, settings, {std::vector<double>(4, 0.0)}, &rng, Bowl(&evaluations));
+      *MinimizeCem(space, settings, {std::vector<double>(4, 0.0)}, &rng, Bowl(&evaluations));
   EXPECT_LT(r.best_cost, 1e-4);
   EXPECT_NEAR(r.best[0], 0.3, 0.01);
   EXPECT_NEAR(r.best[1], -0.2, 0.01);
@@ -65,9 +66,10 @@ TEST(CemSearchTest, NeverReturnsWorseThanTheIncumbent) {
       const bool is_incumbent = x[2 * i] == incumbent[0] && x[2 * i + 1] == incumbent[1];
       (*costs)[i] = is_incumbent ? 1.0 : 2.0;
     }
+    return absl::OkStatus();
   };
   Rng rng(4);
-  const CemResult r = MinimizeCem(Box(2, 1.0, 0.2), CemSettings{}, {incumbent}, &rng, spike);
+  const CemResult r = *MinimizeCem(Box(2, 1.0, 0.2), CemSettings{}, {incumbent}, &rng, spike);
   EXPECT_EQ(r.incumbent_cost, 1.0);
   EXPECT_EQ(r.best_cost, 1.0);
   EXPECT_EQ(r.best, incumbent);
@@ -80,7 +82,7 @@ TEST(CemSearchTest, EverySeedIsACandidateOfTheFirstIteration) {
   settings.iterations = 1;
   // The first seed is poor, the second sits on the minimum.
   const CemResult r =
-      MinimizeCem(Box(2, 1.0, 1e-9), settings, {{-0.9, 0.9}, good}, &rng, Bowl());
+      *MinimizeCem(Box(2, 1.0, 1e-9), settings, {{-0.9, 0.9}, good}, &rng, Bowl());
   EXPECT_EQ(r.best, good);
   EXPECT_EQ(r.best_cost, 0.0);
 }
@@ -92,9 +94,10 @@ TEST(CemSearchTest, CandidatesStayInTheBox) {
                               std::vector<double>* costs) {
     for (double v : x) outside = outside || v < -0.1 || v > 0.1;
     for (int i = 0; i < n; ++i) (*costs)[i] = x[3 * i];
+    return absl::OkStatus();
   };
   Rng rng(6);
-  const CemResult r = MinimizeCem(space, CemSettings{}, {{3.0, -3.0, 0.0}}, &rng, check);
+  const CemResult r = *MinimizeCem(space, CemSettings{}, {{3.0, -3.0, 0.0}}, &rng, check);
   EXPECT_FALSE(outside);
   EXPECT_DOUBLE_EQ(r.best[0], -0.1);  // the cost falls with x_0: its lower bound
 }
@@ -102,9 +105,9 @@ TEST(CemSearchTest, CandidatesStayInTheBox) {
 TEST(CemSearchTest, TheSameStreamGivesTheSamePlan) {
   const SearchSpace space = Box(5, 1.0, 0.3);
   Rng a(9), b(9), c(10);
-  const CemResult ra = MinimizeCem(space, CemSettings{}, {std::vector<double>(5, 0.0)}, &a, Bowl());
-  const CemResult rb = MinimizeCem(space, CemSettings{}, {std::vector<double>(5, 0.0)}, &b, Bowl());
-  const CemResult rc = MinimizeCem(space, CemSettings{}, {std::vector<double>(5, 0.0)}, &c, Bowl());
+  const CemResult ra = *MinimizeCem(space, CemSettings{}, {std::vector<double>(5, 0.0)}, &a, Bowl());
+  const CemResult rb = *MinimizeCem(space, CemSettings{}, {std::vector<double>(5, 0.0)}, &b, Bowl());
+  const CemResult rc = *MinimizeCem(space, CemSettings{}, {std::vector<double>(5, 0.0)}, &c, Bowl());
   EXPECT_EQ(ra.best, rb.best);
   EXPECT_EQ(ra.best_cost, rb.best_cost);
   EXPECT_NE(ra.best, rc.best);
@@ -113,16 +116,19 @@ TEST(CemSearchTest, TheSameStreamGivesTheSamePlan) {
 TEST(CemSearchTest, StopsWhenAnIterationNoLongerImproves) {
   // A flat cost: the first iteration finds nothing better than the incumbent.
   const BatchCost flat = [](const std::vector<double>&, int n, double,
-                            std::vector<double>* costs) { costs->assign(n, 1.0); };
+                            std::vector<double>* costs) {
+    costs->assign(n, 1.0);
+    return absl::OkStatus();
+  };
   CemSettings settings;
   settings.iterations = 6;
   settings.converged_fraction = 0.01;
   Rng rng(8);
-  const CemResult r = MinimizeCem(Box(2, 1.0, 0.2), settings, {{0.0, 0.0}}, &rng, flat);
+  const CemResult r = *MinimizeCem(Box(2, 1.0, 0.2), settings, {{0.0, 0.0}}, &rng, flat);
   EXPECT_EQ(r.iterations, 2);
   settings.converged_fraction = 0;
   Rng rng2(8);
-  EXPECT_EQ(MinimizeCem(Box(2, 1.0, 0.2), settings, {{0.0, 0.0}}, &rng2, flat).iterations, 6);
+  EXPECT_EQ((*MinimizeCem(Box(2, 1.0, 0.2), settings, {{0.0, 0.0}}, &rng2, flat)).iterations, 6);
 }
 
 TEST(CemSearchTest, TellsTheBatchTheBestCostSoFar) {
@@ -131,11 +137,12 @@ TEST(CemSearchTest, TellsTheBatchTheBestCostSoFar) {
                                std::vector<double>* costs) {
     bounds.push_back(bound);
     for (int i = 0; i < n; ++i) (*costs)[i] = 1.0 + std::abs(x[i]);
+    return absl::OkStatus();
   };
   CemSettings settings;
   settings.iterations = 3;
   Rng rng(9);
-  const CemResult r = MinimizeCem(Box(1, 1.0, 0.5), settings, {{0.5}}, &rng, record);
+  const CemResult r = *MinimizeCem(Box(1, 1.0, 0.5), settings, {{0.5}}, &rng, record);
   ASSERT_EQ(bounds.size(), 3u);
   EXPECT_TRUE(std::isinf(bounds[0]));
   EXPECT_EQ(bounds[1], r.iteration_best[0]);
@@ -153,6 +160,7 @@ TEST(CemSearchTest, ExplorationSamplesUseTheInitialSpread) {
       (*costs)[i] = std::abs(x[i]);
       if (calls == 3) widest_last = std::max(widest_last, std::abs(x[i]));
     }
+    return absl::OkStatus();
   };
   CemSettings settings;
   settings.iterations = 3;
@@ -160,14 +168,29 @@ TEST(CemSearchTest, ExplorationSamplesUseTheInitialSpread) {
   settings.min_sigma_fraction = 0.001;
   settings.explore_fraction = 0.5;
   Rng rng(10);
-  MinimizeCem(Box(1, 10.0, 1.0), settings, {{0.0}}, &rng, cost);
+  ASSERT_TRUE(MinimizeCem(Box(1, 10.0, 1.0), settings, {{0.0}}, &rng, cost).ok());
   EXPECT_GT(widest_last, 0.8);
   settings.explore_fraction = 0;
   widest_last = 0;
   calls = 0;
   Rng rng2(10);
-  MinimizeCem(Box(1, 10.0, 1.0), settings, {{0.0}}, &rng2, cost);
+  ASSERT_TRUE(MinimizeCem(Box(1, 10.0, 1.0), settings, {{0.0}}, &rng2, cost).ok());
   EXPECT_LT(widest_last, 0.5);
+}
+
+TEST(CemSearchTest, ACostErrorEndsTheSearchWithThatError) {
+  int calls = 0;
+  const BatchCost failing = [&](const std::vector<double>&, int n, double,
+                                std::vector<double>* costs) {
+    costs->assign(n, 1.0);
+    return ++calls == 2 ? absl::InvalidArgumentError("rollout failed") : absl::OkStatus();
+  };
+  CemSettings settings;
+  settings.iterations = 4;
+  Rng rng(11);
+  const absl::StatusOr<CemResult> r = MinimizeCem(Box(1, 1.0, 0.5), settings, {{0.0}}, &rng, failing);
+  EXPECT_EQ(r.status(), absl::InvalidArgumentError("rollout failed"));
+  EXPECT_EQ(calls, 2) << "no batch after the failing one";
 }
 
 }  // namespace

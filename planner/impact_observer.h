@@ -11,7 +11,7 @@
 
 #include "absl/container/flat_hash_map.h"
 #include "eval/controller.h"
-#include "planner/soccer_cost.h"
+#include "planner/soccer_juggle/impact_tracker.h"
 
 namespace juggle::planner {
 

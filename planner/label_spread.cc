@@ -8,9 +8,10 @@
 #include "common/adaptive_walk.h"
 #include "common/rng.h"
 #include "common/status_macros.h"
-#include "planner/planner_controller.h"
+#include "planner/planner_config.h"
+#include "planner/receding_horizon.h"
 #include "planner/rollout_pool.h"
-#include "planner/soccer_planner.h"
+#include "planner/tasks.h"
 
 namespace juggle::planner {
 
@@ -24,11 +25,6 @@ absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
     std::shared_ptr<const EnvSpec> spec, const LoadedConfig& config,
     const LabelSpreadOptions& o, const std::function<void(const std::string&)>& progress) {
   if (absl::Status s = ValidatePlannerConfig(config); !s.ok()) return s;
-  auto soccer = std::dynamic_pointer_cast<const soccer_juggle::JuggleSpec>(spec);
-  if (soccer == nullptr) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("the planner drives soccer_juggle envs, not ", spec->family()));
-  }
   if (o.forks == 1 || o.forks < 0) {
     return absl::InvalidArgumentError("label spread needs 0 forks (none) or at least 2");
   }
@@ -45,19 +41,20 @@ absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
                                                    o.noise_hold_steps));
   }
   const config::PlannerConfig& pc = config.run.planner();
-  RolloutPool pool(soccer, pc.threads());
+  ASSIGN_OR_RETURN(std::shared_ptr<const PlanningTask> task, MakePlanningTask(spec, pc));
+  RolloutPool pool(spec, pc.threads());
   const int act = spec->act_dim();
   std::vector<double> sum(act, 0), sum_sq(act, 0);          // every visited state's label
   std::vector<double> student_sq(act, 0);                    // (student − label)²
   std::vector<float> obs(spec->obs_dim());
   std::vector<std::vector<double>> fork_var;                 // per re-plan state, per action
   LabelSpreadReport report;
+  report.decision_size = task->decision_size();
   const AdaptiveWalk walk(&spec->graph());
   for (int e = 0; e < o.episodes; ++e) {
     std::unique_ptr<Env> env = spec->NewEnv(Rng::ForStream(o.seed, 0, e));
     env->Reset(walk);
-    const auto& juggle_env = static_cast<const soccer_juggle::JuggleEnv&>(*env);
-    SoccerPlanner driver(soccer, pc, &pool, uint64_t(e) << 8);
+    RecedingHorizonPlanner driver(task, pc, &pool, uint64_t(e) << 8);
     const int steps = static_cast<int>(std::lround(o.seconds / spec->control_dt()));
     std::vector<float> a(act), fa(act), executed(act);
     Rng noise_rng = Rng::ForStream(o.seed ^ kNoiseSalt, 0, e);
@@ -65,22 +62,23 @@ absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
     int juggles = 0;
     const int steps_before = report.steps;
     for (int k = 0; k < steps; ++k) {
-      std::vector<SoccerPlanner> forks;
+      std::vector<RecedingHorizonPlanner> forks;
       for (int f = 0; f < o.forks; ++f) forks.push_back(driver.Fork((uint64_t(e) << 8) + 1 + f));
       if (o.keep_rows || o.student != nullptr) env->WriteObservation(obs.data());
       if (o.keep_rows) report.row_obs.insert(report.row_obs.end(), obs.begin(), obs.end());
-      RETURN_IF_ERROR(driver.Act(juggle_env, a.data()));
+      RETURN_IF_ERROR(driver.Act(*env, a.data()));
       if (o.keep_rows) {
         report.row_labels.insert(report.row_labels.end(), a.begin(), a.end());
-        const std::vector<double>& kick = driver.last_replan().kick;
-        for (int v = 0; v < kKickVariables; ++v) {
-          report.row_kicks.push_back(v < static_cast<int>(kick.size()) ? float(kick[v]) : 0.0f);
+        const std::vector<double>& decision = driver.last_replan().decision;
+        for (int v = 0; v < report.decision_size; ++v) {
+          report.row_kicks.push_back(v < static_cast<int>(decision.size()) ? float(decision[v])
+                                                                           : 0.0f);
         }
       }
       if (o.forks > 0 && driver.last_replan().env_step == env->steps()) {  // re-planned here
         std::vector<double> mean(act, 0), sq(act, 0);
-        for (SoccerPlanner& fork : forks) {
-          RETURN_IF_ERROR(fork.Act(juggle_env, fa.data()));
+        for (RecedingHorizonPlanner& fork : forks) {
+          RETURN_IF_ERROR(fork.Act(*env, fa.data()));
           for (int i = 0; i < act; ++i) {
             mean[i] += fa[i];
             sq[i] += double(fa[i]) * fa[i];

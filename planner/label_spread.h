@@ -58,13 +58,15 @@ struct LabelSpreadReport {
   // mean over states and actions of w_a·(student − label)².
   std::vector<double> student_rmse;
   double student_weighted_error = 0;
-  // With keep_rows, per visited state in order: observation [obs_dim], label [act_dim], kick
-  // variables [kKickVariables]; episode_steps[e] states belong to episode e.
+  // With keep_rows, per visited state in order: observation [obs_dim], label [act_dim], the
+  // current decision's variables [decision_size] (soccer: the 5 kick variables of the current
+  // cycle; PlanningTask::decision_size); episode_steps[e] states belong to episode e.
+  int decision_size = 0;
   std::vector<float> row_obs, row_labels, row_kicks;
   std::vector<int> episode_steps;
 };
 
-// Errors: the planner config check, a family the planner cannot drive, forks of 1, a mix out
+// Errors: the planner config check (a family without a planning task among them), forks of 1, a mix out
 // of [0, 1] or without a student, negative noise or a hold below 1.
 absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
     std::shared_ptr<const EnvSpec> spec, const LoadedConfig& config,

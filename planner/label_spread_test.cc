@@ -3,7 +3,7 @@
 // executed action and held for its steps (checked state by state against a plain rollout);
 // bad options are refused.
 #include "planner/label_spread.h"
-#include "planner/soccer_plan.h"
+#include "planner/soccer_juggle/plan.h"
 
 #include <algorithm>
 #include <cmath>

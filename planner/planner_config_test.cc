@@ -7,8 +7,9 @@
 #include "envs/testing/test_configs.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "planner/planner_config.h"
 #include "planner/planner_controller.h"
-#include "planner/soccer_plan.h"
+#include "planner/soccer_juggle/plan.h"
 
 namespace juggle::planner {
 namespace {
@@ -89,12 +90,14 @@ TEST(PlannerConfigTest, ReplanningBeyondTheHorizonIsRefused) {
 TEST(PlannerConfigTest, AnEmptyImpactAccelerationBandIsRefused) {
   LoadedConfig config;
   ASSERT_TRUE(Load("band.textproto",
-                   Config("cost { impact_acceleration_min: -2 impact_acceleration_max: -3 }"),
+                   Config("soccer_juggle { cost { impact_acceleration_min: -2 "
+                          "impact_acceleration_max: -3 } }"),
                    &config).ok());
   EXPECT_THAT(std::string(ValidatePlannerConfig(config).message()),
-              HasSubstr("planner.cost.impact_acceleration_min"));
+              HasSubstr("planner.soccer_juggle.cost.impact_acceleration_min"));
   ASSERT_TRUE(Load("band.textproto",
-                   Config("cost { impact_acceleration_min: -3 impact_acceleration_max: -3 }"),
+                   Config("soccer_juggle { cost { impact_acceleration_min: -3 "
+                          "impact_acceleration_max: -3 } }"),
                    &config).ok());
   EXPECT_TRUE(ValidatePlannerConfig(config).ok());
 }
@@ -128,10 +131,44 @@ TEST(PlannerConfigTest, AFamilyWithoutAPlannerIsRefused) {
   ASSERT_TRUE(config.ok()) << config.status();
   const absl::Status s = ValidatePlannerConfig(*config);
   EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_THAT(std::string(s.message()), HasSubstr("drives soccer_juggle envs"));
+  EXPECT_THAT(std::string(s.message()),
+              HasSubstr("the planner has no task for the toss family; families with a planning "
+                        "task: soccer_juggle"));
   absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*config);
   ASSERT_TRUE(spec.ok());
   EXPECT_FALSE(PlannerController::Create(*spec, *config).ok());
+}
+
+TEST(PlannerConfigTest, KickAndCostAtTheirOldPlaceAreErrorsNamingTheNewPlace) {
+  const std::string text = Config("cost { kick: 20 }");
+  const std::string path = WriteTemp("old_cost.textproto", text);
+  const absl::Status s = LoadRunConfig(path).status();
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()), StartsWith(::juggle::testing::Loc(path, text, "cost {")));
+  EXPECT_THAT(std::string(s.message()),
+              HasSubstr("planner.cost: moved to planner.soccer_juggle.cost"));
+  EXPECT_THAT(std::string(Load("old_kick.textproto", Config("kick { cycles: 2 }")).message()),
+              HasSubstr("planner.kick: moved to planner.soccer_juggle.kick"));
+  LoadedConfig config;
+  ASSERT_TRUE(Load("new_place.textproto", Config("soccer_juggle { cost { kick: 20 } }"), &config).ok());
+  EXPECT_EQ(config.run.planner().soccer_juggle().cost().kick(), 20);
+  const absl::Status set = ApplyPlannerSettings("samples: 8 cost { kick: 20 }", &config);
+  EXPECT_THAT(std::string(set.message()), StartsWith("--planner-set:1:12: cost: moved to soccer_juggle { cost { ... } }"));
+  EXPECT_TRUE(ApplyPlannerSettings("soccer_juggle { cost { kick: 30 } }", &config).ok());
+  EXPECT_EQ(config.run.planner().soccer_juggle().cost().kick(), 30);
+}
+
+TEST(PlannerConfigTest, ThePlannerControllerRefusesAConfigWithoutAPlannerBlock) {
+  absl::StatusOr<LoadedConfig> config =
+      LoadRunConfig(RepoPath("configs/right_foot_recipe.textproto"));
+  ASSERT_TRUE(config.ok()) << config.status();
+  ASSERT_FALSE(config->run.has_planner());
+  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*config);
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  const absl::StatusOr<std::unique_ptr<PlannerController>> c = PlannerController::Create(*spec, *config);
+  EXPECT_EQ(c.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(c.status().message()), HasSubstr("right_foot_recipe.textproto: has no planner block"));
+  EXPECT_THAT(std::string(c.status().message()), HasSubstr("configs/right_foot_planner.textproto"));
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // The planner as the worker's expert (envs/labeller.h): one receding-horizon planner per
-// labelled env (planner/soccer_planner.h), all sharing one rollout pool of planner.threads
-// threads. Env k of worker w plans on random stream w·65536 + k, so labels are reproducible
+// labelled env (planner/planner_set.h), all sharing one rollout pool of planner.threads
+// threads and the family's planning task. Env k of worker w plans on random stream w·65536 + k, so labels are reproducible
 // from (run seed, worker, env). Thread-compatible.
 #ifndef JUGGLE_PLANNER_PLANNER_LABELLER_H_
 #define JUGGLE_PLANNER_PLANNER_LABELLER_H_

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "absl/cleanup/cleanup.h"
 #include "common/status_macros.h"
 
 namespace juggle {
@@ -35,6 +36,11 @@ void RolloutCollector::set_label_plan(const LabelPlan& plan) {
 absl::Status RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* batch,
                                        std::vector<EdgeEvent>* events,
                                        std::vector<int32_t>* nodes) {
+  // The labeller sees the acting policy for this unroll's labels, and none after it.
+  if (labels_.labeller != nullptr) labels_.labeller->SetPolicy(&policy);
+  absl::Cleanup forget = [this] {
+    if (labels_.labeller != nullptr) labels_.labeller->SetPolicy(nullptr);
+  };
   if (!started_) {
     pool_->Reset();
     started_ = true;

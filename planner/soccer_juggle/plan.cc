@@ -1,4 +1,4 @@
-#include "planner/soccer_plan.h"
+#include "planner/soccer_juggle/plan.h"
 
 #include <algorithm>
 #include <cmath>
@@ -60,11 +60,12 @@ absl::StatusOr<std::vector<int>> BodyActionIndices(
   return out;
 }
 
-SoccerPlanLayout MakeSoccerPlanLayout(const config::PlannerConfig& config) {
+SoccerPlanLayout MakeSoccerPlanLayout(const config::PlannerConfig& config,
+                                      const config::KickVariables& kick) {
   SoccerPlanLayout layout;
   absl::StatusOr<std::vector<int>> actions = BodyActionIndices(config.body_actions());
   if (actions.ok()) layout.body_actions = *std::move(actions);
-  layout.kick_sets = config.kick().enabled() ? config.kick().cycles() : 0;
+  layout.kick_sets = kick.enabled() ? kick.cycles() : 0;
   layout.horizon = config.horizon_steps();
   layout.knot_steps = config.body_knot_steps();
   if (layout.knot_steps > 0) {
@@ -76,14 +77,14 @@ SoccerPlanLayout MakeSoccerPlanLayout(const config::PlannerConfig& config) {
 }
 
 SearchSpace MakeSoccerSearchSpace(const SoccerPlanLayout& layout,
-                                  const config::PlannerConfig& config) {
+                                  const config::PlannerConfig& config,
+                                  const config::KickVariables& kick) {
   SearchSpace space;
   auto add = [&space](double limit, double sigma) {
     space.lower.push_back(-limit);
     space.upper.push_back(limit);
     space.sigma.push_back(sigma);
   };
-  const config::KickVariables& kick = config.kick();
   for (int s = 0; s < layout.kick_sets; ++s) {
     add(kick.phase_limit_s(), kick.phase_sigma_s());
     for (int a = 1; a < kKickVariables; ++a) add(kick.angle_limit(), kick.angle_sigma());
@@ -181,8 +182,9 @@ void AddKickAction(const JuggleEnv& env, const double* kick, double* out) {
 }  // namespace
 
 void SoccerPlanAction(const JuggleEnv& env, const SoccerPlanLayout& layout, const double* theta,
-                      PlanClock clock, float* action) {
+                      PlanClock clock, float* action, const double* prior) {
   double a[kNumActions] = {0};
+  if (prior != nullptr) std::copy_n(prior, kNumActions, a);
   if (layout.kick_sets > 0) {
     const int set = std::clamp(clock.cycle, 0, layout.kick_sets - 1);
     AddKickAction(env, theta + layout.kick(set), a);

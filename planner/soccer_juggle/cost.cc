@@ -1,4 +1,4 @@
-#include "planner/soccer_cost.h"
+#include "planner/soccer_juggle/cost.h"
 
 #include <algorithm>
 #include <cmath>
@@ -20,8 +20,7 @@ namespace {
 double Square(double x) { return x * x; }
 
 // The residuals of a ball crossing `node`'s contact height `seconds_to_contact` from now.
-KickOutcome OutcomeAt(const JuggleEnv& env, int node, double seconds_to_contact,
-                      const LandingAnchors* anchors) {
+KickOutcome OutcomeAt(const JuggleEnv& env, int node, double seconds_to_contact) {
   const JuggleSpec& spec = env.spec();
   const config::NodeSpec& target = spec.graph().node(node).spec;
   const mjData* d = env.data();
@@ -32,12 +31,7 @@ KickOutcome OutcomeAt(const JuggleEnv& env, int node, double seconds_to_contact,
   KickOutcome out;
   out.valid = true;
   out.timing = c.t - seconds_to_contact;
-  double root[2] = {d->qpos[0], d->qpos[1]};
-  if (anchors != nullptr && anchors->stance && anchors->stance_body[node] >= 0) {
-    const double* foot = d->xpos + 3 * anchors->stance_body[node];
-    root[0] = foot[0] + anchors->root_from_stance[node][0];
-    root[1] = foot[1] + anchors->root_from_stance[node][1];
-  }
+  const double root[2] = {d->qpos[0], d->qpos[1]};
   out.dx = c.x - root[0] - target.ball_target().x();
   out.dy = c.y - root[1] - target.ball_target().y();
   out.apex = ApexHeight(ball[2], vel[2], g) - NominalApexHeight(target, g);
@@ -51,32 +45,7 @@ bool MissedThisCycle(const JuggleEnv& env) {
          env.spec().graph().node(env.node()).stage == config::UP;
 }
 
-LandingAnchors MakeLandingAnchors(const JuggleSpec& spec, bool stance) {
-  LandingAnchors a;
-  a.stance = stance;
-  const int nodes = spec.graph().num_nodes();
-  a.root_from_stance.assign(nodes, {0, 0});
-  a.stance_body.assign(nodes, -1);
-  const mjModel* m = spec.model();
-  MjDataPtr scratch(mj_makeData(m));
-  for (int n = 0; n < nodes; ++n) {
-    const config::ReferencePose& pose = spec.graph().node(n).spec.pose();
-    if (!pose.has_leg_swing()) continue;
-    const bool kick_left = pose.leg_swing().side() == config::LEFT;
-    const int ankle = spec.joint(kick_left ? soccer_juggle::kRightAnkle
-                                           : soccer_juggle::kLeftAnkle).dof_adr;
-    a.stance_body[n] = m->dof_bodyid[ankle];
-    soccer_juggle::CharacterPose ref;
-    soccer_juggle::ComputeReferencePose(spec, n, 0.5, &ref);
-    mju_copy(scratch->qpos, ref.data(), soccer_juggle::kCharacterNq);
-    mj_kinematics(m, scratch.get());
-    a.root_from_stance[n] = {ref[0] - scratch->xpos[3 * a.stance_body[n]],
-                             ref[1] - scratch->xpos[3 * a.stance_body[n] + 1]};
-  }
-  return a;
-}
-
-KickOutcome PredictKickOutcome(const JuggleEnv& env, const LandingAnchors* anchors) {
+KickOutcome PredictKickOutcome(const JuggleEnv& env) {
   const JuggleSpec& spec = env.spec();
   const CursorState& c = env.cursor();
   // The DOWN node the ball is sent to: the next one after the current cycle's contact.
@@ -87,14 +56,14 @@ KickOutcome PredictKickOutcome(const JuggleEnv& env, const LandingAnchors* ancho
   }
   // The clock's next contact: φ runs to 1 (this cycle) and on to 0.5 of the next.
   const double seconds = (1.5 - c.phase) / c.phase_speed * spec.control_dt();
-  return OutcomeAt(env, target, seconds, anchors);
+  return OutcomeAt(env, target, seconds);
 }
 
-KickOutcome PredictApproach(const JuggleEnv& env, const LandingAnchors* anchors) {
+KickOutcome PredictApproach(const JuggleEnv& env) {
   const JuggleSpec& spec = env.spec();
   const CursorState& c = env.cursor();
   if (spec.graph().node(c.current).stage != config::DOWN || c.phase_speed <= 0) return {};
-  return OutcomeAt(env, c.current, -spec.cursor().SecondsFromContact(c, c.phase), anchors);
+  return OutcomeAt(env, c.current, -spec.cursor().SecondsFromContact(c, c.phase));
 }
 
 double BallClearance(const JuggleEnv& env) {
@@ -112,76 +81,6 @@ double BallClearance(const JuggleEnv& env) {
     best = std::min(best, mju_norm3(diff) - m->geom_rbound[g] - ball_radius);
   }
   return std::max(best, 0.0);
-}
-
-void ImpactTracker::Begin(const JuggleEnv& env) {
-  const JuggleSpec& spec = env.spec();
-  const mjModel* m = spec.model();
-  const mjData* d = env.data();
-  bodies_.clear();
-  for (int b = 1; b < m->nbody; ++b) {
-    for (int n = 0; n < spec.graph().num_nodes(); ++n) {
-      if (spec.node_runtime(n).contact_allowed[b]) {
-        bodies_.push_back(b);
-        break;
-      }
-    }
-  }
-  jacobian_.resize(3 * m->nv);
-  was_touched_ = env.state().kick_touched;
-  // One step back, at the state's acceleration (the env's last forward pass), so that a touch in
-  // the rollout's first step is measured too, the same way for every candidate.
-  std::vector<double> earlier(d->qvel, d->qvel + m->nv);
-  mju_addToScl(earlier.data(), d->qacc, -spec.control_dt(), m->nv);
-  BodyVelocities(env, earlier.data(), &velocity_[1]);
-  BodyVelocities(env, d->qvel, &velocity_[0]);
-  mju_copy3(ball_velocity_, d->qvel + spec.ball_dof());
-}
-
-void ImpactTracker::BodyVelocities(const JuggleEnv& env, const double* qvel,
-                                   std::vector<double>* out) {
-  const mjModel* m = env.spec().model();
-  out->resize(3 * bodies_.size());
-  for (size_t i = 0; i < bodies_.size(); ++i) {
-    // The joint velocities are the step's end, the Jacobian of its last substep's start
-    // (mj_step's kinematics): one substep of motion apart.
-    mj_jacBodyCom(m, env.data(), jacobian_.data(), nullptr, bodies_[i]);
-    mju_mulMatVec(out->data() + 3 * i, jacobian_.data(), qvel, 3, m->nv);
-  }
-}
-
-double ImpactTracker::AfterStep(const JuggleEnv& env) {
-  const JuggleSpec& spec = env.spec();
-  const mjModel* m = spec.model();
-  const mjData* d = env.data();
-  const bool first_touch = env.state().kick_touched && !was_touched_;
-  was_touched_ = env.state().kick_touched;
-  double acceleration = std::numeric_limits<double>::quiet_NaN();
-  const auto tracked = std::find(bodies_.begin(), bodies_.end(), env.state().touched_body);
-  if (first_touch && tracked != bodies_.end()) {
-    // The impulse's direction: the ball's velocity change less what gravity and the env's
-    // constant force on the ball (env.ball_force) gave it.
-    const double dt = spec.control_dt();
-    const config::Vec3& force = spec.env().ball_force();
-    const double per_mass = dt / m->body_mass[spec.ball_body()];
-    double n[3];
-    mju_sub3(n, d->qvel + spec.ball_dof(), ball_velocity_);
-    n[0] -= force.x() * per_mass;
-    n[1] -= force.y() * per_mass;
-    n[2] -= force.z() * per_mass - spec.env().gravity() * dt;
-    if (mju_normalize3(n) < 0.05) {  // a graze: straight up
-      n[0] = n[1] = 0;
-      n[2] = 1;
-    }
-    const size_t i = tracked - bodies_.begin();
-    double change[3];
-    mju_sub3(change, velocity_[0].data() + 3 * i, velocity_[1].data() + 3 * i);
-    acceleration = mju_dot3(change, n) / dt;
-  }
-  velocity_[1].swap(velocity_[0]);
-  BodyVelocities(env, d->qvel, &velocity_[0]);
-  mju_copy3(ball_velocity_, d->qvel + spec.ball_dof());
-  return acceleration;
 }
 
 double BodyCost(const JuggleEnv& env, const config::PlannerCost& w) {
@@ -222,19 +121,52 @@ double BodyCost(const JuggleEnv& env, const config::PlannerCost& w) {
          w.com_speed() * Square(speed / w.com_speed_scale());
 }
 
-SoccerRolloutScorer::SoccerRolloutScorer(const config::PlannerCost& cost, int horizon,
-                                         const LandingAnchors* anchors)
-    : cost_(cost), horizon_(std::max(horizon, 1)), anchors_(anchors) {}
+std::vector<double> OutcomeValues(const KickOutcome& k) {
+  if (!k.valid) return {};
+  return {k.timing, k.dx, k.dy, k.apex, k.impact_acceleration};
+}
 
-void SoccerRolloutScorer::Begin(const JuggleEnv& env) {
+KickOutcome KickOutcomeOf(const std::vector<double>& v) {
+  KickOutcome k;
+  if (v.size() != 5) return k;
+  k.valid = true;
+  k.timing = v[0];
+  k.dx = v[1];
+  k.dy = v[2];
+  k.apex = v[3];
+  k.impact_acceleration = v[4];
+  return k;
+}
+
+std::vector<std::string> KickOutcomeNames() {
+  return {"timing_s", "landing_dx_m", "landing_dy_m", "apex_m", "impact_acceleration"};
+}
+
+std::vector<std::string> SoccerTermNames() {
+  return {"failure", "miss", "kick", "impact", "effort", "body", "terminal", "approach"};
+}
+
+SoccerRolloutScorer::SoccerRolloutScorer(const config::PlannerCost& cost, int horizon,
+                                         bool run_on_every_kick)
+    : cost_(cost), horizon_(std::max(horizon, 1)), run_on_every_kick_(run_on_every_kick) {}
+
+void SoccerRolloutScorer::Begin(const Env& base) {
+  const auto& env = static_cast<const JuggleEnv&>(base);
   // A kick whose ball is already on its way was scored by an earlier plan; one whose ball is
   // still on the body is this plan's to score.
   scored_this_cycle_ = env.state().kick_touched && !env.state().touched_this_step;
   impact_.Begin(env);
 }
 
-void SoccerRolloutScorer::AfterStep(const JuggleEnv& env, const float* action,
-                                    const StepResult& r) {
+bool SoccerRolloutScorer::RunsOn(const Env& base) const {
+  const auto& env = static_cast<const JuggleEnv&>(base);
+  const bool in_contact =
+      env.state().kick_touched && env.state().touched_this_step && !scored_this_cycle_;
+  return in_contact && (run_on_every_kick_ || kicks_ == 0);
+}
+
+void SoccerRolloutScorer::AfterStep(const Env& base, const float* action, const StepResult& r) {
+  const auto& env = static_cast<const JuggleEnv&>(base);
   ++steps_;
   double a2 = 0, change2 = 0;
   for (int i = 0; i < kNumActions; ++i) {
@@ -262,7 +194,11 @@ void SoccerRolloutScorer::AfterStep(const JuggleEnv& env, const float* action,
   if (r.terminated()) {
     failed_ = true;
     failure_ = cost_.failure() * (2.0 - static_cast<double>(steps_) / horizon_);
-    if (!s.kick_touched) failure_ += cost_.miss() * Square(clearance_ / cost_.landing_scale());
+    failure_part_ = failure_;
+    if (!s.kick_touched) {
+      miss_part_ = cost_.miss() * Square(clearance_ / cost_.landing_scale());
+      failure_ += miss_part_;
+    }
     return;
   }
   body_ += BodyCost(env, cost_);
@@ -270,39 +206,49 @@ void SoccerRolloutScorer::AfterStep(const JuggleEnv& env, const float* action,
   // that sends it down scores its early crossing).
   if (s.kick_touched && !s.touched_this_step && !scored_this_cycle_) {
     scored_this_cycle_ = true;
-    KickOutcome k = PredictKickOutcome(env, anchors_);
+    KickOutcome k = PredictKickOutcome(env);
     k.impact_acceleration = cycle_impact_;
     if (k.valid) {
       if (kicks_ == 0) first_kick_ = k;
       ++kicks_;
-      kick_ += cost_.kick() * (Square(k.timing / cost_.timing_scale_s()) +
-                               (Square(k.dx) + Square(k.dy)) / Square(cost_.landing_scale()) +
-                               cost_.apex_weight() * Square(k.apex / cost_.apex_scale()));
+      kick_cost_ += cost_.kick() * (Square(k.timing / cost_.timing_scale_s()) +
+                                    (Square(k.dx) + Square(k.dy)) / Square(cost_.landing_scale()) +
+                                    cost_.apex_weight() * Square(k.apex / cost_.apex_scale()));
     }
   }
 }
 
-double SoccerRolloutScorer::Finish(const JuggleEnv& env) {
-  double total = failure_ + kick_ + impact_cost_ + effort_;
+double SoccerRolloutScorer::Finish(const Env& base) {
+  const auto& env = static_cast<const JuggleEnv&>(base);
+  double total = failure_ + kick_cost_ + impact_cost_ + effort_;
   total += body_ / horizon_;
   if (failed_) return total;
-  total += cost_.terminal() * BodyCost(env, cost_);
+  terminal_ = cost_.terminal() * BodyCost(env, cost_);
+  total += terminal_;
   if (MissedThisCycle(env)) {
     // The clock has passed this cycle's contact without a touch: the episode will end (the
     // ball is lost, or a late touch breaks the window) just after the horizon. Scored as a
     // failure at the horizon's end, misses ranked by how close the ball came.
     missed_ = true;
-    return total + cost_.failure() +
-           cost_.miss() * Square(std::min(clearance_, BallClearance(env)) / cost_.landing_scale());
+    failure_part_ = cost_.failure();
+    miss_part_ =
+        cost_.miss() * Square(std::min(clearance_, BallClearance(env)) / cost_.landing_scale());
+    return total + failure_part_ + miss_part_;
   }
   if (!env.state().kick_touched) {
-    const KickOutcome a = PredictApproach(env, anchors_);
+    const KickOutcome a = PredictApproach(env);
     if (a.valid) {
-      total += cost_.approach() * (Square(a.timing / cost_.timing_scale_s()) +
-                                   (Square(a.dx) + Square(a.dy)) / Square(cost_.landing_scale()));
+      approach_ = cost_.approach() * (Square(a.timing / cost_.timing_scale_s()) +
+                                      (Square(a.dx) + Square(a.dy)) / Square(cost_.landing_scale()));
+      total += approach_;
     }
   }
   return total;
+}
+
+std::vector<double> SoccerRolloutScorer::terms() const {
+  return {failure_part_, miss_part_, kick_cost_, impact_cost_, effort_, body_ / horizon_,
+          terminal_, approach_};
 }
 
 }  // namespace juggle::planner

@@ -1,4 +1,4 @@
-// The soccer planner's decision variables and the actions they give (docs/planner.md).
+// The soccer juggling task's decision variables and the actions they give (docs/planner.md).
 //
 // A plan θ is, in order:
 //   kick variables, one set per juggle cycle (KickVariables.cycles sets; a cycle starts when a
@@ -15,8 +15,8 @@
 // by the action's torque unit) plus the spline's value, clamped to [−1, 1]: a plan is an action
 // sequence the learned policy could produce, so its labels are exact. Pure functions;
 // allocation-free.
-#ifndef JUGGLE_PLANNER_SOCCER_PLAN_H_
-#define JUGGLE_PLANNER_SOCCER_PLAN_H_
+#ifndef JUGGLE_PLANNER_SOCCER_JUGGLE_PLAN_H_
+#define JUGGLE_PLANNER_SOCCER_JUGGLE_PLAN_H_
 
 #include <vector>
 
@@ -25,6 +25,7 @@
 #include "envs/soccer_juggle/env.h"
 #include "envs/soccer_juggle/spec.h"
 #include "planner/cem_search.h"
+#include "planner/planning_task.h"
 #include "proto/planner.pb.h"
 
 namespace juggle::planner {
@@ -51,25 +52,23 @@ absl::StatusOr<std::vector<int>> BodyActionIndices(
     const google::protobuf::RepeatedPtrField<std::string>& names);
 
 // REQUIRES: config.body_actions valid (BodyActionIndices).
-SoccerPlanLayout MakeSoccerPlanLayout(const config::PlannerConfig& config);
+// `kick`: the task's kick variables (SoccerJugglePlanning.kick).
+SoccerPlanLayout MakeSoccerPlanLayout(const config::PlannerConfig& config,
+                                      const config::KickVariables& kick);
 // The box and spreads of the variables.
 SearchSpace MakeSoccerSearchSpace(const SoccerPlanLayout& layout,
-                                  const config::PlannerConfig& config);
-
-// Where a visited state is in the plan: control steps since the plan's knot 0 (its grid knot)
-// and juggle cycles since the plan's origin.
-struct PlanClock {
-  int step = 0;
-  int cycle = 0;
-};
+                                  const config::PlannerConfig& config,
+                                  const config::KickVariables& kick);
 
 // The grid knot at or before episode step `step` (its episode step).
 int KnotAtOrBefore(const SoccerPlanLayout& layout, int step);
 
-// The plan's action in `env`'s current state. REQUIRES: theta holds layout.dim() values,
-// `action` kNumActions floats.
+// The plan's action in `env`'s current state (PlanClock: planner/planning_task.h, the cycles
+// being juggle cycles): `prior` (kNumActions values, or null for zero) plus the plan's offsets,
+// clamped to [−1, 1]. REQUIRES: theta holds layout.dim() values, `action` kNumActions floats.
 void SoccerPlanAction(const soccer_juggle::JuggleEnv& env, const SoccerPlanLayout& layout,
-                      const double* theta, PlanClock clock, float* action);
+                      const double* theta, PlanClock clock, float* action,
+                      const double* prior = nullptr);
 
 // The plan re-expressed from later: body knots moved down by `knots` grid knots (knots past
 // the old last copy it), kick sets moved down by `cycles` (likewise). The shifted plan gives
@@ -79,4 +78,4 @@ std::vector<double> ShiftSoccerPlan(const SoccerPlanLayout& layout, const std::v
 
 }  // namespace juggle::planner
 
-#endif  // JUGGLE_PLANNER_SOCCER_PLAN_H_
+#endif  // JUGGLE_PLANNER_SOCCER_JUGGLE_PLAN_H_

@@ -2,7 +2,7 @@
 // a kick the base controller misses, it is deterministic for a seed, and its actions replayed
 // through a plain env give the same episode; the impact acceleration it can score is measured
 // right, costs what its band says, and is reported for every kick an evaluation executes.
-#include "planner/soccer_planner.h"
+#include "planner/receding_horizon.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,8 +14,9 @@
 #include "gtest/gtest.h"
 #include "eval/episode_runner.h"
 #include "planner/impact_observer.h"
-#include "planner/soccer_cost.h"
-#include "planner/soccer_plan.h"
+#include "planner/soccer_juggle/cost.h"
+#include "planner/soccer_juggle/plan.h"
+#include "planner/soccer_juggle/task.h"
 
 namespace juggle::planner {
 namespace {
@@ -23,6 +24,29 @@ namespace {
 using soccer_juggle::JuggleEnv;
 using soccer_juggle::JuggleSpec;
 using soccer_juggle::kNumActions;
+
+// The receding-horizon driver with the soccer juggling task, with the soccer-typed accessors
+// these tests read (the kick outcome, the plan layout).
+class SoccerPlanner : public RecedingHorizonPlanner {
+ public:
+  SoccerPlanner(std::shared_ptr<const JuggleSpec> spec, const config::PlannerConfig& config,
+                RolloutPool* pool, uint64_t stream)
+      : RecedingHorizonPlanner(std::make_shared<SoccerJuggleTask>(std::move(spec), config), config,
+                               pool, stream) {}
+  const SoccerPlanLayout& layout() const {
+    return static_cast<const SoccerJuggleTask&>(task()).layout();
+  }
+  absl::StatusOr<double> Evaluate(const JuggleEnv& env, const std::vector<double>& theta,
+                                  KickOutcome* kick = nullptr, int draw = 0) {
+    std::vector<double> outcome;
+    absl::StatusOr<double> cost = RecedingHorizonPlanner::Evaluate(env, theta, &outcome, draw);
+    if (kick != nullptr) *kick = KickOutcomeOf(outcome);
+    return cost;
+  }
+};
+
+// The predicted kick of a re-plan.
+KickOutcome PredictedKick(const ReplanReport& r) { return KickOutcomeOf(r.predicted_outcome); }
 
 class SoccerPlannerTest : public ::testing::Test {
  protected:
@@ -96,8 +120,8 @@ TEST_F(SoccerPlannerTest, RescuesAKickTheBaseControllerMissesExactlyAsPredicted)
   for (int t = 0; t < 60 && !executed.valid; ++t) {
     ASSERT_TRUE(planner->Act(*env, action).ok());
     const ReplanReport& r = planner->last_replan();
-    if (r.env_step == env->steps() && r.predicted_kick.valid) {
-      predicted = r.predicted_kick;
+    if (r.env_step == env->steps() && PredictedKick(r).valid) {
+      predicted = PredictedKick(r);
     }
     ASSERT_EQ(env->Step(action, *walk_).outcome, Outcome::kRunning) << "step " << t;
     if (env->state().kick_touched && !env->state().touched_this_step) {
@@ -163,7 +187,7 @@ TEST_F(SoccerPlannerTest, ItsActionsReplayedInAPlainEnvGiveTheSameEpisode) {
 }
 
 TEST_F(SoccerPlannerTest, AReleasedKickKeepsItsVariablesUntilTheNextCycle) {
-  config_.run.mutable_planner()->mutable_kick()->set_freeze_after_release(true);
+  config_.run.mutable_planner()->mutable_soccer_juggle()->mutable_kick()->set_freeze_after_release(true);
   std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.03);
   std::unique_ptr<SoccerPlanner> planner = NewPlanner();
   float action[kNumActions];
@@ -190,8 +214,8 @@ TEST_F(SoccerPlannerTest, AReleasedKickKeepsItsVariablesUntilTheNextCycle) {
 // A planner that can only choose the nominal swing (zero spreads, no rescue): its plan is the
 // zero action, so its predictions can be checked against a plain zero-action rollout.
 config::PlannerConfig NominalOnly(config::PlannerConfig p, int horizon) {
-  p.mutable_kick()->set_phase_sigma_s(0);
-  p.mutable_kick()->set_angle_sigma(0);
+  p.mutable_soccer_juggle()->mutable_kick()->set_phase_sigma_s(0);
+  p.mutable_soccer_juggle()->mutable_kick()->set_angle_sigma(0);
   p.mutable_rescue()->set_cost_above(0);
   p.set_horizon_steps(horizon);
   return p;
@@ -220,7 +244,7 @@ TEST_F(SoccerPlannerTest, AHorizonEndingInContactRunsOnToTheReleaseAndScoresTheK
     float action[kNumActions];
     ASSERT_TRUE(planner.Act(*env, action).ok());
     for (float a : action) ASSERT_EQ(a, 0.0f);
-    const KickOutcome& predicted = planner.last_replan().predicted_kick;
+    const KickOutcome predicted = PredictedKick(planner.last_replan());
     if (horizon == first_touch) {  // ends on the ball: scored at its release
       ASSERT_TRUE(predicted.valid);
       EXPECT_EQ(predicted.timing, executed.timing);
@@ -313,7 +337,7 @@ TEST_F(SoccerPlannerTest, AHorizonEndingPastAMissedContactCostsAFailure) {
     if (spec_->graph().node(probe->node()).stage == config::UP) up_at = t;
   }
   ASSERT_GT(up_at, 2);
-  const double failure = config_.run.planner().cost().failure();
+  const double failure = config_.run.planner().soccer_juggle().cost().failure();
   for (int horizon : {up_at + 2, up_at - 2}) {
     std::unique_ptr<JuggleEnv> env = late_ball();
     SoccerPlanner planner(spec_, NominalOnly(config_.run.planner(), horizon), pool_.get(), 0);
@@ -468,7 +492,7 @@ double KickChurn(SoccerPlanner* planner, JuggleEnv* env, const AdaptiveWalk& wal
 TEST_F(SoccerPlannerTest, AKickConsistencyTermKeepsRePlansNearTheWarmStart) {
   std::unique_ptr<JuggleEnv> free_env = StartWithBallAhead(0.03);
   const double free_churn = KickChurn(NewPlanner().get(), free_env.get(), *walk_, 24);
-  config_.run.mutable_planner()->mutable_cost()->set_kick_consistency(1e4);
+  config_.run.mutable_planner()->mutable_soccer_juggle()->mutable_cost()->set_kick_consistency(1e4);
   std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.03);
   const double held_churn = KickChurn(NewPlanner().get(), env.get(), *walk_, 24);
   EXPECT_GT(free_churn, 0.01);
@@ -506,14 +530,14 @@ TEST_F(SoccerPlannerTest, AColdStartLabelIsAFunctionOfTheStateNotOfThePlansHisto
 // kick_prior: among kicks that land alike the search settles on smaller changes of the swing.
 TEST_F(SoccerPlannerTest, AKickPriorShrinksTheChosenKickVariables) {
   auto kick_size = [&](double prior) {
-    config_.run.mutable_planner()->mutable_cost()->set_kick_prior(prior);
+    config_.run.mutable_planner()->mutable_soccer_juggle()->mutable_cost()->set_kick_prior(prior);
     config_.run.mutable_planner()->set_refine_iterations(2);
     std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.06);
     std::unique_ptr<SoccerPlanner> planner = NewPlanner();
     float action[kNumActions];
     EXPECT_TRUE(planner->Act(*env, action).ok());
     // In units of the search spreads (the prior's units).
-    const config::KickVariables& k = config_.run.planner().kick();
+    const config::KickVariables& k = config_.run.planner().soccer_juggle().kick();
     double size = std::pow(planner->plan()[0] / k.phase_sigma_s(), 2);
     for (int v = 1; v < kKickVariables; ++v) size += std::pow(planner->plan()[v] / k.angle_sigma(), 2);
     return std::sqrt(size);
@@ -548,8 +572,8 @@ TEST_F(SoccerPlannerTest, ARobustPlanCostsTheMeanOfItsNoiselessAndNoisyRollouts)
   EXPECT_NE(*second, *first);
   EXPECT_DOUBLE_EQ(planner->last_replan().best_cost, (*noiseless + *first + *second) / 3);
   ASSERT_TRUE(kick.valid);
-  EXPECT_EQ(planner->last_replan().predicted_kick.timing, kick.timing);
-  EXPECT_EQ(planner->last_replan().predicted_kick.dx, kick.dx);
+  EXPECT_EQ(PredictedKick(planner->last_replan()).timing, kick.timing);
+  EXPECT_EQ(PredictedKick(planner->last_replan()).dx, kick.dx);
   // Every candidate was simulated three times, and the chosen plan once more for its prediction.
   EXPECT_EQ(planner->totals().rollouts, 3 * planner->last_replan().evaluations + 1);
 }
@@ -572,7 +596,7 @@ TEST_F(SoccerPlannerTest, AShiftedPlanActsAsBefore) {
   config::PlannerConfig p = config_.run.planner();
   p.set_body_knot_steps(5);
   p.set_horizon_steps(20);
-  const SoccerPlanLayout layout = MakeSoccerPlanLayout(p);
+  const SoccerPlanLayout layout = MakeSoccerPlanLayout(p, p.soccer_juggle().kick());
   ASSERT_GT(layout.body_knots, 2);
   Rng rng(2);
   std::vector<double> theta(layout.dim());
@@ -608,7 +632,7 @@ TEST_F(SoccerPlannerTest, AForkOnItsOwnStreamActsAlikeAndOnAnotherStreamDiffers)
     ASSERT_TRUE(planner->Act(*env, a).ok());
     ASSERT_EQ(env->Step(a, *walk_).outcome, Outcome::kRunning);
   }
-  SoccerPlanner same = planner->Fork(0), other = planner->Fork(77);
+  RecedingHorizonPlanner same = planner->Fork(0), other = planner->Fork(77);
   float a_same[kNumActions], a_other[kNumActions];
   ASSERT_TRUE(planner->Act(*env, a).ok());
   ASSERT_EQ(planner->last_replan().env_step, env->steps()) << "a re-plan was due";
@@ -751,7 +775,7 @@ TEST_F(SoccerPlannerTest, ImpactAccelerationAgreesWithTheFootsVelocityFromAForwa
 TEST_F(SoccerPlannerTest, ImpactAccelerationCostIsTheSquaredDistanceOutsideItsBandPerKick) {
   std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.0, 3);
   auto cost_of_zero_plan = [&](double weight, double min, double max, KickOutcome* kick) {
-    config::PlannerCost& cost = *config_.run.mutable_planner()->mutable_cost();
+    config::PlannerCost& cost = *config_.run.mutable_planner()->mutable_soccer_juggle()->mutable_cost();
     cost.set_impact_acceleration(weight);
     cost.set_impact_acceleration_min(min);
     cost.set_impact_acceleration_max(max);

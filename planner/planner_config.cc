@@ -1,0 +1,76 @@
+#include "planner/planner_config.h"
+
+#include "absl/strings/str_cat.h"
+#include "envs/registry.h"
+#include "planner/tasks.h"
+
+namespace juggle::planner {
+namespace {
+
+// The name of the task block `p` sets ("" when none).
+std::string TaskBlockName(const config::PlannerConfig& p) {
+  const google::protobuf::OneofDescriptor* task = p.GetDescriptor()->FindOneofByName("task");
+  const google::protobuf::FieldDescriptor* set =
+      p.GetReflection()->GetOneofFieldDescriptor(p, task);
+  return set == nullptr ? "" : set->name();
+}
+
+}  // namespace
+
+absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
+  const config::PlannerConfig& p = config.run.planner();
+  auto where = [&](const char* field) { return config.root.Where({{"planner"}, {field}}); };
+  absl::StatusOr<const EnvFamily*> family = FamilyOf(config.run);
+  if (!family.ok()) return family.status();
+  const std::string family_name((*family)->name());
+  absl::StatusOr<const PlanningTaskEntry*> task = PlanningTaskFor(family_name);
+  if (!task.ok()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(config.root.Where({{"planner"}}), ": ", task.status().message()));
+  }
+  const std::string block = TaskBlockName(p);
+  if (!block.empty() && block != family_name) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(where(block.c_str()), ": a planning task for ", block, ", but this run's "
+                     "envs are of the ", family_name, " family"));
+  }
+  if (p.rescue().body() && p.body_knot_steps() == 0) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where({{"planner"}, {"rescue"}, {"body"}}),
+        ": the rescue searches the whole-body knots, but planner.body_knot_steps is 0 (none)"));
+  }
+  if (p.replan_every() > p.horizon_steps()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(where("replan_every"), ": re-planning every ", p.replan_every(),
+                     " steps leaves steps past the horizon of ", p.horizon_steps(),
+                     " without a plan"));
+  }
+  return (*task)->validate(config);
+}
+
+absl::Status RequirePlannerBlock(const LoadedConfig& config) {
+  if (config.run.has_planner()) return absl::OkStatus();
+  return absl::InvalidArgumentError(absl::StrCat(
+      config.config_path, ": has no planner block, and the planner's defaults match no documented "
+      "result; use a planner config (configs/right_foot_planner.textproto, or see "
+      "docs/planner.md) or add a `planner { ... }` block"));
+}
+
+absl::Status ApplyPlannerSettings(const std::string& text, LoadedConfig* config) {
+  if (text.empty()) return absl::OkStatus();
+  config::PlannerConfig changes;
+  absl::StatusOr<SourceLocator> parsed = ParseTextMessage(text, "--planner-set", &changes);
+  if (!parsed.ok()) return parsed.status();
+  for (const char* moved : {"kick", "cost"}) {
+    const bool set = std::string(moved) == "kick" ? changes.has_kick() : changes.has_cost();
+    if (set) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          parsed->Where({{moved}}), ": moved to soccer_juggle { ", moved,
+          " { ... } } (the soccer juggling task's settings; docs/planner.md)"));
+    }
+  }
+  config->run.mutable_planner()->MergeFrom(changes);
+  return absl::OkStatus();
+}
+
+}  // namespace juggle::planner

@@ -1,0 +1,32 @@
+// Checks of a run's planner settings (RunConfig.planner, proto/planner.proto) beyond the
+// schema's ranges, and the `--planner-set` overlay. Generic settings are checked here, the
+// task's own by its entry in planner/tasks.cc.
+#ifndef JUGGLE_PLANNER_PLANNER_CONFIG_H_
+#define JUGGLE_PLANNER_PLANNER_CONFIG_H_
+
+#include <string>
+
+#include "absl/status/status.h"
+#include "common/config_loader.h"
+
+namespace juggle::planner {
+
+// OK, or INVALID_ARGUMENT "file:line:col: planner.<field>: ..." for settings the schema's
+// ranges allow but the run does not: a family without a planning task, a task block of another
+// family, re-planning past the horizon, a rescue of body knots without knots, and the task's own
+// checks. (Settings that moved into the task, planner.kick and planner.cost, are refused when
+// the config loads: common/config_loader.cc.)
+absl::Status ValidatePlannerConfig(const LoadedConfig& config);
+
+// OK when `config` has a planner block. Otherwise INVALID_ARGUMENT naming the config and the
+// documented planner configs: `--controller=planner` never runs on silent defaults.
+absl::Status RequirePlannerBlock(const LoadedConfig& config);
+
+// Lays `text` (text-format PlannerConfig fields, e.g. "samples: 8 iterations: 2") over
+// config->run.planner; empty text changes nothing. INVALID_ARGUMENT "--planner-set:1:col: ..."
+// for text that does not parse, a value out of range, or a field that moved to the task.
+absl::Status ApplyPlannerSettings(const std::string& text, LoadedConfig* config);
+
+}  // namespace juggle::planner
+
+#endif  // JUGGLE_PLANNER_PLANNER_CONFIG_H_

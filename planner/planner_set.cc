@@ -1,0 +1,44 @@
+#include "planner/planner_set.h"
+
+#include "planner/planner_config.h"
+#include "planner/tasks.h"
+
+namespace juggle::planner {
+
+absl::StatusOr<std::unique_ptr<PlannerSet>> PlannerSet::Create(std::shared_ptr<const EnvSpec> spec,
+                                                               const LoadedConfig& config,
+                                                               uint64_t stream_base) {
+  if (absl::Status s = ValidatePlannerConfig(config); !s.ok()) return s;
+  absl::StatusOr<std::shared_ptr<const PlanningTask>> task =
+      MakePlanningTask(spec, config.run.planner());
+  if (!task.ok()) return task.status();
+  return std::unique_ptr<PlannerSet>(
+      new PlannerSet(std::move(spec), *std::move(task), config.run.planner(), stream_base));
+}
+
+PlannerSet::PlannerSet(std::shared_ptr<const EnvSpec> spec,
+                       std::shared_ptr<const PlanningTask> task,
+                       const config::PlannerConfig& config, uint64_t stream_base)
+    : spec_(std::move(spec)),
+      task_(std::move(task)),
+      config_(config),
+      stream_base_(stream_base),
+      pool_(spec_, config_.threads()) {}
+
+RecedingHorizonPlanner& PlannerSet::For(const Env& env, int* index) {
+  auto [it, added] = planner_of_.try_emplace(&env, static_cast<int>(planners_.size()));
+  if (added) {
+    planners_.push_back(std::make_unique<RecedingHorizonPlanner>(
+        task_, config_, &pool_, stream_base_ + planners_.size(), prior_));
+  }
+  if (index != nullptr) *index = it->second;
+  return *planners_[it->second];
+}
+
+PlannerTotals PlannerSet::totals() const {
+  PlannerTotals t;
+  for (const auto& p : planners_) t.Add(p->totals());
+  return t;
+}
+
+}  // namespace juggle::planner

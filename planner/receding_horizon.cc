@@ -1,0 +1,506 @@
+// The receding-horizon driver (planner/receding_horizon.h): scheduling, the warm start, the
+// search and its rescue, the refinement, the prediction check. Everything about what a plan
+// means and costs is the task's (planner/planning_task.h).
+#include "planner/receding_horizon.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/check.h"
+#include "common/status_macros.h"
+
+namespace juggle::planner {
+namespace {
+
+// Salts the robust cost's noise streams apart from the search's (same seed, stream and re-plan).
+constexpr uint64_t kRobustNoiseSalt = 0x726f62757374ULL;  // "robust"
+
+// The refinement and the action map work on blocks of at most this many variables.
+constexpr int kMaxBlock = 16;
+
+}  // namespace
+
+uint64_t StateFingerprint(const Env& env, const mjModel* m) {
+  const mjData* d = env.data();
+  uint64_t h = 1469598103934665603ull;
+  auto mix = [&h](const double* x, int n) {
+    const auto* bytes = reinterpret_cast<const unsigned char*>(x);
+    for (size_t i = 0; i < sizeof(double) * n; ++i) {
+      h ^= bytes[i];
+      h *= 1099511628211ull;
+    }
+  };
+  mix(d->qpos, m->nq);
+  mix(d->qvel, m->nv);
+  return h;
+}
+
+void PlannerTotals::Add(const PlannerTotals& other) {
+  replans += other.replans;
+  rollouts += other.rollouts;
+  rollout_steps += other.rollout_steps;
+  rescues += other.rescues;
+  prediction_checks += other.prediction_checks;
+  prediction_mismatches += other.prediction_mismatches;
+}
+
+struct RecedingHorizonPlanner::ReplanState {
+  std::unique_ptr<EnvSnapshot> snapshot;
+  PlanClock clock;
+  int knot0 = 0;
+  std::vector<double> shifted;  // the previous plan shifted to now (zero without one)
+  std::vector<std::vector<double>> seeds;
+  SearchSpace space;            // the task's, restricted at this state
+  Rng rng{0};
+};
+
+RecedingHorizonPlanner::RecedingHorizonPlanner(std::shared_ptr<const PlanningTask> task,
+                                               const config::PlannerConfig& config,
+                                               RolloutPool* pool, uint64_t stream,
+                                               const ActionPrior* prior)
+    : task_(std::move(task)),
+      config_(config),
+      pool_(pool),
+      stream_(stream),
+      prior_(prior),
+      act_dim_(pool->spec().act_dim()),
+      walk_(&pool->spec().graph()) {
+  JUGGLE_CHECK(task_->family() == pool->spec().family(), "a task of another family than the pool");
+  settings_.samples = config_.samples();
+  settings_.iterations = config_.iterations();
+  settings_.elite_fraction = config_.elite_fraction();
+  settings_.keep_elite_fraction = config_.keep_elite_fraction();
+  settings_.min_sigma_fraction = config_.min_sigma_fraction();
+  settings_.explore_fraction = config_.explore_fraction();
+  settings_.converged_fraction = config_.converged_fraction();
+  theta_.assign(task_->dim(), 0.0);
+}
+
+RecedingHorizonPlanner::RolloutResult RecedingHorizonPlanner::Rollout(
+    Env* env, const double* theta, const RolloutOptions& o) const {
+  RolloutResult result;
+  const std::unique_ptr<RolloutScorer> scorer = task_->NewScorer();
+  scorer->Begin(*env);
+  std::vector<float> action(act_dim_);
+  std::vector<double> prior(prior_ != nullptr ? act_dim_ : 0);
+  PlanClock clock = o.clock;
+  const int horizon = task_->horizon();
+  int node = env->node();
+  int t = 0;
+  int end = horizon;
+  for (; t < end; ++t, ++clock.step) {
+    if (prior_ != nullptr) prior_->Write(*env, prior.data());
+    task_->Action(*env, theta, clock, prior_ != nullptr ? prior.data() : nullptr, action.data());
+    if (o.noise != nullptr) {
+      const float* n = o.noise + size_t(t) * act_dim_;
+      for (int i = 0; i < act_dim_; ++i) action[i] = std::clamp(action[i] + n[i], -1.0f, 1.0f);
+    }
+    const StepResult r = env->Step(action.data(), walk_);
+    if (o.trace != nullptr) o.trace->push_back(StateFingerprint(*env, pool_->spec().model()));
+    scorer->AfterStep(*env, action.data(), r);
+    if (r.outcome != Outcome::kRunning) {
+      result.end = r.outcome;
+      ++t;
+      break;
+    }
+    if (config_.prune() && scorer->partial() >= o.bound) {
+      result.first_outcome = scorer->first_outcome();
+      result.steps = t + 1;
+      result.cost = scorer->partial();
+      return result;
+    }
+    // A horizon the task wants to run on (e.g. to a kick's release) gets one more step at a time.
+    if (t + 1 == end && end < horizon + task_->max_run_on_steps() && scorer->RunsOn(*env)) ++end;
+    if (env->node() != node) {
+      node = env->node();
+      if (task_->StartsCycle(*env, node)) ++clock.cycle;
+    }
+  }
+  result.first_outcome = scorer->first_outcome();
+  result.steps = t;
+  result.cost = scorer->Finish(*env);
+  result.missed = scorer->predicts_miss();
+  if (o.terms) result.terms = scorer->terms();
+  return result;
+}
+
+absl::StatusOr<double> RecedingHorizonPlanner::Evaluate(const Env& env,
+                                                        const std::vector<double>& theta,
+                                                        std::vector<double>* outcome, int draw) {
+  JUGGLE_CHECK(static_cast<int>(theta.size()) == task_->dim(), "plan of the wrong size");
+  JUGGLE_CHECK(draw == 0 || (draw <= config_.robust().draws() && !robust_noise_.empty()),
+               "no such robust draw (PlannerConfig.robust, after a re-plan)");
+  const std::unique_ptr<EnvSnapshot> snapshot = env.Snapshot();
+  RolloutOptions options;
+  options.clock = {env.steps() - task_->KnotAtOrBefore(env.steps()), 0};
+  options.noise = draw > 0 ? RobustNoise(draw) : nullptr;
+  RolloutResult r;
+  RETURN_IF_ERROR(pool_->Run(*snapshot, 1, [&](int, Env* copy) {
+    r = Rollout(copy, theta.data(), options);
+  }));
+  if (outcome != nullptr) *outcome = r.first_outcome;
+  return r.cost;
+}
+
+absl::StatusOr<std::vector<RecedingHorizonPlanner::RolloutResult>>
+RecedingHorizonPlanner::RolloutBatch(const EnvSnapshot& snapshot, PlanClock clock,
+                                     const std::vector<double>& candidates, int n, double bound) {
+  const int dim = task_->dim();
+  const int draws = config_.robust().draws();
+  // Job j: candidate j / (1 + draws), draw j % (1 + draws) (0: noiseless). Pruning only
+  // without draws: a bound on the mean does not bound one rollout.
+  const int per = 1 + draws;
+  RolloutOptions options;
+  options.clock = clock;
+  options.bound = draws == 0 ? bound : std::numeric_limits<double>::infinity();
+  std::vector<RolloutResult> all(size_t(n) * per);
+  RETURN_IF_ERROR(pool_->Run(snapshot, n * per, [&](int j, Env* copy) {
+    RolloutOptions job = options;
+    const int draw = j % per;
+    job.noise = draw > 0 ? RobustNoise(draw) : nullptr;
+    all[j] = Rollout(copy, candidates.data() + (j / per) * dim, job);
+  }));
+  for (const RolloutResult& r : all) totals_.rollout_steps += r.steps;
+  if (per == 1) return all;
+  std::vector<RolloutResult> results(n);
+  for (int i = 0; i < n; ++i) {
+    results[i] = all[size_t(i) * per];
+    double sum = 0;
+    for (int d = 0; d < per; ++d) sum += all[size_t(i) * per + d].cost;
+    results[i].cost = sum / per;
+  }
+  totals_.rollouts += int64_t(n) * draws;
+  return results;
+}
+
+absl::Status RecedingHorizonPlanner::ScoreBatch(const ReplanState& r,
+                                                const std::vector<double>& candidates, int n,
+                                                double bound, std::vector<double>* costs) {
+  ASSIGN_OR_RETURN(std::vector<RolloutResult> results,
+                   RolloutBatch(*r.snapshot, r.clock, candidates, n, bound));
+  for (int i = 0; i < n; ++i) {
+    (*costs)[i] = results[i].cost +
+                  task_->PlanCost(&candidates[size_t(i) * task_->dim()], r.shifted, has_plan_);
+  }
+  return absl::OkStatus();
+}
+
+RecedingHorizonPlanner::ReplanState RecedingHorizonPlanner::WarmStart(const Env& env) {
+  ReplanState r;
+  r.knot0 = task_->KnotAtOrBefore(env.steps());
+  r.clock = {env.steps() - r.knot0, 0};
+  r.snapshot = env.Snapshot();
+  // The previous plan shifted to now (the plan cost's reference and a held block's value), and
+  // the search's start: the same, or zero (cold_start).
+  r.shifted = has_plan_ ? task_->Shift(theta_, r.knot0 - knot0_step_, cycle_ - origin_cycle_)
+                       : std::vector<double>(task_->dim(), 0.0);
+  const std::vector<double> start =
+      config_.cold_start() ? std::vector<double>(task_->dim(), 0.0) : r.shifted;
+  r.seeds = task_->Seeds(start);
+  r.space = task_->space();
+  task_->Restrict(env, r.shifted, &r.space, &r.seeds);
+  // A cold start draws from the state's step, so the same state gets the same answer whatever
+  // came before it; otherwise from the re-plan's count.
+  const uint64_t draw_index = config_.cold_start() ? static_cast<uint64_t>(env.steps())
+                                                   : static_cast<uint64_t>(replan_count_);
+  r.rng = Rng::ForStream(config_.seed(), stream_, draw_index);
+  DrawRobustNoise(draw_index);
+  ++replan_count_;
+  return r;
+}
+
+absl::StatusOr<CemResult> RecedingHorizonPlanner::Search(ReplanState& r) {
+  const BatchCost cost = [&](const std::vector<double>& candidates, int n, double bound,
+                             std::vector<double>* costs) {
+    return ScoreBatch(r, candidates, n, bound, costs);
+  };
+  ASSIGN_OR_RETURN(CemResult result, MinimizeCem(r.space, settings_, r.seeds, &r.rng, cost));
+  totals_.rollouts += result.evaluations;
+  return result;
+}
+
+absl::Status RecedingHorizonPlanner::Rescue(ReplanState& r, CemResult* result) {
+  last_.rescued = false;
+  const config::RescueSearch& rescue = config_.rescue();
+  if (!(rescue.cost_above() > 0 && result->best_cost > rescue.cost_above())) {
+    return absl::OkStatus();
+  }
+  // In trouble: search again, wider, from the best plan found (its incumbent), so the answer is
+  // never worse than the regular search's. Variables the state holds stay held.
+  SearchSpace wide = task_->rescue_space();
+  for (int v = 0; v < wide.dim(); ++v) {
+    if (r.space.sigma[v] == 0 && r.space.lower[v] == r.space.upper[v]) {
+      wide.lower[v] = wide.upper[v] = r.space.lower[v];
+      wide.sigma[v] = 0;
+    }
+  }
+  CemSettings settings = settings_;
+  settings.samples = rescue.samples();
+  settings.iterations = rescue.iterations();
+  std::vector<std::vector<double>> seeds = {result->best};
+  seeds.insert(seeds.end(), r.seeds.begin(), r.seeds.end());
+  const BatchCost cost = [&](const std::vector<double>& candidates, int n, double bound,
+                             std::vector<double>* costs) {
+    return ScoreBatch(r, candidates, n, bound, costs);
+  };
+  ASSIGN_OR_RETURN(CemResult second, MinimizeCem(wide, settings, seeds, &r.rng, cost));
+  totals_.rollouts += second.evaluations;
+  ++totals_.rescues;
+  second.evaluations += result->evaluations;
+  second.incumbent_cost = result->incumbent_cost;
+  *result = std::move(second);
+  last_.rescued = true;
+  return absl::OkStatus();
+}
+
+absl::Status RecedingHorizonPlanner::RefineBest(const Env& env, ReplanState& r,
+                                                CemResult* result) {
+  if (config_.refine_iterations() == 0) return absl::OkStatus();
+  const std::optional<VariableBlock> block = task_->RefineBlock(env);
+  if (!block.has_value()) return absl::OkStatus();
+  return Refine(*r.snapshot, r.clock, *block, r.shifted, &result->best, &result->best_cost);
+}
+
+absl::Status RecedingHorizonPlanner::Refine(const EnvSnapshot& snapshot, PlanClock clock,
+                                            const VariableBlock& block,
+                                            const std::vector<double>& warm,
+                                            std::vector<double>* theta, double* cost) {
+  const int dim = task_->dim();
+  const int k = block.size();
+  const int m = task_->num_residuals();
+  JUGGLE_CHECK(k <= kMaxBlock && m <= kMaxBlock, "a refinement block or residual too large");
+  const SearchSpace& space = task_->space();
+  const double* h = block.steps.data();
+  for (int it = 0; it < config_.refine_iterations(); ++it) {
+    std::vector<double> batch;
+    for (int j = -1; j < k; ++j) {
+      batch.insert(batch.end(), theta->begin(), theta->end());
+      if (j >= 0) batch[batch.size() - dim + block.first + j] += h[j];
+    }
+    ASSIGN_OR_RETURN(std::vector<RolloutResult> probes, RolloutBatch(snapshot, clock, batch, k + 1));
+    totals_.rollouts += k + 1;
+    double f[kMaxBlock], J[kMaxBlock][kMaxBlock];
+    if (!task_->Residuals(probes[0].first_outcome, f)) return absl::OkStatus();
+    for (int j = 0; j < k; ++j) {
+      double fj[kMaxBlock];
+      if (!task_->Residuals(probes[j + 1].first_outcome, fj)) return absl::OkStatus();
+      for (int row = 0; row < m; ++row) J[row][j] = (fj[row] - f[row]) / h[j];
+    }
+    // Levenberg-Marquardt: (JᵀJ + λ·diag(JᵀJ) + μI) Δ = −Jᵀf.
+    double A[kMaxBlock * kMaxBlock], b[kMaxBlock];
+    for (int i = 0; i < k; ++i) {
+      b[i] = 0;
+      for (int row = 0; row < m; ++row) b[i] -= J[row][i] * f[row];
+      for (int j = 0; j < k; ++j) {
+        double s = 0;
+        for (int row = 0; row < m; ++row) s += J[row][i] * J[row][j];
+        A[i * k + j] = s;
+      }
+    }
+    // The task's prior as residual rows √prior·v / spread_v.
+    const double prior = task_->refine_prior_weight();
+    for (int i = 0; i < k; ++i) {
+      const double s = space.sigma[block.first + i];
+      if (prior > 0 && s > 0) {
+        A[i * k + i] += prior / (s * s);
+        b[i] -= prior * (*theta)[block.first + i] / (s * s);
+      }
+    }
+    for (int i = 0; i < k; ++i) A[i * k + i] += 0.1 * A[i * k + i] + 1e-3;
+    double delta[kMaxBlock];
+    mju_copy(delta, b, k);
+    if (mju_cholFactor(A, k, 1e-12) < k) return absl::OkStatus();
+    mju_cholSolve(delta, A, b, k);
+    batch.clear();
+    for (const double alpha : {1.0, 0.5, 0.25}) {
+      batch.insert(batch.end(), theta->begin(), theta->end());
+      double* x = batch.data() + batch.size() - dim;
+      for (int j = 0; j < k; ++j) {
+        const int v = block.first + j;
+        x[v] = std::clamp(x[v] + alpha * delta[j], space.lower[v], space.upper[v]);
+      }
+    }
+    ASSIGN_OR_RETURN(std::vector<RolloutResult> steps, RolloutBatch(snapshot, clock, batch, 3));
+    totals_.rollouts += 3;
+    int best = -1;
+    for (int s = 0; s < 3; ++s) {
+      steps[s].cost += task_->PlanCost(batch.data() + s * dim, warm, has_plan_);
+      if (steps[s].cost < *cost && (best < 0 || steps[s].cost < steps[best].cost)) best = s;
+    }
+    if (best < 0) return absl::OkStatus();
+    std::copy_n(batch.begin() + best * dim, dim, theta->begin());
+    *cost = steps[best].cost;
+  }
+  return absl::OkStatus();
+}
+
+absl::Status RecedingHorizonPlanner::Commit(const Env& env, const ReplanState& r,
+                                            const CemResult& result) {
+  theta_ = result.best;
+  has_plan_ = true;
+  origin_step_ = env.steps();
+  knot0_step_ = r.knot0;
+  origin_cycle_ = cycle_;
+  ++totals_.replans;
+  last_.env_step = env.steps();
+  last_.incumbent_cost = result.incumbent_cost;
+  last_.best_cost = result.best_cost;
+  last_.evaluations = result.evaluations;
+  // The chosen plan's prediction (one more rollout): the states the next steps must visit.
+  RolloutResult chosen;
+  predicted_.clear();
+  RolloutOptions options;
+  options.clock = r.clock;
+  options.trace = &predicted_;
+  options.terms = true;
+  const absl::Status status = pool_->Run(*r.snapshot, 1, [&](int, Env* copy) {
+    chosen = Rollout(copy, theta_.data(), options);
+  });
+  ++totals_.rollouts;
+  totals_.rollout_steps += chosen.steps;
+  last_.predicted_outcome = chosen.first_outcome;
+  last_.terms = chosen.terms;
+  last_.decision.assign(theta_.begin(), theta_.begin() + task_->decision_size());
+  last_.predicted_end = chosen.end;
+  last_.predicted_end_step = env.steps() + chosen.steps;
+  last_.predicts_failure = chosen.end != Outcome::kRunning && chosen.end != Outcome::kTimeLimit;
+  last_.predicts_miss = chosen.missed;
+  return status;
+}
+
+absl::Status RecedingHorizonPlanner::Replan(const Env& env) {
+  ReplanState r = WarmStart(env);
+  ASSIGN_OR_RETURN(CemResult result, Search(r));
+  RETURN_IF_ERROR(Rescue(r, &result));
+  RETURN_IF_ERROR(RefineBest(env, r, &result));
+  return Commit(env, r, result);
+}
+
+void RecedingHorizonPlanner::DrawRobustNoise(uint64_t draw_index) {
+  const config::RobustCost& robust = config_.robust();
+  if (robust.draws() == 0) return;
+  robust_noise_.assign(size_t(robust.draws()) * robust_rows() * act_dim_, 0.0f);
+  Rng rng = Rng::ForStream(config_.seed() ^ kRobustNoiseSalt, stream_, draw_index);
+  for (int d = 1; d <= robust.draws(); ++d) {
+    float* noise = robust_noise_.data() + size_t(d - 1) * robust_rows() * act_dim_;
+    for (int t = 0; t < robust_rows(); ++t) {
+      float* row = noise + size_t(t) * act_dim_;
+      if (t % robust.hold_steps() == 0) {
+        for (int i = 0; i < act_dim_; ++i) row[i] = float(robust.action_noise() * rng.Normal());
+      } else {
+        std::copy_n(row - act_dim_, act_dim_, row);
+      }
+    }
+  }
+}
+
+void RecedingHorizonPlanner::TrackCycles(const Env& env) {
+  if (env.steps() <= last_step_ || last_step_ < 0) {
+    // A new episode.
+    has_plan_ = false;
+    cycle_ = 0;
+    last_node_ = env.node();
+  } else if (env.node() != last_node_) {
+    last_node_ = env.node();
+    if (task_->StartsCycle(env, last_node_)) ++cycle_;
+  }
+  last_step_ = env.steps();
+}
+
+void RecedingHorizonPlanner::CheckPrediction(const Env& env) {
+  if (!has_plan_) return;
+  // The state the plan predicted for this step.
+  const int k = env.steps() - origin_step_ - 1;
+  if (k >= 0 && k < static_cast<int>(predicted_.size())) {
+    ++totals_.prediction_checks;
+    if (predicted_[k] != StateFingerprint(env, pool_->spec().model())) {
+      ++totals_.prediction_mismatches;
+    }
+  }
+}
+
+absl::Status RecedingHorizonPlanner::Act(const Env& env, float* action) {
+  TrackCycles(env);
+  CheckPrediction(env);
+  const bool follow = config_.warm_start_from_executed();
+  if (follow && has_plan_) FollowExecutedAction(env);
+  const bool due = config_.replan_at_cycle_start()
+                       ? cycle_ != origin_cycle_
+                       : env.steps() - origin_step_ >= config_.replan_every();
+  if (!has_plan_ || due) RETURN_IF_ERROR(Replan(env));
+  const PlanClock clock{env.steps() - knot0_step_, cycle_ - origin_cycle_};
+  std::vector<double> prior(prior_ != nullptr ? act_dim_ : 0);
+  if (prior_ != nullptr) prior_->Write(env, prior.data());
+  task_->Action(env, theta_.data(), clock, prior_ != nullptr ? prior.data() : nullptr, action);
+  if (follow) RecordActionMap(env, clock, action);
+  return absl::OkStatus();
+}
+
+void RecedingHorizonPlanner::RecordActionMap(const Env& env, PlanClock clock,
+                                             const float* action) {
+  ActionMap& m = action_map_;
+  const std::optional<VariableBlock> block = task_->ActingBlock(clock);
+  m.valid = block.has_value();
+  if (!m.valid) return;
+  m.step = env.steps();
+  m.cycle = cycle_;
+  m.block = *block;
+  m.action.assign(action, action + act_dim_);
+  const int k = m.block.size();
+  m.jacobian.assign(size_t(act_dim_) * k, 0.0);
+  std::vector<double> prior(prior_ != nullptr ? act_dim_ : 0);
+  if (prior_ != nullptr) prior_->Write(env, prior.data());
+  // Finite differences of the plan's action in each variable of the block.
+  std::vector<double> probe = theta_;
+  std::vector<float> moved(act_dim_);
+  for (int j = 0; j < k; ++j) {
+    double& x = probe[m.block.first + j];
+    const double x0 = x;
+    x = x0 + m.block.steps[j];
+    task_->Action(env, probe.data(), clock, prior_ != nullptr ? prior.data() : nullptr,
+                  moved.data());
+    x = x0;
+    for (int a = 0; a < act_dim_; ++a) {
+      m.jacobian[size_t(a) * k + j] = (moved[a] - action[a]) / m.block.steps[j];
+    }
+  }
+}
+
+void RecedingHorizonPlanner::FollowExecutedAction(const Env& env) {
+  const ActionMap& m = action_map_;
+  if (!m.valid || m.step != env.steps() - 1 || m.cycle != cycle_) return;
+  const float* applied = task_->AppliedAction(env);
+  if (applied == nullptr) return;
+  // Ridge least squares in units of the search spreads: (SJᵀJS + λI) δ = SJᵀr, Δ = Sδ, over
+  // the rows where neither action was clamped.
+  const SearchSpace& space = task_->space();
+  const int first = m.block.first;
+  const int k = m.block.size();
+  JUGGLE_CHECK(k <= kMaxBlock, "an acting block too large");
+  double S[kMaxBlock];
+  for (int j = 0; j < k; ++j) S[j] = space.sigma[first + j];
+  double A[kMaxBlock * kMaxBlock] = {0}, b[kMaxBlock] = {0};
+  for (int a = 0; a < act_dim_; ++a) {
+    if (std::abs(m.action[a]) >= 1 || std::abs(applied[a]) >= 1) continue;
+    const double r = static_cast<double>(applied[a]) - m.action[a];
+    const double* row = m.jacobian.data() + size_t(a) * k;
+    for (int i = 0; i < k; ++i) {
+      const double ji = row[i] * S[i];
+      b[i] += ji * r;
+      for (int j = 0; j < k; ++j) A[i * k + j] += ji * row[j] * S[j];
+    }
+  }
+  double largest = 0;
+  for (int i = 0; i < k; ++i) largest = std::max(largest, A[i * k + i]);
+  if (largest <= 0) return;  // the block does not act here
+  for (int i = 0; i < k; ++i) A[i * k + i] += 1e-2 * largest + 1e-9;
+  if (mju_cholFactor(A, k, 0) < k) return;
+  double delta[kMaxBlock];
+  mju_cholSolve(delta, A, b, k);
+  for (int j = 0; j < k; ++j) {
+    double& x = theta_[first + j];
+    x = std::clamp(x + S[j] * delta[j], space.lower[first + j], space.upper[first + j]);
+  }
+}
+
+}  // namespace juggle::planner

@@ -1,0 +1,208 @@
+// The receding-horizon planner of one env, for any PlanningTask (planner/planning_task.h;
+// docs/planner.md): every `replan_every` control steps (or once per decision cycle:
+// PlannerConfig.replan_at_cycle_start) it snapshots the env, searches the plan whose simulated
+// rollout costs least with the cross-entropy method (planner/cem_search.h), warm-started from the
+// previous plan shifted to now (or from zero: PlannerConfig.cold_start), searches again wider
+// when the best plan costs too much (PlannerConfig.rescue), optionally refines it, and then acts
+// with it until the next re-plan. The rollouts run the env's own Step on restored copies, so the
+// executed future equals the predicted one while nothing outside the plan acts: every visited
+// state is checked against the prediction, bit for bit. The planner never changes the env it
+// plans for: it only returns actions. Thread-compatible; the pool may be shared by planners used
+// one at a time.
+#ifndef JUGGLE_PLANNER_RECEDING_HORIZON_H_
+#define JUGGLE_PLANNER_RECEDING_HORIZON_H_
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "common/adaptive_walk.h"
+#include "planner/cem_search.h"
+#include "planner/planning_task.h"
+#include "planner/rollout_pool.h"
+#include "proto/planner.pb.h"
+
+namespace juggle::planner {
+
+// What the last re-plan found (tools, tests, the planner's progress lines).
+struct ReplanReport {
+  int env_step = 0;            // the env's step count when it re-planned
+  double incumbent_cost = 0;   // the warm start's cost
+  double best_cost = 0;
+  int evaluations = 0;         // rollouts simulated
+  bool rescued = false;        // the wider second search ran (PlannerConfig.rescue)
+  bool predicts_failure = false;  // the best plan's rollout ends the episode
+  Outcome predicted_end = Outcome::kRunning;  // how, and after how many steps
+  int predicted_end_step = 0;
+  bool predicts_miss = false;  // RolloutScorer::predicts_miss of the best plan's rollout
+  // The best plan's first outcome (PlanningTask::outcome_names(); empty: none) and its cost
+  // terms (PlanningTask::term_names()).
+  std::vector<double> predicted_outcome;
+  std::vector<double> terms;
+  // The best plan's first PlanningTask::decision_size() variables.
+  std::vector<double> decision;
+};
+
+struct PlannerTotals {
+  int64_t replans = 0;
+  int64_t rollouts = 0;
+  int64_t rollout_steps = 0;   // control steps simulated by rollouts
+  int64_t rescues = 0;         // re-plans that ran the wider second search
+  // Visited states checked against the chosen plan's rollout (position and velocity, bit for
+  // bit), and those that differed: the executed future equals the predicted one.
+  int64_t prediction_checks = 0;
+  int64_t prediction_mismatches = 0;
+  void Add(const PlannerTotals& other);
+};
+
+class RecedingHorizonPlanner {
+ public:
+  // `pool` simulates copies of envs of the task's family (REQUIRES: the pool's spec is the one
+  // the task was made for; the pool outlives the planner). `stream` selects the random stream
+  // (e.g. the episode's env index). `prior`, if not null, is the action the plan's offsets are
+  // added to (must outlive the planner).
+  RecedingHorizonPlanner(std::shared_ptr<const PlanningTask> task,
+                         const config::PlannerConfig& config, RolloutPool* pool, uint64_t stream,
+                         const ActionPrior* prior = nullptr);
+
+  // Writes the action for `env`'s current state (act_dim floats), re-planning first when due. A
+  // new episode (the env's step count went back) starts a new plan. Errors: the pool's (a
+  // snapshot of another spec).
+  absl::Status Act(const Env& env, float* action);
+
+  // The cost of `theta` from `env`'s current state, and its first outcome (tests, tools): the
+  // rollout the search runs for one candidate. `draw` d in [1, robust.draws]: with the action
+  // noise of the last re-plan's d-th draw (PlannerConfig.robust) instead.
+  absl::StatusOr<double> Evaluate(const Env& env, const std::vector<double>& theta,
+                                  std::vector<double>* outcome = nullptr, int draw = 0);
+
+  // A copy (plan, warm start, clocks) that draws its searches from random stream `stream` from
+  // now on: several re-plans of one state (planner/label_spread.h).
+  RecedingHorizonPlanner Fork(uint64_t stream) const {
+    RecedingHorizonPlanner copy = *this;
+    copy.stream_ = stream;
+    return copy;
+  }
+
+  const ReplanReport& last_replan() const { return last_; }
+  const PlannerTotals& totals() const { return totals_; }
+  const std::vector<double>& plan() const { return theta_; }
+  const PlanningTask& task() const { return *task_; }
+
+ private:
+  struct RolloutResult {
+    double cost = 0;
+    int steps = 0;
+    Outcome end = Outcome::kRunning;
+    bool missed = false;  // RolloutScorer::predicts_miss
+    std::vector<double> first_outcome;
+    std::vector<double> terms;  // only when asked for (the chosen plan's rollout)
+  };
+  // How a rollout runs: the plan's clock at its first state; with `trace`, the fingerprint of
+  // the state after every step is appended to it; with config.prune it stops once the cost so far
+  // reaches `bound`; `noise`: added to the action of step t from noise[t·act_dim] on
+  // (robust_rows() steps), or none.
+  struct RolloutOptions {
+    PlanClock clock;
+    std::vector<uint64_t>* trace = nullptr;
+    double bound = std::numeric_limits<double>::infinity();
+    const float* noise = nullptr;
+    bool terms = false;
+  };
+  // What one re-plan works on: the snapshot of the state, its clock, the previous plan shifted
+  // to now, the search's seeds and space, and its random stream.
+  struct ReplanState;
+
+  // Simulates `theta` from `env`'s restored state.
+  RolloutResult Rollout(Env* env, const double* theta, const RolloutOptions& options) const;
+  // Rolls out candidates[i·dim .. (i+1)·dim) for i < n from `snapshot`; counts the steps, and the
+  // rollouts of robust draws (the callers count one per candidate). With robust draws a result's
+  // cost is the mean over the noiseless rollout and the draws, the rest the noiseless rollout's.
+  absl::StatusOr<std::vector<RolloutResult>> RolloutBatch(
+      const EnvSnapshot& snapshot, PlanClock clock, const std::vector<double>& candidates, int n,
+      double bound = std::numeric_limits<double>::infinity());
+  // The search's cost: each candidate's rollout plus the task's plan cost.
+  absl::Status ScoreBatch(const ReplanState& r, const std::vector<double>& candidates, int n,
+                          double bound, std::vector<double>* costs);
+
+  // The steps of a re-plan, in order.
+  absl::Status Replan(const Env& env);
+  ReplanState WarmStart(const Env& env);
+  absl::StatusOr<CemResult> Search(ReplanState& r);
+  absl::Status Rescue(ReplanState& r, CemResult* result);
+  absl::Status RefineBest(const Env& env, ReplanState& r, CemResult* result);
+  absl::Status Commit(const Env& env, const ReplanState& r, const CemResult& result);
+
+  // Levenberg–Marquardt steps on `block` of `theta` (cost `cost`, plan cost against `warm`);
+  // keeps a step only if the whole cost falls.
+  absl::Status Refine(const EnvSnapshot& snapshot, PlanClock clock, const VariableBlock& block,
+                      const std::vector<double>& warm, std::vector<double>* theta, double* cost);
+
+  // PlannerConfig.robust: draws this re-plan's noise (robust_noise_) from random stream
+  // (seed, stream, draw_index), and the noise of draw d in [1, draws].
+  void DrawRobustNoise(uint64_t draw_index);
+  int robust_rows() const { return task_->horizon() + task_->max_run_on_steps(); }
+  const float* RobustNoise(int draw) const {
+    return robust_noise_.data() + size_t(draw - 1) * robust_rows() * act_dim_;
+  }
+
+  // PlannerConfig.warm_start_from_executed: the plan's map from the acting block to the action
+  // at the state just acted in (RecordActionMap), and the move of that block toward the action
+  // that was applied there instead (FollowExecutedAction, at the next state).
+  void RecordActionMap(const Env& env, PlanClock clock, const float* action);
+  void FollowExecutedAction(const Env& env);
+
+  // Follows the env's decision cycles (a new episode, a node that starts a cycle).
+  void TrackCycles(const Env& env);
+  // Counts the visited state against the chosen plan's prediction.
+  void CheckPrediction(const Env& env);
+
+  std::shared_ptr<const PlanningTask> task_;
+  config::PlannerConfig config_;
+  RolloutPool* pool_;
+  uint64_t stream_;
+  const ActionPrior* prior_;
+  int act_dim_;
+  AdaptiveWalk walk_;
+  CemSettings settings_;
+
+  // The plan and where it started.
+  std::vector<double> theta_;
+  bool has_plan_ = false;
+  int origin_step_ = 0;
+  int knot0_step_ = 0;  // the episode step of the plan's knot 0
+  int origin_cycle_ = 0;
+  // The env as last seen: its step count, node and the decision cycles since the reset.
+  int last_step_ = -1;
+  int last_node_ = -1;
+  int cycle_ = 0;
+  int64_t replan_count_ = 0;
+  // The current re-plan's robust noise: draws × robust_rows() × act_dim.
+  std::vector<float> robust_noise_;
+  // The chosen plan's predicted state fingerprints, from origin_step_ + 1 on.
+  std::vector<uint64_t> predicted_;
+  ReplanReport last_;
+  PlannerTotals totals_;
+  // The last action's map (RecordActionMap): env step and cycle it was made at, the acting
+  // block, the action, and its Jacobian [action][variable] in the block's variables.
+  struct ActionMap {
+    bool valid = false;
+    int step = -1;
+    int cycle = -1;
+    VariableBlock block;
+    std::vector<float> action;
+    std::vector<double> jacobian;  // act_dim × block.size(), row-major
+  };
+  ActionMap action_map_;
+};
+
+// FNV-1a of an env's positions and velocities (the prediction check's fingerprint).
+uint64_t StateFingerprint(const Env& env, const mjModel* m);
+
+}  // namespace juggle::planner
+
+#endif  // JUGGLE_PLANNER_RECEDING_HORIZON_H_

@@ -1,0 +1,194 @@
+// The receding-horizon driver on the smallest task (planner/testing/point_mass.h): it finds the
+// optimum, is deterministic for a seed, its warm-start shift is exact, its rescue runs only above
+// its threshold and never raises the cost, its predictions hold bit for bit, a prior action is
+// added under the plan, and a family without a planning task is a clear error.
+#include "planner/receding_horizon.h"
+
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "planner/tasks.h"
+#include "planner/testing/point_mass.h"
+
+namespace juggle::planner {
+namespace {
+
+using testing::PointMassSpec;
+using testing::PointMassTask;
+using testing::PointMassTaskSettings;
+using ::testing::HasSubstr;
+
+config::PlannerConfig SmallSearch(uint64_t seed = 1) {
+  config::PlannerConfig p;
+  p.set_samples(24);
+  p.set_iterations(4);
+  p.set_replan_every(5);
+  p.set_seed(seed);
+  return p;
+}
+
+class RecedingHorizonTest : public ::testing::Test {
+ protected:
+  RecedingHorizonTest()
+      : spec_(PointMassSpec::Create()),
+        task_(std::make_shared<PointMassTask>(PointMassTaskSettings{})),
+        pool_(spec_, 2),
+        walk_(&spec_->graph()) {}
+
+  // Runs `planner` from rest for `steps` control steps; returns the actions it chose.
+  std::vector<float> Drive(RecedingHorizonPlanner* planner, int steps,
+                           std::unique_ptr<Env>* out = nullptr) {
+    std::unique_ptr<Env> env = spec_->NewEnv(Rng(1));
+    env->Reset(walk_);
+    std::vector<float> actions;
+    float a[2];
+    for (int t = 0; t < steps; ++t) {
+      EXPECT_TRUE(planner->Act(*env, a).ok());
+      actions.insert(actions.end(), a, a + 2);
+      env->Step(a, walk_);
+    }
+    if (out != nullptr) *out = std::move(env);
+    return actions;
+  }
+
+  std::shared_ptr<const PointMassSpec> spec_;
+  std::shared_ptr<const PointMassTask> task_;
+  RolloutPool pool_;
+  AdaptiveWalk walk_;
+};
+
+TEST_F(RecedingHorizonTest, DrivesThePointMassToItsTargetAndStopsThere) {
+  RecedingHorizonPlanner planner(task_, SmallSearch(), &pool_, 0);
+  std::unique_ptr<Env> env;
+  Drive(&planner, 150, &env);
+  const double* q = env->data()->qpos;
+  const double* v = env->data()->qvel;
+  EXPECT_NEAR(q[0], 0.3, 0.03);
+  EXPECT_NEAR(q[1], -0.2, 0.03);
+  EXPECT_LT(std::hypot(v[0], v[1]), 0.1);
+  EXPECT_EQ(planner.totals().replans, 30);
+  EXPECT_GT(planner.totals().prediction_checks, 100);
+  EXPECT_EQ(planner.totals().prediction_mismatches, 0);
+  // Its terms are named and add up to its cost.
+  const ReplanReport& r = planner.last_replan();
+  ASSERT_EQ(r.terms.size(), task_->term_names().size());
+  EXPECT_NEAR(r.terms[0] + r.terms[1] + r.terms[2], r.best_cost, 1e-9 * (1 + r.best_cost));
+}
+
+TEST_F(RecedingHorizonTest, TheSameSeedGivesTheSameActionsAndAnotherSeedOthers) {
+  RecedingHorizonPlanner a(task_, SmallSearch(1), &pool_, 0), b(task_, SmallSearch(1), &pool_, 0),
+      c(task_, SmallSearch(2), &pool_, 0);
+  const std::vector<float> first = Drive(&a, 40);
+  EXPECT_EQ(Drive(&b, 40), first);
+  EXPECT_NE(Drive(&c, 40), first);
+}
+
+TEST_F(RecedingHorizonTest, TheActionsDoNotDependOnThePoolsThreads) {
+  RolloutPool one(spec_, 1);
+  RecedingHorizonPlanner a(task_, SmallSearch(), &pool_, 0), b(task_, SmallSearch(), &one, 0);
+  EXPECT_EQ(Drive(&a, 30), Drive(&b, 30));
+}
+
+TEST_F(RecedingHorizonTest, AShiftedPlanActsExactlyAsTheOriginalAtTheSameStates) {
+  std::unique_ptr<Env> env = spec_->NewEnv(Rng(1));
+  env->Reset(walk_);
+  std::vector<double> theta(task_->dim());
+  for (size_t i = 0; i < theta.size(); ++i) theta[i] = std::sin(1.7 * i);
+  const int knot = task_->settings().knot_steps;
+  const std::vector<double> shifted = task_->Shift(theta, 2 * knot, 0);
+  // Up to the old plan's last knot, step s of the old plan is step s − 2·knot of the shifted one.
+  for (int s = 2 * knot; s <= (task_->knots() - 1) * knot; ++s) {
+    float a[2], b[2];
+    task_->Action(*env, theta.data(), {s, 0}, nullptr, a);
+    task_->Action(*env, shifted.data(), {s - 2 * knot, 0}, nullptr, b);
+    EXPECT_EQ(a[0], b[0]) << "step " << s;
+    EXPECT_EQ(a[1], b[1]) << "step " << s;
+  }
+}
+
+TEST_F(RecedingHorizonTest, ARePlansIncumbentIsThePreviousPlanShiftedToNow) {
+  config::PlannerConfig p = SmallSearch();
+  RecedingHorizonPlanner planner(task_, p, &pool_, 0);
+  std::unique_ptr<Env> env = spec_->NewEnv(Rng(1));
+  env->Reset(walk_);
+  float a[2];
+  ASSERT_TRUE(planner.Act(*env, a).ok());
+  const std::vector<double> plan = planner.plan();
+  for (int t = 0; t < p.replan_every(); ++t) {
+    env->Step(a, walk_);
+    ASSERT_TRUE(planner.Act(*env, a).ok());
+  }
+  ASSERT_EQ(planner.last_replan().env_step, p.replan_every());
+  // The grid knot moved from step 0 to step 5: the plan shifted by one knot.
+  const absl::StatusOr<double> shifted_cost = planner.Evaluate(*env, task_->Shift(plan, 5, 0));
+  ASSERT_TRUE(shifted_cost.ok());
+  EXPECT_EQ(planner.last_replan().incumbent_cost, *shifted_cost);
+}
+
+TEST_F(RecedingHorizonTest, ARescueRunsOnlyAboveItsThresholdAndNeverRaisesTheCost) {
+  config::PlannerConfig p = SmallSearch();
+  p.mutable_rescue()->set_cost_above(1e9);
+  RecedingHorizonPlanner never(task_, p, &pool_, 0);
+  Drive(&never, 20);
+  EXPECT_EQ(never.totals().rescues, 0);
+  // Every first re-plan from rest costs more than 0.5 (the target is 0.36 m away).
+  p.mutable_rescue()->set_cost_above(0.5);
+  p.mutable_rescue()->set_samples(16);
+  p.mutable_rescue()->set_iterations(2);
+  RecedingHorizonPlanner rescued(task_, p, &pool_, 0);
+  RecedingHorizonPlanner plain(task_, SmallSearch(), &pool_, 0);
+  std::unique_ptr<Env> env = spec_->NewEnv(Rng(1));
+  env->Reset(walk_);
+  float a[2];
+  ASSERT_TRUE(rescued.Act(*env, a).ok());
+  ASSERT_TRUE(plain.Act(*env, a).ok());
+  EXPECT_TRUE(rescued.last_replan().rescued);
+  EXPECT_EQ(rescued.totals().rescues, 1);
+  EXPECT_GT(plain.last_replan().best_cost, 0.5);
+  EXPECT_LE(rescued.last_replan().best_cost, plain.last_replan().best_cost);
+  EXPECT_EQ(rescued.last_replan().incumbent_cost, plain.last_replan().incumbent_cost);
+}
+
+// A constant prior action: the plan's offsets are added to it.
+class ConstantPrior final : public ActionPrior {
+ public:
+  void Write(const Env&, double* prior) const override {
+    prior[0] = 0.25;
+    prior[1] = -0.5;
+  }
+};
+
+TEST_F(RecedingHorizonTest, APriorActionIsAddedUnderThePlan) {
+  std::unique_ptr<Env> env = spec_->NewEnv(Rng(1));
+  env->Reset(walk_);
+  const std::vector<double> zero(task_->dim(), 0.0);
+  const ConstantPrior prior;
+  float a[2];
+  task_->Action(*env, zero.data(), {0, 0}, nullptr, a);
+  EXPECT_EQ(a[0], 0.0f);
+  double p[2];
+  prior.Write(*env, p);
+  task_->Action(*env, zero.data(), {0, 0}, p, a);
+  EXPECT_EQ(a[0], 0.25f);
+  EXPECT_EQ(a[1], -0.5f);
+  // The planner with the prior predicts what it executes.
+  RecedingHorizonPlanner planner(task_, SmallSearch(), &pool_, 0, &prior);
+  Drive(&planner, 20);
+  EXPECT_GT(planner.totals().prediction_checks, 10);
+  EXPECT_EQ(planner.totals().prediction_mismatches, 0);
+}
+
+TEST(PlanningTasksTest, AFamilyWithoutATaskIsAnErrorNamingTheFamiliesThatHaveOne) {
+  const absl::StatusOr<std::shared_ptr<const PlanningTask>> task =
+      MakePlanningTask(PointMassSpec::Create(), config::PlannerConfig());
+  EXPECT_EQ(task.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(task.status().message()),
+              HasSubstr("no task for the point_mass family; families with a planning task: "
+                        "soccer_juggle"));
+}
+
+}  // namespace
+}  // namespace juggle::planner

@@ -1,0 +1,187 @@
+#include "planner/soccer_juggle/task.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "planner/soccer_juggle/cost.h"
+
+namespace juggle::planner {
+
+using soccer_juggle::JuggleEnv;
+
+SoccerJuggleTask::SoccerJuggleTask(std::shared_ptr<const soccer_juggle::JuggleSpec> spec,
+                                   const config::PlannerConfig& config)
+    : spec_(std::move(spec)),
+      settings_(config.soccer_juggle()),
+      run_on_every_kick_(config.run_on_every_kick()),
+      layout_(MakeSoccerPlanLayout(config, settings_.kick())),
+      space_(MakeSoccerSearchSpace(layout_, config, settings_.kick())) {
+  rescue_space_ = space_;
+  if (config.rescue().body()) {
+    // The regular search keeps the body knots of its warm start.
+    std::fill(space_.sigma.begin() + layout_.kick_dim(), space_.sigma.end(), 0.0);
+  }
+  for (int v = 0; v < rescue_space_.dim(); ++v) {
+    rescue_space_.sigma[v] = std::min(rescue_space_.sigma[v] * config.rescue().sigma_scale(),
+                                      rescue_space_.upper[v] - rescue_space_.lower[v]);
+  }
+}
+
+int SoccerJuggleTask::KnotAtOrBefore(int step) const {
+  return planner::KnotAtOrBefore(layout_, step);
+}
+
+bool SoccerJuggleTask::StartsCycle(const Env&, int node) const {
+  return spec_->graph().node(node).stage == config::DOWN;
+}
+
+std::vector<double> SoccerJuggleTask::Shift(const std::vector<double>& theta, int grid_steps,
+                                            int cycles) const {
+  const int knots = layout_.knot_steps > 0 ? grid_steps / layout_.knot_steps : 0;
+  return ShiftSoccerPlan(layout_, theta, knots, cycles);
+}
+
+std::vector<std::vector<double>> SoccerJuggleTask::Seeds(const std::vector<double>& start) const {
+  // The warm start, and the same with the nominal kick (a carried kick that no longer fits is
+  // then one candidate away from the configured swing).
+  std::vector<std::vector<double>> seeds = {start};
+  if (layout_.kick_sets > 0) {
+    seeds.push_back(start);
+    std::fill(seeds.back().begin(), seeds.back().begin() + layout_.kick_dim(), 0.0);
+  }
+  return seeds;
+}
+
+bool SoccerJuggleTask::Released(const Env& env) {
+  const auto& s = static_cast<const JuggleEnv&>(env).state();
+  return s.kick_touched && !s.touched_this_step;
+}
+
+void SoccerJuggleTask::Restrict(const Env& env, const std::vector<double>& shifted,
+                                SearchSpace* space,
+                                std::vector<std::vector<double>>* seeds) const {
+  // After the current cycle's release its kick set is held where it is.
+  if (!(settings_.kick().freeze_after_release() && Released(env) && layout_.kick_sets > 0)) return;
+  for (int v = 0; v < kKickVariables; ++v) {
+    space->lower[v] = space->upper[v] = shifted[v];
+    space->sigma[v] = 0;
+  }
+  for (std::vector<double>& seed : *seeds) {
+    std::copy_n(shifted.begin(), kKickVariables, seed.begin());
+  }
+}
+
+double SoccerJuggleTask::PlanCost(const double* theta, const std::vector<double>& warm,
+                                  bool has_warm) const {
+  // Kick consistency with the warm start and the kick prior (PlannerCost.kick_consistency,
+  // kick_prior), in units of the search spreads.
+  const double consistency = has_warm ? settings_.cost().kick_consistency() : 0;
+  const double prior = settings_.cost().kick_prior();
+  if (consistency <= 0 && prior <= 0) return 0;
+  double sum = 0;
+  for (int v = 0; v < layout_.kick_dim(); ++v) {
+    if (space_.sigma[v] <= 0) continue;
+    sum += consistency * std::pow((theta[v] - warm[v]) / space_.sigma[v], 2) +
+           prior * std::pow(theta[v] / space_.sigma[v], 2);
+  }
+  return sum;
+}
+
+void SoccerJuggleTask::Action(const Env& env, const double* theta, PlanClock clock,
+                              const double* prior, float* action) const {
+  SoccerPlanAction(static_cast<const JuggleEnv&>(env), layout_, theta, clock, action, prior);
+}
+
+std::unique_ptr<RolloutScorer> SoccerJuggleTask::NewScorer() const {
+  return std::make_unique<SoccerRolloutScorer>(settings_.cost(), layout_.horizon,
+                                               run_on_every_kick_);
+}
+
+std::vector<std::string> SoccerJuggleTask::term_names() const { return SoccerTermNames(); }
+std::vector<std::string> SoccerJuggleTask::outcome_names() const { return KickOutcomeNames(); }
+
+VariableBlock SoccerJuggleTask::KickBlock(int set) const {
+  return {layout_.kick(set), {0.002, 0.01, 0.01, 0.01, 0.01}};
+}
+
+std::optional<VariableBlock> SoccerJuggleTask::RefineBlock(const Env& env) const {
+  if (layout_.kick_sets == 0) return std::nullopt;
+  // The set of the next kick inside the horizon (not a held one).
+  const bool touched = static_cast<const JuggleEnv&>(env).state().kick_touched;
+  const int set = std::min(touched ? 1 : 0, layout_.kick_sets - 1);
+  if (set == 0 && Released(env) && settings_.kick().freeze_after_release()) return std::nullopt;
+  return KickBlock(set);
+}
+
+bool SoccerJuggleTask::Residuals(const std::vector<double>& outcome, double* out) const {
+  const KickOutcome k = KickOutcomeOf(outcome);
+  if (!k.valid) return false;
+  const config::PlannerCost& w = settings_.cost();
+  out[0] = k.timing / w.timing_scale_s();
+  out[1] = k.dx / w.landing_scale();
+  out[2] = k.dy / w.landing_scale();
+  return true;
+}
+
+double SoccerJuggleTask::refine_prior_weight() const {
+  const config::PlannerCost& w = settings_.cost();
+  return w.kick() > 0 ? w.kick_prior() / w.kick() : 0;
+}
+
+std::optional<VariableBlock> SoccerJuggleTask::ActingBlock(PlanClock clock) const {
+  if (layout_.kick_sets == 0) return std::nullopt;
+  return KickBlock(std::clamp(clock.cycle, 0, layout_.kick_sets - 1));
+}
+
+const float* SoccerJuggleTask::AppliedAction(const Env& env) const {
+  return static_cast<const JuggleEnv&>(env).state().previous_action.data();
+}
+
+int SoccerJuggleTask::decision_size() const {
+  return std::min(kKickVariables, layout_.kick_dim());
+}
+
+std::string SoccerJuggleTask::DescribeDecision(const std::vector<double>& d,
+                                               const std::vector<double>& outcome) const {
+  std::string out;
+  if (d.size() == kKickVariables) {
+    absl::StrAppendFormat(&out, "  vars %+.0f ms %+.2f %+.2f %+.2f %+.2f", d[0] * 1000, d[1],
+                          d[2], d[3], d[4]);
+  }
+  const KickOutcome k = KickOutcomeOf(outcome);
+  if (k.valid) {
+    absl::StrAppendFormat(&out, "  kick: timing %+.0f ms, landing %+.3f %+.3f m, apex %+.3f m",
+                          k.timing * 1000, k.dx, k.dy, k.apex);
+    if (std::isfinite(k.impact_acceleration)) {
+      absl::StrAppendFormat(&out, ", impact %+.1f m/s^2", k.impact_acceleration);
+    }
+  }
+  return out;
+}
+
+absl::Status ValidateSoccerJuggleTask(const LoadedConfig& config) {
+  const config::PlannerConfig& p = config.run.planner();
+  auto where = [&](const char* field) { return config.root.Where({{"planner"}, {field}}); };
+  const int episode = config.run.soccer_juggle().env().max_episode_steps();
+  if (p.horizon_steps() > episode) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        where("horizon_steps"), ": a horizon of ", p.horizon_steps(),
+        " control steps is longer than the episode (soccer_juggle.env.max_episode_steps ",
+        episode, ")"));
+  }
+  if (absl::StatusOr<std::vector<int>> a = BodyActionIndices(p.body_actions()); !a.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat(where("body_actions"), ": ", a.status().message()));
+  }
+  const config::PlannerCost& cost = p.soccer_juggle().cost();
+  if (cost.impact_acceleration_min() > cost.impact_acceleration_max()) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where({{"planner"}, {"soccer_juggle"}, {"cost"}, {"impact_acceleration_min"}}),
+        ": ", cost.impact_acceleration_min(), " m/s^2 is above impact_acceleration_max (",
+        cost.impact_acceleration_max(), "): the band is empty"));
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace juggle::planner

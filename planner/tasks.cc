@@ -1,0 +1,48 @@
+#include "planner/tasks.h"
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "envs/soccer_juggle/spec.h"
+#include "planner/soccer_juggle/task.h"
+
+namespace juggle::planner {
+namespace {
+
+std::shared_ptr<const PlanningTask> MakeSoccerJuggleTask(std::shared_ptr<const EnvSpec> spec,
+                                                         const config::PlannerConfig& config) {
+  return std::make_shared<SoccerJuggleTask>(
+      std::static_pointer_cast<const soccer_juggle::JuggleSpec>(std::move(spec)), config);
+}
+
+}  // namespace
+
+const std::vector<PlanningTaskEntry>& PlanningTasks() {
+  static const auto* const kTasks = new std::vector<PlanningTaskEntry>{
+      {"soccer_juggle", &ValidateSoccerJuggleTask, &MakeSoccerJuggleTask},
+  };
+  return *kTasks;
+}
+
+std::string FamiliesWithPlanningTasks() {
+  std::vector<std::string> names;
+  for (const PlanningTaskEntry& e : PlanningTasks()) names.push_back(e.family);
+  return absl::StrJoin(names, ", ");
+}
+
+absl::StatusOr<const PlanningTaskEntry*> PlanningTaskFor(const std::string& family) {
+  for (const PlanningTaskEntry& e : PlanningTasks()) {
+    if (e.family == family) return &e;
+  }
+  return absl::InvalidArgumentError(absl::StrCat(
+      "the planner has no task for the ", family, " family; families with a planning task: ",
+      FamiliesWithPlanningTasks(), " (docs/planner.md, \"Adding a planning task\")"));
+}
+
+absl::StatusOr<std::shared_ptr<const PlanningTask>> MakePlanningTask(
+    std::shared_ptr<const EnvSpec> spec, const config::PlannerConfig& config) {
+  absl::StatusOr<const PlanningTaskEntry*> entry = PlanningTaskFor(spec->family());
+  if (!entry.ok()) return entry.status();
+  return (*entry)->make(std::move(spec), config);
+}
+
+}  // namespace juggle::planner

@@ -119,7 +119,7 @@ CommandBody AddLabelSpreadCommand(CLI::App* cmd) {
     std::printf("planner: %d samples x %d iterations, horizon %d, re-plan every %d, kick "
                 "consistency %g; %d forks per re-plan state\n",
                 pc.samples(), pc.iterations(), pc.horizon_steps(), pc.replan_every(),
-                pc.cost().kick_consistency(), f->options.forks);
+                pc.soccer_juggle().cost().kick_consistency(), f->options.forks);
     absl::StatusOr<planner::LabelSpreadReport> r = planner::MeasureLabelSpread(
         *spec, *config, f->options, [](const std::string& line) {
           std::printf("%s\n", line.c_str());

@@ -74,6 +74,8 @@ class EigenPolicy {
                                             int act_dim);
   // obs: [batch, obs_dim] → mean actions [batch, act_dim] (tanh-bounded).
   RowMatrix MeanActions(const float* obs, int batch) const;
+  int obs_dim() const { return obs_dim_; }
+  int act_dim() const { return act_dim_; }
   // Samples actions clamp(μ + σ·ε, −1, 1) into `actions` [batch, act_dim] and their
   // log-probabilities (of the clamped action, as the learner recomputes it) into `log_probs`.
   void Act(const float* obs, int batch, Rng* rng, float* actions, float* log_probs) const;

@@ -1,4 +1,4 @@
-// Measures the impact acceleration (ImpactTracker, planner/soccer_cost.h) of every kick an
+// Measures the impact acceleration (ImpactTracker, planner/soccer_juggle/impact_tracker.h) of every kick an
 // evaluation executes, by wrapping the controller that acts: each Act call sees every running
 // env after its previous step, which is when the tracker looks. What `juggle eval` reports as
 // impact_*. Envs that are not soccer envs pass through unmeasured. The step that ends an

@@ -10,6 +10,8 @@
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "common/testing/constant_policy.h"
+#include "planner/policy_prior.h"
 #include "planner/tasks.h"
 #include "planner/testing/point_mass.h"
 
@@ -179,6 +181,27 @@ TEST_F(RecedingHorizonTest, APriorActionIsAddedUnderThePlan) {
   Drive(&planner, 20);
   EXPECT_GT(planner.totals().prediction_checks, 10);
   EXPECT_EQ(planner.totals().prediction_mismatches, 0);
+}
+
+TEST_F(RecedingHorizonTest, APolicyPriorIsThePolicysMeanActionAndAPolicyOfAnotherSizeIsRefused) {
+  auto policy = std::make_shared<const EigenPolicy>(::juggle::testing::ConstantPolicy(4, 2, 0.5f));
+  absl::StatusOr<std::unique_ptr<PolicyPrior>> prior = PolicyPrior::Create(policy, *spec_);
+  ASSERT_TRUE(prior.ok()) << prior.status();
+  std::unique_ptr<Env> env = spec_->NewEnv(Rng(1));
+  env->Reset(walk_);
+  double p[2];
+  (*prior)->Write(*env, p);
+  EXPECT_FLOAT_EQ(p[0], std::tanh(0.5f));
+  EXPECT_FLOAT_EQ(p[1], std::tanh(0.5f));
+  // The planner acting on it predicts exactly what it executes.
+  RecedingHorizonPlanner planner(task_, SmallSearch(), &pool_, 0, prior->get());
+  Drive(&planner, 20);
+  EXPECT_EQ(planner.totals().prediction_mismatches, 0);
+  auto wrong = std::make_shared<const EigenPolicy>(::juggle::testing::ConstantPolicy(4, 3, 0.5f));
+  const absl::Status refused = PolicyPrior::Create(wrong, *spec_).status();
+  EXPECT_EQ(refused.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(refused.message()),
+              HasSubstr("writes 3 actions, but the planner's point_mass envs have 4 and 2"));
 }
 
 TEST(PlanningTasksTest, AFamilyWithoutATaskIsAnErrorNamingTheFamiliesThatHaveOne) {

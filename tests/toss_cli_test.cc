@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "absl/strings/str_cat.h"
 #include "common/testing/temp_dir.h"
@@ -96,19 +97,49 @@ TEST_F(TossCliTest, WorkerProcessTrainsTheThrowTaskFromTheLearnersConfigAlone) {
 // loads without its training runs and reproduces its row of the table on the held-out seeds
 // 1001-1010: every pattern from 3 to 7 and 53, 441, 531 to the 200-throw cap, the transition
 // run 3 > 531 > 5 > 7 > 3 without a drop, and 3 under at least 3x the old pair's 0.14 N of wind.
-TEST_F(TossCliTest, ShippedPairReproducesItsTableRow) {
+// Not only the medians: on every one of the 10 seeds, every pattern reaches the cap and the
+// transition run makes all of its throws (docs/results.md: "every seed of every pattern reaches
+// the cap"), and each pattern's releases are as accurate as the table of release errors says.
+TEST_F(TossCliTest, ShippedPairReproducesItsTableRowOnEverySeed) {
+  const std::string json = dir_ + "/shipped.jsonl";
   ASSERT_EQ(Run({"toss", "--eval", "--catch=policies/toss/catch.jglpolicy",
-                 "--throw=policies/toss/throw.jglpolicy"},
+                 "--throw=policies/toss/throw.jglpolicy", "--json=" + json},
                 300, "shipped.log"),
             0)
       << output_;
   EXPECT_EQ(Value("seeds"), 10);
-  for (const char* p : {"3", "4", "5", "53", "441", "531", "6", "7"}) {
-    EXPECT_EQ(Value(absl::StrCat("throws_", p)), 200) << p;
-  }
+  const std::vector<std::string> patterns = {"3", "4", "5", "53", "441", "531", "6", "7"};
+  for (const std::string& p : patterns) EXPECT_EQ(Value("throws_" + p), 200) << p;
   EXPECT_EQ(Value("max_basic_pattern"), 7);
   EXPECT_THAT(last_line_, HasSubstr("transitions=117/117"));
   EXPECT_GE(Value("max_wind_n"), 0.42);
+  // Per seed, from the JSON lines of the same evaluation.
+  std::ifstream in(json);
+  std::vector<std::string> seen;
+  bool transition = false;
+  for (std::string line; std::getline(in, line);) {
+    const nlohmann::json row = nlohmann::json::parse(line);
+    if (row["table"] == "toss_pattern") {
+      const std::string p = row["pattern"];
+      seen.push_back(p);
+      const std::vector<int> throws = row["throws"];
+      EXPECT_EQ(throws, std::vector<int>(10, 200)) << "pattern " << p << ", seeds 1001-1010";
+      // Release-velocity errors 0.004-0.017 m/s per throw value (docs/results.md), measured
+      // 0.004-0.016 per pattern: below 0.02; and the throw residual's own, far above the base
+      // alone's rounding error (< 1e-14).
+      EXPECT_LT(row["mean_velocity_error"].get<double>(), 0.02) << p;
+      EXPECT_GT(row["mean_velocity_error"].get<double>(), 1e-3) << p;
+      // Catch-height errors 3.9-6.2 cm: a ball is caught when it comes within the 7 cm radius.
+      EXPECT_LT(row["mean_catch_height_error"].get<double>(), 0.07) << p;
+    } else if (row["table"] == "toss_transition") {
+      transition = true;
+      EXPECT_EQ(row["needed"], 117);
+      const std::vector<int> throws = row["throws"];
+      EXPECT_EQ(throws, std::vector<int>(10, 117)) << "the transition run, seeds 1001-1010";
+    }
+  }
+  EXPECT_EQ(seen, patterns);
+  EXPECT_TRUE(transition);
 }
 
 TEST_F(TossCliTest, ZeroActionEvalEndsWithTheProtocolKeys) {

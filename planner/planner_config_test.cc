@@ -139,23 +139,38 @@ TEST(PlannerConfigTest, AFamilyWithoutAPlannerIsRefused) {
   EXPECT_FALSE(PlannerController::Create(*spec, *config).ok());
 }
 
-TEST(PlannerConfigTest, KickAndCostAtTheirOldPlaceAreErrorsNamingTheNewPlace) {
-  const std::string text = Config("cost { kick: 20 }");
-  const std::string path = WriteTemp("old_cost.textproto", text);
+TEST(PlannerConfigTest, KickAndCostAtTheirOldPlaceLoadIntoTheSoccerTasksBlock) {
+  // Configs and checkpoints written before the task seam keep loading.
+  LoadedConfig config;
+  ASSERT_TRUE(Load("old_place.textproto", Config("cost { kick: 20 } kick { cycles: 2 }"), &config).ok());
+  EXPECT_FALSE(config.run.planner().has_cost());
+  EXPECT_FALSE(config.run.planner().has_kick());
+  EXPECT_EQ(config.run.planner().soccer_juggle().cost().kick(), 20);
+  EXPECT_EQ(config.run.planner().soccer_juggle().kick().cycles(), 2);
+  // The shipped config's kick limits survive a base config that sets them at the new place.
+  EXPECT_EQ(config.run.planner().soccer_juggle().kick().phase_limit_s(), 0.15);
+  EXPECT_TRUE(ValidatePlannerConfig(config).ok());
+  ASSERT_TRUE(ApplyPlannerSettings("samples: 8 cost { kick: 30 }", &config).ok());
+  EXPECT_EQ(config.run.planner().soccer_juggle().cost().kick(), 30);
+  EXPECT_FALSE(config.run.planner().has_cost());
+  EXPECT_TRUE(ApplyPlannerSettings("soccer_juggle { cost { kick: 40 } }", &config).ok());
+  EXPECT_EQ(config.run.planner().soccer_juggle().cost().kick(), 40);
+}
+
+TEST(PlannerConfigTest, KickOrCostInBothPlacesIsAnErrorNamingFileLineAndField) {
+  const std::string text = Config("cost { kick: 20 } soccer_juggle { cost { kick: 30 } }");
+  const std::string path = WriteTemp("both_places.textproto", text);
   const absl::Status s = LoadRunConfig(path).status();
   EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
   EXPECT_THAT(std::string(s.message()), StartsWith(::juggle::testing::Loc(path, text, "cost {")));
   EXPECT_THAT(std::string(s.message()),
-              HasSubstr("planner.cost: moved to planner.soccer_juggle.cost"));
-  EXPECT_THAT(std::string(Load("old_kick.textproto", Config("kick { cycles: 2 }")).message()),
-              HasSubstr("planner.kick: moved to planner.soccer_juggle.kick"));
+              HasSubstr("planner.cost: set both here and in planner.soccer_juggle.cost"));
   LoadedConfig config;
-  ASSERT_TRUE(Load("new_place.textproto", Config("soccer_juggle { cost { kick: 20 } }"), &config).ok());
-  EXPECT_EQ(config.run.planner().soccer_juggle().cost().kick(), 20);
-  const absl::Status set = ApplyPlannerSettings("samples: 8 cost { kick: 20 }", &config);
-  EXPECT_THAT(std::string(set.message()), StartsWith("--planner-set:1:12: cost: moved to soccer_juggle { cost { ... } }"));
-  EXPECT_TRUE(ApplyPlannerSettings("soccer_juggle { cost { kick: 30 } }", &config).ok());
-  EXPECT_EQ(config.run.planner().soccer_juggle().cost().kick(), 30);
+  ASSERT_TRUE(Load("fine.textproto", Config(""), &config).ok());
+  const absl::Status set =
+      ApplyPlannerSettings("kick { cycles: 2 } soccer_juggle { kick { cycles: 3 } }", &config);
+  EXPECT_THAT(std::string(set.message()),
+              StartsWith("--planner-set:1:1: kick: set both here and in soccer_juggle"));
 }
 
 TEST(PlannerConfigTest, ThePlannerControllerRefusesAConfigWithoutAPlannerBlock) {

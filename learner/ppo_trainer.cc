@@ -415,30 +415,25 @@ std::map<std::string, std::string> PpoTrainer::SaveState() const {
   return s;
 }
 
-absl::Status PpoTrainer::RestoreState(const std::map<std::string, std::string>& sections) {
-  for (const char* required : {"model", "normalizer", "counters", "torch_rng"}) {
-    if (!sections.count(required)) {
-      return absl::DataLossError(absl::StrCat("learner state lacks section '", required, "'"));
-    }
-  }
-  // Parse everything into fresh objects first: on any error the trainer stays as it was.
-  const std::vector<std::string> counters = absl::StrSplit(sections.at("counters"), ' ');
-  int64_t version = 0, iteration = 0;
-  double lr = 0;
-  if (counters.size() != 3 || !absl::SimpleAtoi(counters[0], &version) ||
-      !absl::SimpleAtoi(counters[1], &iteration) || !absl::SimpleAtod(counters[2], &lr)) {
+namespace {
+
+// The "counters" section: "version iteration actor_lr". DATA_LOSS if malformed.
+absl::Status ParseCounters(const std::string& text, int64_t* version, int64_t* iteration,
+                           double* lr) {
+  const std::vector<std::string> counters = absl::StrSplit(text, ' ');
+  if (counters.size() != 3 || !absl::SimpleAtoi(counters[0], version) ||
+      !absl::SimpleAtoi(counters[1], iteration) || !absl::SimpleAtod(counters[2], lr)) {
     return absl::DataLossError("learner state: bad counters");
   }
-  ASSIGN_OR_RETURN(ObsNormalizer normalizer, ObsNormalizer::Deserialize(sections.at("normalizer")));
-  if (normalizer.dim() != obs_dim_) {
-    return absl::InvalidArgumentError("learner state: normalizer dimension differs");
-  }
-  auto net = std::make_shared<ActorCritic>(impl_->model, obs_dim_, act_dim_);
-  net->normalize = ppo_.normalize_observations();
-  std::unique_ptr<torch::optim::Adam> actor_opt, critic_opt;
+  return absl::OkStatus();
+}
+
+// Loads the "model" section into `net`. INVALID_ARGUMENT if a tensor's shape differs from
+// `net`'s (a checkpoint of another model config), DATA_LOSS if the archive is unreadable.
+absl::Status LoadNetwork(const std::string& bytes, ActorCritic* net) {
   try {
     torch::serialize::InputArchive archive;
-    std::istringstream in(sections.at("model"));
+    std::istringstream in(bytes);
     archive.load_from(in);
     // Loading takes the archive's shapes: a checkpoint of other networks (another model config)
     // must fail here, not in a later export.
@@ -457,23 +452,37 @@ absl::Status PpoTrainer::RestoreState(const std::map<std::string, std::string>& 
         }
       }
     }
-    if (sections.count("actor_opt")) {
-      Impl probe{impl_->model, net, nullptr, nullptr, ObsNormalizer(0), nullptr};
-      actor_opt = std::make_unique<torch::optim::Adam>(probe.ActorParams(),
-                                                       torch::optim::AdamOptions(lr));
-      critic_opt = std::make_unique<torch::optim::Adam>(net->critic->parameters(),
-                                                        torch::optim::AdamOptions(lr));
-      torch::serialize::InputArchive a, c;
-      std::istringstream ain(sections.at("actor_opt")), cin(sections.at("critic_opt"));
-      a.load_from(ain);
-      c.load_from(cin);
-      actor_opt->load(a);
-      critic_opt->load(c);
-    }
   } catch (const c10::Error& e) {
     return absl::DataLossError(absl::StrCat("learner state: ", e.what_without_backtrace()));
   }
-  const std::string& rng = sections.at("torch_rng");
+  return absl::OkStatus();
+}
+
+// Builds Adam optimizers over `impl`'s actor and critic parameters at rate `lr` and loads
+// their state from `actor_bytes` and `critic_bytes`. DATA_LOSS if either is unreadable.
+absl::Status LoadOptimizers(const PpoTrainer::Impl& impl, double lr,
+                            const std::string& actor_bytes, const std::string& critic_bytes,
+                            std::unique_ptr<torch::optim::Adam>* actor_opt,
+                            std::unique_ptr<torch::optim::Adam>* critic_opt) {
+  try {
+    *actor_opt = std::make_unique<torch::optim::Adam>(impl.ActorParams(),
+                                                      torch::optim::AdamOptions(lr));
+    *critic_opt = std::make_unique<torch::optim::Adam>(impl.net->critic->parameters(),
+                                                       torch::optim::AdamOptions(lr));
+    torch::serialize::InputArchive a, c;
+    std::istringstream ain(actor_bytes), cin(critic_bytes);
+    a.load_from(ain);
+    c.load_from(cin);
+    (*actor_opt)->load(a);
+    (*critic_opt)->load(c);
+  } catch (const c10::Error& e) {
+    return absl::DataLossError(absl::StrCat("learner state: ", e.what_without_backtrace()));
+  }
+  return absl::OkStatus();
+}
+
+// Sets torch's default CPU generator to the "torch_rng" section. DATA_LOSS if rejected.
+absl::Status RestoreTorchRng(const std::string& rng) {
   torch::Tensor rng_state = torch::empty({int64_t(rng.size())}, torch::kUInt8);
   std::memcpy(rng_state.data_ptr(), rng.data(), rng.size());
   try {
@@ -482,6 +491,35 @@ absl::Status PpoTrainer::RestoreState(const std::map<std::string, std::string>& 
   } catch (const c10::Error& e) {
     return absl::DataLossError(absl::StrCat("learner state: torch RNG: ", e.what_without_backtrace()));
   }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+absl::Status PpoTrainer::RestoreState(const std::map<std::string, std::string>& sections) {
+  for (const char* required : {"model", "normalizer", "counters", "torch_rng"}) {
+    if (!sections.count(required)) {
+      return absl::DataLossError(absl::StrCat("learner state lacks section '", required, "'"));
+    }
+  }
+  // Parse everything into fresh objects first: on any error the trainer stays as it was.
+  int64_t version = 0, iteration = 0;
+  double lr = 0;
+  RETURN_IF_ERROR(ParseCounters(sections.at("counters"), &version, &iteration, &lr));
+  ASSIGN_OR_RETURN(ObsNormalizer normalizer, ObsNormalizer::Deserialize(sections.at("normalizer")));
+  if (normalizer.dim() != obs_dim_) {
+    return absl::InvalidArgumentError("learner state: normalizer dimension differs");
+  }
+  auto net = std::make_shared<ActorCritic>(impl_->model, obs_dim_, act_dim_);
+  net->normalize = ppo_.normalize_observations();
+  RETURN_IF_ERROR(LoadNetwork(sections.at("model"), net.get()));
+  std::unique_ptr<torch::optim::Adam> actor_opt, critic_opt;
+  if (sections.count("actor_opt")) {
+    const Impl probe{impl_->model, net, nullptr, nullptr, ObsNormalizer(0), nullptr};
+    RETURN_IF_ERROR(LoadOptimizers(probe, lr, sections.at("actor_opt"), sections.at("critic_opt"),
+                                   &actor_opt, &critic_opt));
+  }
+  RETURN_IF_ERROR(RestoreTorchRng(sections.at("torch_rng")));
   impl_->net = net;
   impl_->clone_opt.reset();  // it held the old network's parameters
   impl_->actor_opt = std::move(actor_opt);

@@ -126,28 +126,89 @@ double PpoTrainer::ImitationError(const DemoBuffer& demos,
   return LabelError(impl_->net->Mean(obs), labels, weights).item<double>();
 }
 
+// One update's view of a validated batch, as tensors (n = num_samples rows).
+struct PpoTrainer::UpdateBatch {
+  int64_t n = 0;
+  int minibatches = 1;          // per epoch, for the critic and the actor alike
+  torch::Tensor obs;            // [n, obs_dim], raw observations
+  torch::Tensor actions;        // [n, act_dim]
+  torch::Tensor old_log_probs;  // [n], of the policy that acted
+  torch::Tensor returns;        // [n], GAE's returns: the critic's targets
+  torch::Tensor advantages;     // [n], GAE's; after FinalizeAdvantages, what the actor uses
+  torch::Tensor label_weights;  // [act_dim], or undefined: unweighted label error
+  bool has_demos = false;       // the imitation term has demonstration rows
+};
+
+namespace {
+
+// `epochs` passes over the rows [0, n) in `minibatches` minibatches each: per epoch one
+// torch::randperm draw, then fn(idx) per minibatch with idx [≤ max(1, n / minibatches)] int64
+// row indices of that permutation. Returns the number of calls.
+int ForEachMinibatch(int64_t n, int epochs, int minibatches,
+                     const std::function<void(const torch::Tensor& idx)>& fn) {
+  const int64_t mb_size = std::max<int64_t>(1, n / minibatches);
+  int calls = 0;
+  for (int epoch = 0; epoch < epochs; ++epoch) {
+    const torch::Tensor perm = torch::randperm(n, torch::kLong);
+    for (int m = 0; m < minibatches; ++m) {
+      fn(perm.slice(0, m * mb_size, std::min(n, (m + 1) * mb_size)));
+      ++calls;
+    }
+  }
+  return calls;
+}
+
+}  // namespace
+
 absl::StatusOr<UpdateStats> PpoTrainer::Update(const UnrollBatch& batch, int64_t max_policy_lag,
                                                const ImitationTerm& imitation) {
   RETURN_IF_ERROR(ValidateUnrollBatch(batch, obs_dim_, act_dim_, version_, max_policy_lag));
-  const bool has_demos = imitation.demos != nullptr && imitation.demos->size() > 0;
-  torch::Tensor label_weights;  // undefined: unweighted
-  if (!imitation.action_weights.empty()) {
-    if (static_cast<int>(imitation.action_weights.size()) != act_dim_) {
-      return absl::InvalidArgumentError("imitation action weights do not match the actions");
-    }
-    label_weights = FromVector(imitation.action_weights, {act_dim_});
+  RETURN_IF_ERROR(ValidateImitation(imitation));
+  UpdateBatch b = MakeUpdateBatch(batch, imitation);
+  PrepareOptimizers();
+  UpdateStats stats;
+  stats.samples = b.n;
+  stats.actor_lr = actor_lr_;
+  stats.value_loss = UpdateCritic(b);
+  FinalizeAdvantages(&b, &stats);
+  if (imitation.clone_only) {
+    // Pretraining: the actor only clones the demonstrations; the learning rate waits.
+    CloneActor(b, imitation, &stats);
+  } else {
+    UpdateActor(b, imitation, &stats);
+    DecayLearningRate();
   }
-  if (has_demos && (imitation.demos->obs_dim() != obs_dim_ || imitation.demos->act_dim() != act_dim_)) {
+  FinishUpdate(batch);
+  return stats;
+}
+
+absl::Status PpoTrainer::ValidateImitation(const ImitationTerm& imitation) const {
+  if (!imitation.action_weights.empty() &&
+      static_cast<int>(imitation.action_weights.size()) != act_dim_) {
+    return absl::InvalidArgumentError("imitation action weights do not match the actions");
+  }
+  const DemoBuffer* demos = imitation.demos;
+  if (demos != nullptr && demos->size() > 0 &&
+      (demos->obs_dim() != obs_dim_ || demos->act_dim() != act_dim_)) {
     return absl::InvalidArgumentError("the demonstrations' dimensions differ from the policy's");
   }
-  ActorCritic& net = *impl_->net;
-  const int64_t n = batch.num_samples();
-  const torch::Tensor obs = FromVector(batch.obs, {n, obs_dim_});
-  const torch::Tensor actions = FromVector(batch.actions, {n, act_dim_});
-  const torch::Tensor old_log_probs = FromVector(batch.log_probs, {n});
+  return absl::OkStatus();
+}
 
+PpoTrainer::UpdateBatch PpoTrainer::MakeUpdateBatch(const UnrollBatch& batch,
+                                                    const ImitationTerm& imitation) const {
+  UpdateBatch b;
+  b.n = batch.num_samples();
+  b.minibatches = std::max(1, ppo_.num_minibatches());
+  b.has_demos = imitation.demos != nullptr && imitation.demos->size() > 0;
+  if (!imitation.action_weights.empty()) {
+    b.label_weights = FromVector(imitation.action_weights, {act_dim_});
+  }
+  b.obs = FromVector(batch.obs, {b.n, obs_dim_});
+  b.actions = FromVector(batch.actions, {b.n, act_dim_});
+  b.old_log_probs = FromVector(batch.log_probs, {b.n});
   // Values for GAE: V(s_t), V(bootstrap), V(final obs of truncated episodes).
-  const std::vector<float> values = Values(batch.obs.data(), n);
+  const std::vector<float> values = Values(batch.obs.data(), b.n);
   const std::vector<float> boot = Values(batch.bootstrap_obs.data(), batch.num_unrolls);
   const std::vector<float> trunc = Values(batch.truncated_obs.data(), batch.num_truncated());
   AdvantageInputs in;
@@ -159,140 +220,137 @@ absl::StatusOr<UpdateStats> PpoTrainer::Update(const UnrollBatch& batch, int64_t
   in.values = values.data();
   in.bootstrap_values = boot.data();
   in.truncated_values = trunc.data();
-  std::vector<float> returns_v;
-  const std::vector<float> adv_v =
-      ComputeAdvantages(in, ppo_.gamma(), ppo_.gae_lambda(), &returns_v);
-  const torch::Tensor returns = FromVector(returns_v, {n});
-  torch::Tensor advantages = FromVector(adv_v, {n});
+  std::vector<float> returns;
+  const std::vector<float> advantages =
+      ComputeAdvantages(in, ppo_.gamma(), ppo_.gae_lambda(), &returns);
+  b.returns = FromVector(returns, {b.n});
+  b.advantages = FromVector(advantages, {b.n});
+  return b;
+}
 
+void PpoTrainer::PrepareOptimizers() {
   const double critic_lr = actor_lr_ * ppo_.critic_lr_factor();
   if (ppo_.reset_optimizer_each_iteration() || !impl_->actor_opt) {
     impl_->actor_opt = std::make_unique<torch::optim::Adam>(
         impl_->ActorParams(), torch::optim::AdamOptions(actor_lr_));
     impl_->critic_opt = std::make_unique<torch::optim::Adam>(
-        net.critic->parameters(), torch::optim::AdamOptions(critic_lr));
-  } else {
-    for (auto& g : impl_->actor_opt->param_groups()) {
-      static_cast<torch::optim::AdamOptions&>(g.options()).lr(actor_lr_);
-    }
-    for (auto& g : impl_->critic_opt->param_groups()) {
-      static_cast<torch::optim::AdamOptions&>(g.options()).lr(critic_lr);
-    }
+        impl_->net->critic->parameters(), torch::optim::AdamOptions(critic_lr));
+    return;
   }
-
-  const int minibatches = std::max(1, ppo_.num_minibatches());
-  const int64_t mb_size = std::max<int64_t>(1, n / minibatches);
-  UpdateStats stats;
-  stats.samples = n;
-  stats.actor_lr = actor_lr_;
-
-  // Critic: regress V(s) on the returns.
-  int updates = 0;
-  for (int epoch = 0; epoch < ppo_.epochs(); ++epoch) {
-    const torch::Tensor perm = torch::randperm(n, torch::kLong);
-    for (int m = 0; m < minibatches; ++m) {
-      const torch::Tensor idx = perm.slice(0, m * mb_size, std::min(n, (m + 1) * mb_size));
-      const torch::Tensor v = net.Value(obs.index_select(0, idx));
-      const torch::Tensor loss = 0.5 * (v - returns.index_select(0, idx)).pow(2).mean();
-      impl_->critic_opt->zero_grad();
-      loss.backward();
-      ClipGradients(net.critic->parameters(), ppo_.max_grad_norm());
-      impl_->critic_opt->step();
-      stats.value_loss += loss.item<double>();
-      ++updates;
-    }
+  for (auto& g : impl_->actor_opt->param_groups()) {
+    static_cast<torch::optim::AdamOptions&>(g.options()).lr(actor_lr_);
   }
-  if (updates) stats.value_loss /= updates;
+  for (auto& g : impl_->critic_opt->param_groups()) {
+    static_cast<torch::optim::AdamOptions&>(g.options()).lr(critic_lr);
+  }
+}
 
+double PpoTrainer::UpdateCritic(const UpdateBatch& b) {
+  ActorCritic& net = *impl_->net;
+  double loss_sum = 0;
+  const int updates =
+      ForEachMinibatch(b.n, ppo_.epochs(), b.minibatches, [&](const torch::Tensor& idx) {
+        const torch::Tensor v = net.Value(b.obs.index_select(0, idx));
+        const torch::Tensor loss = 0.5 * (v - b.returns.index_select(0, idx)).pow(2).mean();
+        impl_->critic_opt->zero_grad();
+        loss.backward();
+        ClipGradients(net.critic->parameters(), ppo_.max_grad_norm());
+        impl_->critic_opt->step();
+        loss_sum += loss.item<double>();
+      });
+  return updates ? loss_sum / updates : 0;
+}
+
+void PpoTrainer::FinalizeAdvantages(UpdateBatch* b, UpdateStats* stats) const {
   if (ppo_.advantages_after_critic()) {
     torch::NoGradGuard no_grad;
-    advantages = returns - net.Value(obs);
+    b->advantages = b->returns - impl_->net->Value(b->obs);
   }
-  stats.mean_advantage = advantages.mean().item<double>();
+  stats->mean_advantage = b->advantages.mean().item<double>();
   if (ppo_.normalize_advantages()) {
-    advantages = (advantages - advantages.mean()) / (advantages.std() + 1e-8);
+    b->advantages = (b->advantages - b->advantages.mean()) / (b->advantages.std() + 1e-8);
   }
+}
 
-  // Pretraining: the actor only clones the demonstrations.
-  if (imitation.clone_only) {
-    stats.cloned_only = true;
-    if (has_demos) {
-      if (!impl_->clone_opt) {
-        impl_->clone_opt = std::make_unique<torch::optim::Adam>(
-            impl_->net->actor->parameters(), torch::optim::AdamOptions(imitation.clone_lr));
-      }
-      for (auto& g : impl_->clone_opt->param_groups()) {
-        static_cast<torch::optim::AdamOptions&>(g.options()).lr(imitation.clone_lr);
-      }
-      for (int step = 0; step < imitation.clone_steps; ++step) {
-        auto [demo_obs, demo_labels] =
-            DemoMinibatch(*imitation.demos, std::max(1, imitation.clone_minibatch));
-        const torch::Tensor loss = LabelError(net.Mean(demo_obs), demo_labels, label_weights);
-        impl_->clone_opt->zero_grad();
-        loss.backward();
-        ClipGradients(net.actor->parameters(), ppo_.max_grad_norm());
-        impl_->clone_opt->step();
-        stats.imitation_loss += loss.item<double>();
-      }
-      if (imitation.clone_steps > 0) stats.imitation_loss /= imitation.clone_steps;
-    }
-    FinishUpdate(batch);
-    return stats;
+void PpoTrainer::CloneActor(const UpdateBatch& b, const ImitationTerm& imitation,
+                            UpdateStats* stats) {
+  stats->cloned_only = true;
+  if (!b.has_demos) return;
+  if (!impl_->clone_opt) {
+    impl_->clone_opt = std::make_unique<torch::optim::Adam>(
+        impl_->net->actor->parameters(), torch::optim::AdamOptions(imitation.clone_lr));
   }
+  for (auto& g : impl_->clone_opt->param_groups()) {
+    static_cast<torch::optim::AdamOptions&>(g.options()).lr(imitation.clone_lr);
+  }
+  ActorCritic& net = *impl_->net;
+  for (int step = 0; step < imitation.clone_steps; ++step) {
+    auto [demo_obs, demo_labels] =
+        DemoMinibatch(*imitation.demos, std::max(1, imitation.clone_minibatch));
+    const torch::Tensor loss = LabelError(net.Mean(demo_obs), demo_labels, b.label_weights);
+    impl_->clone_opt->zero_grad();
+    loss.backward();
+    ClipGradients(net.actor->parameters(), ppo_.max_grad_norm());
+    impl_->clone_opt->step();
+    stats->imitation_loss += loss.item<double>();
+  }
+  if (imitation.clone_steps > 0) stats->imitation_loss /= imitation.clone_steps;
+}
 
-  // Actor: clipped surrogate + action-magnitude regularizer (+ the imitation term).
-  const double weight = has_demos ? imitation.weight : 0;
-  stats.imitation_weight = weight;
-  updates = 0;
-  const double clip = ppo_.clip();
-  const bool adaptive_lr = ppo_.desired_kl() > 0;
+void PpoTrainer::UpdateActor(const UpdateBatch& b, const ImitationTerm& imitation,
+                             UpdateStats* stats) {
+  const double weight = b.has_demos ? imitation.weight : 0;
+  stats->imitation_weight = weight;
   torch::Tensor start_mean;  // the policy the iteration started from (adaptive learning rate)
-  if (adaptive_lr) {
+  if (ppo_.desired_kl() > 0) {
     torch::NoGradGuard no_grad;
-    start_mean = net.Mean(obs);
+    start_mean = impl_->net->Mean(b.obs);
   }
-  for (int epoch = 0; epoch < ppo_.epochs(); ++epoch) {
-    const torch::Tensor perm = torch::randperm(n, torch::kLong);
-    for (int m = 0; m < minibatches; ++m) {
-      const torch::Tensor idx = perm.slice(0, m * mb_size, std::min(n, (m + 1) * mb_size));
-      const torch::Tensor mean = net.Mean(obs.index_select(0, idx));
-      const torch::Tensor log_prob = net.LogProb(actions.index_select(0, idx), mean);
-      const torch::Tensor old = old_log_probs.index_select(0, idx);
-      const torch::Tensor adv = advantages.index_select(0, idx);
-      const torch::Tensor ratio = torch::exp(log_prob - old);
-      const torch::Tensor surrogate =
-          torch::min(ratio * adv, torch::clamp(ratio, 1 - clip, 1 + clip) * adv);
-      torch::Tensor loss = -surrogate.mean() + ppo_.action_reg() * mean.pow(2).mean();
-      if (weight > 0) {
-        auto [demo_obs, demo_labels] = DemoMinibatch(*imitation.demos, idx.size(0));
-        const torch::Tensor clone = LabelError(net.Mean(demo_obs), demo_labels, label_weights);
-        stats.imitation_loss += clone.item<double>();
-        loss = loss + weight * clone;
-      }
-      impl_->actor_opt->zero_grad();
-      loss.backward();
-      ClipGradients(impl_->ActorParams(), ppo_.max_grad_norm());
-      impl_->actor_opt->step();
-      stats.policy_loss += loss.item<double>();
-      stats.approx_kl += (old - log_prob).mean().item<double>();
-      if (adaptive_lr) AdaptLearningRate(mean.detach(), start_mean.index_select(0, idx));
-      stats.clip_fraction += ((ratio - 1).abs() > clip).to(torch::kFloat32).mean().item<double>();
-      ++updates;
-    }
-  }
+  const int updates =
+      ForEachMinibatch(b.n, ppo_.epochs(), b.minibatches, [&](const torch::Tensor& idx) {
+        ActorMinibatchStep(b, idx, imitation.demos, weight, start_mean, stats);
+      });
   if (updates) {
-    stats.policy_loss /= updates;
-    stats.approx_kl /= updates;
-    stats.clip_fraction /= updates;
-    stats.imitation_loss /= updates;
+    stats->policy_loss /= updates;
+    stats->approx_kl /= updates;
+    stats->clip_fraction /= updates;
+    stats->imitation_loss /= updates;
   }
+}
 
-  if (!adaptive_lr) {
-    actor_lr_ = actor_lr_ > ppo_.min_actor_lr() ? actor_lr_ * ppo_.lr_decay() : ppo_.min_actor_lr();
-    actor_lr_ = std::max(actor_lr_, ppo_.min_actor_lr());
+void PpoTrainer::ActorMinibatchStep(const UpdateBatch& b, const at::Tensor& idx,
+                                    const DemoBuffer* demos, double weight,
+                                    const at::Tensor& start_mean, UpdateStats* stats) {
+  ActorCritic& net = *impl_->net;
+  const double clip = ppo_.clip();
+  const torch::Tensor mean = net.Mean(b.obs.index_select(0, idx));
+  const torch::Tensor log_prob = net.LogProb(b.actions.index_select(0, idx), mean);
+  const torch::Tensor old = b.old_log_probs.index_select(0, idx);
+  const torch::Tensor adv = b.advantages.index_select(0, idx);
+  const torch::Tensor ratio = torch::exp(log_prob - old);
+  const torch::Tensor surrogate =
+      torch::min(ratio * adv, torch::clamp(ratio, 1 - clip, 1 + clip) * adv);
+  torch::Tensor loss = -surrogate.mean() + ppo_.action_reg() * mean.pow(2).mean();
+  if (weight > 0) {
+    auto [demo_obs, demo_labels] = DemoMinibatch(*demos, idx.size(0));
+    const torch::Tensor clone = LabelError(net.Mean(demo_obs), demo_labels, b.label_weights);
+    stats->imitation_loss += clone.item<double>();
+    loss = loss + weight * clone;
   }
-  FinishUpdate(batch);
-  return stats;
+  impl_->actor_opt->zero_grad();
+  loss.backward();
+  ClipGradients(impl_->ActorParams(), ppo_.max_grad_norm());
+  impl_->actor_opt->step();
+  stats->policy_loss += loss.item<double>();
+  stats->approx_kl += (old - log_prob).mean().item<double>();
+  if (start_mean.defined()) AdaptLearningRate(mean.detach(), start_mean.index_select(0, idx));
+  stats->clip_fraction += ((ratio - 1).abs() > clip).to(torch::kFloat32).mean().item<double>();
+}
+
+void PpoTrainer::DecayLearningRate() {
+  if (ppo_.desired_kl() > 0) return;  // the rate adapts per minibatch instead
+  actor_lr_ = actor_lr_ > ppo_.min_actor_lr() ? actor_lr_ * ppo_.lr_decay() : ppo_.min_actor_lr();
+  actor_lr_ = std::max(actor_lr_, ppo_.min_actor_lr());
 }
 
 void PpoTrainer::FinishUpdate(const UnrollBatch& batch) {
@@ -357,30 +415,25 @@ std::map<std::string, std::string> PpoTrainer::SaveState() const {
   return s;
 }
 
-absl::Status PpoTrainer::RestoreState(const std::map<std::string, std::string>& sections) {
-  for (const char* required : {"model", "normalizer", "counters", "torch_rng"}) {
-    if (!sections.count(required)) {
-      return absl::DataLossError(absl::StrCat("learner state lacks section '", required, "'"));
-    }
-  }
-  // Parse everything into fresh objects first: on any error the trainer stays as it was.
-  const std::vector<std::string> counters = absl::StrSplit(sections.at("counters"), ' ');
-  int64_t version = 0, iteration = 0;
-  double lr = 0;
-  if (counters.size() != 3 || !absl::SimpleAtoi(counters[0], &version) ||
-      !absl::SimpleAtoi(counters[1], &iteration) || !absl::SimpleAtod(counters[2], &lr)) {
+namespace {
+
+// The "counters" section: "version iteration actor_lr". DATA_LOSS if malformed.
+absl::Status ParseCounters(const std::string& text, int64_t* version, int64_t* iteration,
+                           double* lr) {
+  const std::vector<std::string> counters = absl::StrSplit(text, ' ');
+  if (counters.size() != 3 || !absl::SimpleAtoi(counters[0], version) ||
+      !absl::SimpleAtoi(counters[1], iteration) || !absl::SimpleAtod(counters[2], lr)) {
     return absl::DataLossError("learner state: bad counters");
   }
-  ASSIGN_OR_RETURN(ObsNormalizer normalizer, ObsNormalizer::Deserialize(sections.at("normalizer")));
-  if (normalizer.dim() != obs_dim_) {
-    return absl::InvalidArgumentError("learner state: normalizer dimension differs");
-  }
-  auto net = std::make_shared<ActorCritic>(impl_->model, obs_dim_, act_dim_);
-  net->normalize = ppo_.normalize_observations();
-  std::unique_ptr<torch::optim::Adam> actor_opt, critic_opt;
+  return absl::OkStatus();
+}
+
+// Loads the "model" section into `net`. INVALID_ARGUMENT if a tensor's shape differs from
+// `net`'s (a checkpoint of another model config), DATA_LOSS if the archive is unreadable.
+absl::Status LoadNetwork(const std::string& bytes, ActorCritic* net) {
   try {
     torch::serialize::InputArchive archive;
-    std::istringstream in(sections.at("model"));
+    std::istringstream in(bytes);
     archive.load_from(in);
     // Loading takes the archive's shapes: a checkpoint of other networks (another model config)
     // must fail here, not in a later export.
@@ -399,23 +452,37 @@ absl::Status PpoTrainer::RestoreState(const std::map<std::string, std::string>& 
         }
       }
     }
-    if (sections.count("actor_opt")) {
-      Impl probe{impl_->model, net, nullptr, nullptr, ObsNormalizer(0), nullptr};
-      actor_opt = std::make_unique<torch::optim::Adam>(probe.ActorParams(),
-                                                       torch::optim::AdamOptions(lr));
-      critic_opt = std::make_unique<torch::optim::Adam>(net->critic->parameters(),
-                                                        torch::optim::AdamOptions(lr));
-      torch::serialize::InputArchive a, c;
-      std::istringstream ain(sections.at("actor_opt")), cin(sections.at("critic_opt"));
-      a.load_from(ain);
-      c.load_from(cin);
-      actor_opt->load(a);
-      critic_opt->load(c);
-    }
   } catch (const c10::Error& e) {
     return absl::DataLossError(absl::StrCat("learner state: ", e.what_without_backtrace()));
   }
-  const std::string& rng = sections.at("torch_rng");
+  return absl::OkStatus();
+}
+
+// Builds Adam optimizers over `impl`'s actor and critic parameters at rate `lr` and loads
+// their state from `actor_bytes` and `critic_bytes`. DATA_LOSS if either is unreadable.
+absl::Status LoadOptimizers(const PpoTrainer::Impl& impl, double lr,
+                            const std::string& actor_bytes, const std::string& critic_bytes,
+                            std::unique_ptr<torch::optim::Adam>* actor_opt,
+                            std::unique_ptr<torch::optim::Adam>* critic_opt) {
+  try {
+    *actor_opt = std::make_unique<torch::optim::Adam>(impl.ActorParams(),
+                                                      torch::optim::AdamOptions(lr));
+    *critic_opt = std::make_unique<torch::optim::Adam>(impl.net->critic->parameters(),
+                                                       torch::optim::AdamOptions(lr));
+    torch::serialize::InputArchive a, c;
+    std::istringstream ain(actor_bytes), cin(critic_bytes);
+    a.load_from(ain);
+    c.load_from(cin);
+    (*actor_opt)->load(a);
+    (*critic_opt)->load(c);
+  } catch (const c10::Error& e) {
+    return absl::DataLossError(absl::StrCat("learner state: ", e.what_without_backtrace()));
+  }
+  return absl::OkStatus();
+}
+
+// Sets torch's default CPU generator to the "torch_rng" section. DATA_LOSS if rejected.
+absl::Status RestoreTorchRng(const std::string& rng) {
   torch::Tensor rng_state = torch::empty({int64_t(rng.size())}, torch::kUInt8);
   std::memcpy(rng_state.data_ptr(), rng.data(), rng.size());
   try {
@@ -424,6 +491,35 @@ absl::Status PpoTrainer::RestoreState(const std::map<std::string, std::string>& 
   } catch (const c10::Error& e) {
     return absl::DataLossError(absl::StrCat("learner state: torch RNG: ", e.what_without_backtrace()));
   }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+absl::Status PpoTrainer::RestoreState(const std::map<std::string, std::string>& sections) {
+  for (const char* required : {"model", "normalizer", "counters", "torch_rng"}) {
+    if (!sections.count(required)) {
+      return absl::DataLossError(absl::StrCat("learner state lacks section '", required, "'"));
+    }
+  }
+  // Parse everything into fresh objects first: on any error the trainer stays as it was.
+  int64_t version = 0, iteration = 0;
+  double lr = 0;
+  RETURN_IF_ERROR(ParseCounters(sections.at("counters"), &version, &iteration, &lr));
+  ASSIGN_OR_RETURN(ObsNormalizer normalizer, ObsNormalizer::Deserialize(sections.at("normalizer")));
+  if (normalizer.dim() != obs_dim_) {
+    return absl::InvalidArgumentError("learner state: normalizer dimension differs");
+  }
+  auto net = std::make_shared<ActorCritic>(impl_->model, obs_dim_, act_dim_);
+  net->normalize = ppo_.normalize_observations();
+  RETURN_IF_ERROR(LoadNetwork(sections.at("model"), net.get()));
+  std::unique_ptr<torch::optim::Adam> actor_opt, critic_opt;
+  if (sections.count("actor_opt")) {
+    const Impl probe{impl_->model, net, nullptr, nullptr, ObsNormalizer(0), nullptr};
+    RETURN_IF_ERROR(LoadOptimizers(probe, lr, sections.at("actor_opt"), sections.at("critic_opt"),
+                                   &actor_opt, &critic_opt));
+  }
+  RETURN_IF_ERROR(RestoreTorchRng(sections.at("torch_rng")));
   impl_->net = net;
   impl_->clone_opt.reset();  // it held the old network's parameters
   impl_->actor_opt = std::move(actor_opt);

@@ -103,6 +103,42 @@ class PpoTrainer {
   struct Impl;
 
  private:
+  // One update's batch as tensors, with its advantages and returns (defined in the .cc).
+  struct UpdateBatch;
+
+  // The steps of Update, in order. The torch RNG draws (randperm per epoch, randint per
+  // demonstration minibatch) happen in this order, so a seed fixes the whole update.
+  //
+  // INVALID_ARGUMENT if the imitation term's action weights or demonstrations do not match
+  // the policy's dimensions.
+  absl::Status ValidateImitation(const ImitationTerm& imitation) const;
+  // REQUIRES: `batch` validated. Its tensors, GAE advantages and returns under the current
+  // critic (no gradient, no RNG draw).
+  UpdateBatch MakeUpdateBatch(const UnrollBatch& batch, const ImitationTerm& imitation) const;
+  // Actor and critic Adam at this iteration's rates: new on the first update (or every
+  // update with reset_optimizer_each_iteration), else the same ones with their rates set.
+  void PrepareOptimizers();
+  // The critic's epochs: 0.5 × squared error of V(s) against the returns, one Adam step per
+  // minibatch. Returns the mean loss over the minibatches (0 if there were none).
+  double UpdateCritic(const UpdateBatch& b);
+  // The advantages the actor uses: GAE's, or returns − V(s) under the updated critic with
+  // advantages_after_critic; sets stats->mean_advantage, then normalizes if asked.
+  void FinalizeAdvantages(UpdateBatch* b, UpdateStats* stats) const;
+  // Pretraining: clone_steps Adam steps of the actor alone (its own optimizer, at clone_lr)
+  // on random minibatches of demonstration rows; the PPO optimizers are untouched. Sets
+  // cloned_only and imitation_loss (the mean before each step); nothing more without demos.
+  void CloneActor(const UpdateBatch& b, const ImitationTerm& imitation, UpdateStats* stats);
+  // The actor's epochs (ActorMinibatchStep each); sets policy_loss, approx_kl, clip_fraction
+  // and imitation_loss as means over the minibatches, and imitation_weight.
+  void UpdateActor(const UpdateBatch& b, const ImitationTerm& imitation, UpdateStats* stats);
+  // One actor Adam step on rows `idx` ([m] int64): clipped surrogate + action-magnitude
+  // regularizer, + weight × the label error on m random rows of `demos` if weight > 0 (then
+  // REQUIRES demos non-empty). Adds the minibatch's terms to *stats. With a defined
+  // `start_mean` ([n, act_dim], the iteration's starting means) the learning rate adapts.
+  void ActorMinibatchStep(const UpdateBatch& b, const at::Tensor& idx, const DemoBuffer* demos,
+                          double weight, const at::Tensor& start_mean, UpdateStats* stats);
+  // Once per PPO iteration without desired_kl: the actor's rate decays towards its floor.
+  void DecayLearningRate();
   // desired_kl: sets the learning rate from the KL between the iteration's starting means and
   // the current ones (minibatch rows), and applies it to both optimizers.
   void AdaptLearningRate(const at::Tensor& mean, const at::Tensor& start_mean);

@@ -5,16 +5,12 @@
 #ifndef JUGGLE_PLANNER_ROLLOUT_POOL_H_
 #define JUGGLE_PLANNER_ROLLOUT_POOL_H_
 
-#include <atomic>
-#include <condition_variable>
 #include <functional>
 #include <memory>
-#include <mutex>
-#include <thread>
 #include <vector>
 
-#include "absl/base/thread_annotations.h"
 #include "absl/status/status.h"
+#include "common/fork_join_pool.h"
 #include "envs/env.h"
 
 namespace juggle {
@@ -36,24 +32,9 @@ class RolloutPool {
   const EnvSpec& spec() const { return *spec_; }
 
  private:
-  void ThreadMain(int thread);
-  // Takes indices until none are left.
-  void Work(int thread);
-
   std::shared_ptr<const EnvSpec> spec_;
-  std::vector<std::unique_ptr<Env>> envs_;  // one per thread; [0] is the caller's
-  std::vector<std::thread> threads_;
-
-  std::mutex mu_;
-  std::condition_variable start_cv_, done_cv_;
-  int generation_ ABSL_GUARDED_BY(mu_) = 0;
-  int running_ ABSL_GUARDED_BY(mu_) = 0;
-  bool stop_ ABSL_GUARDED_BY(mu_) = false;
-  // The current job (written by Run before a generation starts, read by the threads).
-  const EnvSnapshot* snapshot_ = nullptr;
-  const std::function<void(int, Env*)>* fn_ = nullptr;
-  int n_ = 0;
-  std::atomic<int> next_{0};
+  std::vector<std::unique_ptr<Env>> envs_;  // one per pool thread; [0] is the caller's
+  ForkJoinPool pool_;  // after envs_: destroyed (its threads joined) before them
 };
 
 }  // namespace juggle

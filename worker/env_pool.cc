@@ -34,23 +34,13 @@ absl::StatusOr<std::unique_ptr<EnvPool>> EnvPool::Create(std::shared_ptr<const E
   pool->finished_length_.assign(num_envs, 0);
   pool->finished_completions_.assign(num_envs, 0);
   pool->finished_juggles_.assign(num_envs, 0);
-  for (int t = 1; t < pool->num_threads_; ++t) {
-    pool->threads_.emplace_back(&EnvPool::ThreadMain, pool.get(), t);
-  }
   return pool;
 }
 
 EnvPool::EnvPool(std::shared_ptr<const EnvSpec> spec, int num_threads)
-    : spec_(std::move(spec)), walk_(&spec_->graph()), num_threads_(num_threads) {}
+    : spec_(std::move(spec)), walk_(&spec_->graph()), pool_(num_threads) {}
 
-EnvPool::~EnvPool() {
-  {
-    std::lock_guard<std::mutex> lock(mu_);
-    stop_ = true;
-  }
-  start_cv_.notify_all();
-  for (std::thread& t : threads_) t.join();
-}
+EnvPool::~EnvPool() = default;
 
 void EnvPool::Reset() {
   for (int i = 0; i < num_envs(); ++i) {
@@ -87,43 +77,12 @@ void EnvPool::StepRange(int begin, int end) {
   }
 }
 
-void EnvPool::ThreadMain(int thread) {
-  int64_t seen = 0;
-  while (true) {
-    {
-      std::unique_lock<std::mutex> lock(mu_);
-      start_cv_.wait(lock, [&] { return stop_ || generation_ != seen; });
-      if (stop_) return;
-      seen = generation_;
-    }
-    const int n = num_envs();
-    StepRange(n * thread / num_threads_, n * (thread + 1) / num_threads_);
-    {
-      std::lock_guard<std::mutex> lock(mu_);
-      if (--pending_ == 0) done_cv_.notify_one();
-    }
-  }
-}
-
-void EnvPool::RunParallel() {
-  if (num_threads_ == 1) {
-    StepRange(0, num_envs());
-    return;
-  }
-  {
-    std::lock_guard<std::mutex> lock(mu_);
-    pending_ = num_threads_ - 1;
-    ++generation_;
-  }
-  start_cv_.notify_all();
-  StepRange(0, num_envs() / num_threads_);
-  std::unique_lock<std::mutex> lock(mu_);
-  done_cv_.wait(lock, [&] { return pending_ == 0; });
-}
-
 void EnvPool::Step(const float* actions) {
   actions_ = actions;
-  RunParallel();
+  const int n = num_envs(), slices = pool_.threads();
+  pool_.Run(slices, [this, n, slices](int slice, int) {
+    StepRange(n * slice / slices, n * (slice + 1) / slices);
+  });
   out_.events.clear();
   for (int i = 0; i < num_envs(); ++i) {
     const bool separate = i < separate_envs_;

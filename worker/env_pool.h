@@ -8,16 +8,14 @@
 #ifndef JUGGLE_WORKER_ENV_POOL_H_
 #define JUGGLE_WORKER_ENV_POOL_H_
 
-#include <condition_variable>
 #include <cstdint>
 #include <memory>
-#include <mutex>
-#include <thread>
 #include <vector>
 
 #include "absl/status/statusor.h"
 #include "common/adaptive_walk.h"
 #include "common/episode_counters.h"
+#include "common/fork_join_pool.h"
 #include "envs/env.h"
 
 namespace juggle {
@@ -66,9 +64,8 @@ class EnvPool {
 
  private:
   EnvPool(std::shared_ptr<const EnvSpec> spec, int num_threads);
+  // Steps envs [begin, end) with actions_; touches only their state and outputs.
   void StepRange(int begin, int end);
-  void RunParallel();
-  void ThreadMain(int thread);
 
   std::shared_ptr<const EnvSpec> spec_;
   AdaptiveWalk walk_;
@@ -87,15 +84,9 @@ class EnvPool {
   bool apply_events_locally_ = true;
   const float* actions_ = nullptr;
 
-  // Worker threads: thread t > 0 steps its slice when `generation_` advances; the calling
-  // thread steps slice 0 and waits for `pending_` to reach 0.
-  int num_threads_;
-  std::vector<std::thread> threads_;
-  std::mutex mu_;
-  std::condition_variable start_cv_, done_cv_;
-  int64_t generation_ = 0;
-  int pending_ = 0;
-  bool stop_ = false;
+  // A batch step runs one job per thread, job j stepping the j-th of pool_.threads()
+  // contiguous slices of the envs (whichever thread takes it: envs are independent).
+  ForkJoinPool pool_;  // last member: its threads are joined before anything above goes
 };
 
 }  // namespace juggle

@@ -4,6 +4,7 @@
 #include "absl/strings/str_join.h"
 #include "envs/soccer_juggle/spec.h"
 #include "planner/soccer_juggle/task.h"
+#include "planner/toss/task.h"
 
 namespace juggle::planner {
 namespace {
@@ -14,11 +15,18 @@ std::shared_ptr<const PlanningTask> MakeSoccerJuggleTask(std::shared_ptr<const E
       std::static_pointer_cast<const soccer_juggle::JuggleSpec>(std::move(spec)), config);
 }
 
+std::shared_ptr<const PlanningTask> MakeTossTask(std::shared_ptr<const EnvSpec> spec,
+                                                 const config::PlannerConfig& config) {
+  return std::make_shared<TossThrowTask>(
+      std::static_pointer_cast<const toss::TossSpec>(std::move(spec)), config);
+}
+
 }  // namespace
 
 const std::vector<PlanningTaskEntry>& PlanningTasks() {
   static const auto* const kTasks = new std::vector<PlanningTaskEntry>{
       {"soccer_juggle", &ValidateSoccerJuggleTask, &MakeSoccerJuggleTask},
+      {"toss", &ValidateTossTask, &MakeTossTask},
   };
   return *kTasks;
 }

@@ -19,9 +19,13 @@ absl::StatusOr<std::unique_ptr<Controller>> MakeController(const ControllerChoic
         !s.ok()) {
       return s;
     }
+    if (choice.proposal != nullptr) with_settings.run.mutable_planner()->set_policy_prior(true);
     absl::StatusOr<std::unique_ptr<planner::PlannerController>> p =
         planner::PlannerController::Create(std::move(spec), with_settings);
     if (!p.ok()) return p.status();
+    if (choice.proposal != nullptr) {
+      if (absl::Status s = (*p)->SetProposal(choice.proposal); !s.ok()) return s;
+    }
     if (choice.on_planner) choice.on_planner(p->get());
     return std::unique_ptr<Controller>(std::move(*p));
   }

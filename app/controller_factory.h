@@ -26,6 +26,9 @@ struct ControllerChoice {
   // (progress lines, totals).
   std::string planner_set;
   std::function<void(planner::PlannerController*)> on_planner;
+  // "planner": a policy whose mean action is the plans' prior (sets planner.policy_prior), or
+  // none.
+  std::shared_ptr<const EigenPolicy> proposal;
 };
 
 // The controller `choice` names for envs of `spec` (made from `config`). Errors: an unknown

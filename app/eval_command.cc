@@ -43,6 +43,7 @@ struct EvalFlags {
   std::string controller;  // "", "policy", "zero" or "planner"
   bool planner_trace = false;
   PlannerFlags planner;
+  std::string proposal;  // --controller=planner: a policy as the plans' prior
   int episodes = 50;
   int64_t seed = kHeldOutSeed;
   int first_episode = 0;
@@ -103,6 +104,9 @@ int Evaluate(EvalFlags f) {
     return UsageError(f.policy.empty() ? "--controller=policy needs --policy=PATH"
                                        : "--policy needs --controller=policy (or none)");
   }
+  if (!f.proposal.empty() && f.controller != "planner") {
+    return UsageError("--proposal needs --controller=planner");
+  }
   if (f.impact_band[0] > f.impact_band[1]) {
     return UsageError(absl::StrFormat("--impact-band: MIN %g is above MAX %g", f.impact_band[0],
                                       f.impact_band[1]));
@@ -139,6 +143,12 @@ int Evaluate(EvalFlags f) {
   choice.kind = f.controller;
   if (source) choice.policy = source->policy;
   choice.keep_gates = true;
+  if (!f.proposal.empty()) {
+    absl::StatusOr<PolicySource> proposal = LoadPolicySource(f.proposal, f.config);
+    if (!proposal.ok()) return Fail(proposal.status());
+    choice.proposal = proposal->policy;
+    std::printf("proposal policy %s\n", proposal->path.c_str());
+  }
   choice.on_planner = [&](planner::PlannerController* p) {
     planner_controller = p;
     p->set_on_replan(PlannerProgress(*spec, &p->task(), f.episodes, started, f.planner_trace));
@@ -219,6 +229,7 @@ int Evaluate(EvalFlags f) {
     ControllerChoice swept_choice;
     swept_choice.kind = f.controller;
     if (source) swept_choice.policy = source->policy;
+    swept_choice.proposal = choice.proposal;
     const int episodes = f.episodes;
     const bool trace = f.planner_trace;
     const std::shared_ptr<const EnvSpec> swept_spec = *spec;
@@ -276,7 +287,11 @@ CommandBody AddEvalCommand(CLI::App* cmd) {
       ->check(CLI::IsMember({"policy", "zero", "planner"}));
   AddPlannerFlags(cmd, &f->planner);
   cmd->add_flag("--planner-trace", f->planner_trace,
-                "print every re-plan: its cost and the kick it predicts");
+                "print every re-plan: its cost, each cost term and the kick it predicts");
+  cmd->add_option("--proposal", f->proposal,
+                  "with --controller=planner: a policy (checkpoint, run directory or .jglpolicy) "
+                  "whose mean action is every plan's prior, the search correcting it "
+                  "(planner.policy_prior; docs/planner.md)");
   cmd->add_option("--episodes", f->episodes, "episodes, one per env seed")
       ->check(Between(1, 100000))
       ->capture_default_str();

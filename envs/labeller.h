@@ -25,8 +25,9 @@ class Labeller {
   virtual absl::Status Label(const Env& env, float* action) = 0;
   // The policy acting in the envs of the Label calls that follow (null: none), until the next
   // call; the caller keeps it alive until then (worker/rollout_collector.cc sets it for each
-  // unroll). A planner may use it as its proposal.
-  virtual void SetPolicy(const EigenPolicy* policy) {}
+  // unroll). A planner may use it as its proposal (PlannerConfig.policy_prior). Errors: a policy
+  // the expert cannot use (e.g. of other sizes than its envs).
+  virtual absl::Status SetPolicy(const EigenPolicy* policy) { return absl::OkStatus(); }
 };
 
 // Builds the labeller of a run (its config's planner settings) for envs of `spec` on the

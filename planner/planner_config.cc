@@ -45,6 +45,12 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
                      " steps leaves steps past the horizon of ", p.horizon_steps(),
                      " without a plan"));
   }
+  if (p.replan_every_max() > p.horizon_steps()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(where("replan_every_max"), ": re-planning up to every ", p.replan_every_max(),
+                     " steps leaves steps past the horizon of ", p.horizon_steps(),
+                     " without a plan"));
+  }
   return (*task)->validate(config);
 }
 

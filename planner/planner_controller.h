@@ -31,6 +31,10 @@ class PlannerController final : public Controller {
   void Act(const Env* const* envs, const float* obs, int n, float* actions) override;
   std::string name() const override { return "planner"; }
 
+  // The proposal policy (PlannerConfig.policy_prior; PlannerSet::SetProposal).
+  absl::Status SetProposal(std::shared_ptr<const EigenPolicy> policy) {
+    return planners_->SetProposal(std::move(policy));
+  }
   // Totals over every env's planner.
   PlannerTotals totals() const { return planners_->totals(); }
   const PlanningTask& task() const { return planners_->task(); }

@@ -19,12 +19,14 @@ class PlannerLabeller final : public Labeller {
     return planners_->For(env).Act(env, action);
   }
 
-  void SetPolicy(const EigenPolicy* policy) override { policy_ = policy; }
+  // With planner.policy_prior the acting policy is the planners' proposal (expert iteration:
+  // the planner labels with the policy it improves).
+  absl::Status SetPolicy(const EigenPolicy* policy) override {
+    return planners_->has_proposal() ? planners_->SetProposal(policy) : absl::OkStatus();
+  }
 
  private:
   std::unique_ptr<PlannerSet> planners_;
-  // The acting policy (the latest the worker received): the seam for a policy prior.
-  const EigenPolicy* policy_ = nullptr;
 };
 
 }  // namespace

@@ -23,13 +23,28 @@ PlannerSet::PlannerSet(std::shared_ptr<const EnvSpec> spec,
       task_(std::move(task)),
       config_(config),
       stream_base_(stream_base),
+      proposal_(config.policy_prior() ? std::make_unique<PolicyPrior>(*spec_) : nullptr),
       pool_(spec_, config_.threads()) {}
+
+absl::Status PlannerSet::SetProposal(const EigenPolicy* policy) {
+  if (proposal_ == nullptr) {
+    return absl::FailedPreconditionError("a proposal policy needs planner.policy_prior: true");
+  }
+  return proposal_->Set(policy);
+}
+
+absl::Status PlannerSet::SetProposal(std::shared_ptr<const EigenPolicy> policy) {
+  if (proposal_ == nullptr) {
+    return absl::FailedPreconditionError("a proposal policy needs planner.policy_prior: true");
+  }
+  return proposal_->Set(std::move(policy));
+}
 
 RecedingHorizonPlanner& PlannerSet::For(const Env& env, int* index) {
   auto [it, added] = planner_of_.try_emplace(&env, static_cast<int>(planners_.size()));
   if (added) {
     planners_.push_back(std::make_unique<RecedingHorizonPlanner>(
-        task_, config_, &pool_, stream_base_ + planners_.size(), prior_));
+        task_, config_, &pool_, stream_base_ + planners_.size(), proposal_.get()));
   }
   if (index != nullptr) *index = it->second;
   return *planners_[it->second];

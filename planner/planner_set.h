@@ -14,7 +14,9 @@
 #include "absl/status/statusor.h"
 #include "common/config_loader.h"
 #include "envs/env.h"
+#include "common/eigen_policy.h"
 #include "planner/planning_task.h"
+#include "planner/policy_prior.h"
 #include "planner/receding_horizon.h"
 #include "planner/rollout_pool.h"
 
@@ -32,9 +34,13 @@ class PlannerSet {
   // of first sight.
   RecedingHorizonPlanner& For(const Env& env, int* index = nullptr);
 
-  // The action the plans' offsets are added to from now on (null: zero); must outlive the set.
-  // Planners made before keep theirs.
-  void set_prior(const ActionPrior* prior) { prior_ = prior; }
+  // With PlannerConfig.policy_prior, every planner's actions are the proposal policy's mean
+  // plus its plan's offsets (planner/policy_prior.h). The policy from now on (the caller keeps a
+  // raw one alive until the next call; null: none, a zero prior). FAILED_PRECONDITION without
+  // policy_prior; INVALID_ARGUMENT for a policy of other sizes than the spec's.
+  bool has_proposal() const { return proposal_ != nullptr; }
+  absl::Status SetProposal(const EigenPolicy* policy);
+  absl::Status SetProposal(std::shared_ptr<const EigenPolicy> policy);
 
   // Totals over every planner.
   PlannerTotals totals() const;
@@ -49,7 +55,7 @@ class PlannerSet {
   std::shared_ptr<const PlanningTask> task_;
   config::PlannerConfig config_;
   uint64_t stream_base_;
-  const ActionPrior* prior_ = nullptr;
+  std::unique_ptr<PolicyPrior> proposal_;  // with config.policy_prior
   RolloutPool pool_;
   std::vector<std::unique_ptr<RecedingHorizonPlanner>> planners_;  // in order of first sight
   absl::flat_hash_map<const Env*, int> planner_of_;

@@ -74,6 +74,7 @@ RecedingHorizonPlanner::RecedingHorizonPlanner(std::shared_ptr<const PlanningTas
   settings_.explore_fraction = config_.explore_fraction();
   settings_.converged_fraction = config_.converged_fraction();
   theta_.assign(task_->dim(), 0.0);
+  interval_ = config_.replan_every();
 }
 
 RecedingHorizonPlanner::RolloutResult RecedingHorizonPlanner::Rollout(
@@ -365,6 +366,13 @@ absl::Status RecedingHorizonPlanner::Commit(const Env& env, const ReplanState& r
   last_.predicted_end_step = env.steps() + chosen.steps;
   last_.predicts_failure = chosen.end != Outcome::kRunning && chosen.end != Outcome::kTimeLimit;
   last_.predicts_miss = chosen.missed;
+  // The next re-plan: sooner when this one paid, later (up to replan_every_max) when not.
+  if (config_.replan_every_max() > config_.replan_every()) {
+    const double gain = result.incumbent_cost - result.best_cost;
+    const bool paid = last_.rescued || gain >= config_.replan_gain() * std::abs(result.incumbent_cost);
+    interval_ = paid ? config_.replan_every()
+                     : std::min(2 * interval_, config_.replan_every_max());
+  }
   return status;
 }
 
@@ -399,6 +407,7 @@ void RecedingHorizonPlanner::TrackCycles(const Env& env) {
     // A new episode.
     has_plan_ = false;
     cycle_ = 0;
+    interval_ = config_.replan_every();
     last_node_ = env.node();
   } else if (env.node() != last_node_) {
     last_node_ = env.node();
@@ -426,7 +435,7 @@ absl::Status RecedingHorizonPlanner::Act(const Env& env, float* action) {
   if (follow && has_plan_) FollowExecutedAction(env);
   const bool due = config_.replan_at_cycle_start()
                        ? cycle_ != origin_cycle_
-                       : env.steps() - origin_step_ >= config_.replan_every();
+                       : env.steps() - origin_step_ >= interval_;
   if (!has_plan_ || due) RETURN_IF_ERROR(Replan(env));
   const PlanClock clock{env.steps() - knot0_step_, cycle_ - origin_cycle_};
   std::vector<double> prior(prior_ != nullptr ? act_dim_ : 0);

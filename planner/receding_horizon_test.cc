@@ -80,6 +80,25 @@ TEST_F(RecedingHorizonTest, DrivesThePointMassToItsTargetAndStopsThere) {
   EXPECT_NEAR(r.terms[0] + r.terms[1] + r.terms[2], r.best_cost, 1e-9 * (1 + r.best_cost));
 }
 
+TEST_F(RecedingHorizonTest, ReplansThatNoLongerPayComeLessOftenAndTheTargetIsStillReached) {
+  config::PlannerConfig p = SmallSearch();
+  p.set_replan_every_max(20);
+  p.set_replan_gain(0.05);
+  RecedingHorizonPlanner planner(task_, p, &pool_, 0);
+  std::unique_ptr<Env> env;
+  Drive(&planner, 150, &env);
+  // Every 5 steps would be 30 re-plans; once the mass sits at the target, re-plans gain nothing.
+  EXPECT_LT(planner.totals().replans, 20);
+  EXPECT_GE(planner.totals().replans, 8);
+  EXPECT_NEAR(env->data()->qpos[0], 0.3, 0.03);
+  EXPECT_NEAR(env->data()->qpos[1], -0.2, 0.03);
+  EXPECT_EQ(planner.totals().prediction_mismatches, 0);
+  // Off (the default), the interval stays replan_every.
+  RecedingHorizonPlanner fixed(task_, SmallSearch(), &pool_, 0);
+  Drive(&fixed, 150);
+  EXPECT_EQ(fixed.totals().replans, 30);
+}
+
 TEST_F(RecedingHorizonTest, TheSameSeedGivesTheSameActionsAndAnotherSeedOthers) {
   RecedingHorizonPlanner a(task_, SmallSearch(1), &pool_, 0), b(task_, SmallSearch(1), &pool_, 0),
       c(task_, SmallSearch(2), &pool_, 0);
@@ -183,25 +202,29 @@ TEST_F(RecedingHorizonTest, APriorActionIsAddedUnderThePlan) {
   EXPECT_EQ(planner.totals().prediction_mismatches, 0);
 }
 
-TEST_F(RecedingHorizonTest, APolicyPriorIsThePolicysMeanActionAndAPolicyOfAnotherSizeIsRefused) {
-  auto policy = std::make_shared<const EigenPolicy>(::juggle::testing::ConstantPolicy(4, 2, 0.5f));
-  absl::StatusOr<std::unique_ptr<PolicyPrior>> prior = PolicyPrior::Create(policy, *spec_);
-  ASSERT_TRUE(prior.ok()) << prior.status();
+TEST_F(RecedingHorizonTest, APolicyPriorIsThePolicysMeanActionZeroWithoutOneAndRefusesOtherSizes) {
+  PolicyPrior prior(*spec_);
   std::unique_ptr<Env> env = spec_->NewEnv(Rng(1));
   env->Reset(walk_);
-  double p[2];
-  (*prior)->Write(*env, p);
+  double p[2] = {7, 7};
+  prior.Write(*env, p);
+  EXPECT_EQ(p[0], 0.0);
+  EXPECT_EQ(p[1], 0.0);
+  auto policy = std::make_shared<const EigenPolicy>(::juggle::testing::ConstantPolicy(4, 2, 0.5f));
+  ASSERT_TRUE(prior.Set(policy).ok());
+  prior.Write(*env, p);
   EXPECT_FLOAT_EQ(p[0], std::tanh(0.5f));
   EXPECT_FLOAT_EQ(p[1], std::tanh(0.5f));
   // The planner acting on it predicts exactly what it executes.
-  RecedingHorizonPlanner planner(task_, SmallSearch(), &pool_, 0, prior->get());
+  RecedingHorizonPlanner planner(task_, SmallSearch(), &pool_, 0, &prior);
   Drive(&planner, 20);
   EXPECT_EQ(planner.totals().prediction_mismatches, 0);
   auto wrong = std::make_shared<const EigenPolicy>(::juggle::testing::ConstantPolicy(4, 3, 0.5f));
-  const absl::Status refused = PolicyPrior::Create(wrong, *spec_).status();
+  const absl::Status refused = prior.Set(wrong);
   EXPECT_EQ(refused.code(), absl::StatusCode::kInvalidArgument);
   EXPECT_THAT(std::string(refused.message()),
               HasSubstr("writes 3 actions, but the planner's point_mass envs have 4 and 2"));
+  EXPECT_TRUE(prior.has_policy()) << "a refused policy leaves the last one";
 }
 
 TEST(PlanningTasksTest, AFamilyWithoutATaskIsAnErrorNamingTheFamiliesThatHaveOne) {

@@ -12,6 +12,9 @@
 #include "gtest/gtest.h"
 #include "learner/learner_server.h"
 #include "learner/run_log.h"
+#include "common/eigen_policy.h"
+#include "envs/labeller.h"
+#include "envs/registry.h"
 #include "planner/planner_labeller.h"
 #include "tests/one_worker_training.h"
 
@@ -71,6 +74,60 @@ TEST(GuidedTrainingTest, LabelsFillTheBufferAndPretrainingHandsOverToPpoWithImit
   }
   EXPECT_EQ(iterations, kIterations);
   EXPECT_EQ((*server)->metrics().Get("juggle_demo_labels_total"), 2.0 * kT * kIterations);
+}
+
+// The planner's labeller, recording the mean action at a zero observation of every proposal
+// policy it is handed (one per unroll).
+class ProposalRecorder final : public Labeller {
+ public:
+  ProposalRecorder(std::unique_ptr<Labeller> inner, std::vector<std::vector<float>>* seen, int obs_dim)
+      : inner_(std::move(inner)), seen_(seen), obs_dim_(obs_dim) {}
+  absl::Status Label(const Env& env, float* action) override { return inner_->Label(env, action); }
+  absl::Status SetPolicy(const EigenPolicy* policy) override {
+    if (policy != nullptr) {
+      const std::vector<float> zero(obs_dim_, 0.0f);
+      const RowMatrix mean = policy->MeanActions(zero.data(), 1);
+      seen_->emplace_back(mean.data(), mean.data() + mean.size());
+    }
+    return inner_->SetPolicy(policy);
+  }
+
+ private:
+  std::unique_ptr<Labeller> inner_;
+  std::vector<std::vector<float>>* seen_;
+  int obs_dim_;
+};
+
+// Expert iteration on the rollout service (planner.policy_prior): the worker's planner plans on
+// top of the policy it was broadcast, its labels reach the learner, and newer policies reach the
+// planner as the learner trains; the labels are not those of the planner alone.
+TEST(GuidedTrainingTest, ThePlannerProposesWithEachBroadcastPolicyAndItsLabelsReachTheLearner) {
+  std::vector<std::string> demos;
+  std::vector<std::vector<float>> proposals;
+  for (bool prior : {false, true}) {
+    SCOPED_TRACE(prior);
+    const std::string dir = MakeTempDir("juggle_guided_proposal_");
+    LearnerOptions o = GuidedOptions(dir);
+    o.config.run.mutable_planner()->set_policy_prior(prior);
+    auto server = LearnerServer::Start(o);
+    ASSERT_TRUE(server.ok()) << server.status();
+    const LabellerFactory recording = [&proposals, prior](std::shared_ptr<const EnvSpec> spec,
+                                                          const LoadedConfig& config, int worker)
+        -> absl::StatusOr<std::unique_ptr<Labeller>> {
+      absl::StatusOr<std::unique_ptr<Labeller>> inner = MakePlannerLabeller(spec, config, worker);
+      if (!inner.ok() || !prior) return inner;
+      return std::unique_ptr<Labeller>(
+          std::make_unique<ProposalRecorder>(*std::move(inner), &proposals, spec->obs_dim()));
+    };
+    ASSERT_TRUE(TrainWithOneWorker(**server, recording).ok());
+    EXPECT_EQ((*server)->metrics().Get("juggle_demo_labels_total"), 2.0 * kT * kIterations);
+    absl::StatusOr<std::string> bytes = ReadFile(dir + "/demos.jgld");
+    ASSERT_TRUE(bytes.ok()) << bytes.status();
+    demos.push_back(*bytes);
+  }
+  ASSERT_GE(proposals.size(), size_t(kIterations)) << "one proposal per unroll";
+  EXPECT_NE(proposals.front(), proposals.back()) << "newer policies reach the planner";
+  EXPECT_NE(demos[0], demos[1]) << "the proposal changes the labels";
 }
 
 // A demonstration file of `rows` random (observation, label) pairs of these dims at `path`.

@@ -37,9 +37,9 @@ absl::Status RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* b
                                        std::vector<EdgeEvent>* events,
                                        std::vector<int32_t>* nodes) {
   // The labeller sees the acting policy for this unroll's labels, and none after it.
-  if (labels_.labeller != nullptr) labels_.labeller->SetPolicy(&policy);
+  if (labels_.labeller != nullptr) RETURN_IF_ERROR(labels_.labeller->SetPolicy(&policy));
   absl::Cleanup forget = [this] {
-    if (labels_.labeller != nullptr) labels_.labeller->SetPolicy(nullptr);
+    if (labels_.labeller != nullptr) labels_.labeller->SetPolicy(nullptr).IgnoreError();
   };
   if (!started_) {
     pool_->Reset();

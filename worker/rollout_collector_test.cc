@@ -21,9 +21,10 @@ class RecordingLabeller final : public Labeller {
     seen_at_labels.push_back(policy_);
     return absl::OkStatus();
   }
-  void SetPolicy(const EigenPolicy* policy) override {
+  absl::Status SetPolicy(const EigenPolicy* policy) override {
     policy_ = policy;
     set_calls.push_back(policy);
+    return absl::OkStatus();
   }
   int act_dim = 0;
   std::vector<const EigenPolicy*> seen_at_labels, set_calls;

@@ -9,11 +9,13 @@
 #include <memory>
 #include <vector>
 
+#include "common/testing/constant_policy.h"
 #include "envs/registry.h"
 #include "envs/testing/test_configs.h"
 #include "gtest/gtest.h"
 #include "eval/episode_runner.h"
 #include "planner/impact_observer.h"
+#include "planner/policy_prior.h"
 #include "planner/soccer_juggle/cost.h"
 #include "planner/soccer_juggle/plan.h"
 #include "planner/soccer_juggle/task.h"
@@ -30,9 +32,9 @@ using soccer_juggle::kNumActions;
 class SoccerPlanner : public RecedingHorizonPlanner {
  public:
   SoccerPlanner(std::shared_ptr<const JuggleSpec> spec, const config::PlannerConfig& config,
-                RolloutPool* pool, uint64_t stream)
+                RolloutPool* pool, uint64_t stream, const ActionPrior* prior = nullptr)
       : RecedingHorizonPlanner(std::make_shared<SoccerJuggleTask>(std::move(spec), config), config,
-                               pool, stream) {}
+                               pool, stream, prior) {}
   const SoccerPlanLayout& layout() const {
     return static_cast<const SoccerJuggleTask&>(task()).layout();
   }
@@ -182,6 +184,39 @@ TEST_F(SoccerPlannerTest, ItsActionsReplayedInAPlainEnvGiveTheSameEpisode) {
   EXPECT_EQ(replay->juggles(), env->juggles());
   EXPECT_EQ(replay->steps(), env->steps());
   PhysicsSnapshot a, b;
+  a.Save(spec_->model(), env->data());
+  EXPECT_TRUE(a.Equals(replay->data()));
+}
+
+TEST_F(SoccerPlannerTest, WithAPolicyPriorItsActionsReplayedInAPlainEnvGiveThePlannedEpisode) {
+  // The proposal: a policy whose mean action is 0.02 on every joint, the plan's offsets on top.
+  PolicyPrior prior(*spec_);
+  ASSERT_TRUE(prior.Set(std::make_shared<const EigenPolicy>(::juggle::testing::ConstantPolicy(
+                            spec_->obs_dim(), spec_->act_dim(), std::atanh(0.02f))))
+                  .ok());
+  std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.03);
+  SoccerPlanner planner(spec_, config_.run.planner(), pool_.get(), 0, &prior);
+  std::vector<std::vector<float>> actions;
+  float action[kNumActions];
+  for (int t = 0; t < 50; ++t) {
+    ASSERT_TRUE(planner.Act(*env, action).ok());
+    actions.emplace_back(action, action + kNumActions);
+    if (env->Step(action, *walk_).outcome != Outcome::kRunning) break;
+  }
+  EXPECT_GT(planner.totals().prediction_checks, 40);
+  EXPECT_EQ(planner.totals().prediction_mismatches, 0);
+  // The actions carry the prior: the first one differs from the same planner's without it.
+  std::unique_ptr<JuggleEnv> plain_start = StartWithBallAhead(0.03);
+  SoccerPlanner plain(spec_, config_.run.planner(), pool_.get(), 0);
+  float first[kNumActions];
+  ASSERT_TRUE(plain.Act(*plain_start, first).ok());
+  EXPECT_NE(std::vector<float>(first, first + kNumActions), actions.front());
+  // The labels alone, without the planner or the policy: the same start, the same episode.
+  std::unique_ptr<JuggleEnv> replay = StartWithBallAhead(0.03);
+  for (const std::vector<float>& a : actions) replay->Step(a.data(), *walk_);
+  EXPECT_EQ(replay->juggles(), env->juggles());
+  EXPECT_EQ(replay->steps(), env->steps());
+  PhysicsSnapshot a;
   a.Save(spec_->model(), env->data());
   EXPECT_TRUE(a.Equals(replay->data()));
 }

@@ -83,11 +83,12 @@ TEST_F(RecedingHorizonTest, DrivesThePointMassToItsTargetAndStopsThere) {
 TEST_F(RecedingHorizonTest, ReplansThatNoLongerPayComeLessOftenAndTheTargetIsStillReached) {
   config::PlannerConfig p = SmallSearch();
   p.set_replan_every_max(20);
-  p.set_replan_gain(0.05);
+  p.set_replan_gain(0.5);
   RecedingHorizonPlanner planner(task_, p, &pool_, 0);
   std::unique_ptr<Env> env;
   Drive(&planner, 150, &env);
-  // Every 5 steps would be 30 re-plans; once the mass sits at the target, re-plans gain nothing.
+  // Every 5 steps would be 30 re-plans; once the mass nears the target, a re-plan rarely halves
+  // its warm start's cost.
   EXPECT_LT(planner.totals().replans, 20);
   EXPECT_GE(planner.totals().replans, 8);
   EXPECT_NEAR(env->data()->qpos[0], 0.3, 0.03);

@@ -6,7 +6,7 @@ MINUTES   ?= 30
 BENCH_CONFIG ?= configs/right_foot.textproto
 JOBS      ?= $(shell nproc)
 
-.PHONY: deps configure build train train-toss test test-deploy test-sanitize fuzz bench clean
+.PHONY: deps configure build train train-toss test test-fuzz test-deploy test-sanitize fuzz bench clean
 
 deps:
 	@bash scripts/dev/install_deps.sh
@@ -28,11 +28,16 @@ train: build
 train-toss: build
 	JUGGLE=$(BUILD_DIR)/juggle scripts/experiments/train_toss.sh runs
 
-# Every test: each libFuzzer harness briefly (FUZZ_BRIEF seconds; 0 skips), then ctest.
-FUZZ_BRIEF ?= 10
+# Every test of ctest but the deployment tests (label `deploy`, `make test-deploy`); this
+# includes replaying each fuzzer's corpus and past crashes (FuzzCorpus.*) through this build.
 test: build
-	@if [ "$(FUZZ_BRIEF)" != 0 ]; then scripts/dev/fuzz.sh $(FUZZ_BRIEF); fi
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) -LE deploy
+
+# Each libFuzzer harness briefly (FUZZ_BRIEF seconds each) on its own clang build of the
+# libraries (build/fuzz). Run by .ci/run after `make test`.
+FUZZ_BRIEF ?= 10
+test-fuzz: deps
+	scripts/dev/fuzz.sh $(FUZZ_BRIEF)
 
 # The deployment tests on real engines (docs/cluster.md): images built with podman, the k8s
 # manifests under `podman kube play`, the Slurm job on a single-node Slurm. Needs root.

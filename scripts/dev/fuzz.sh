@@ -3,14 +3,15 @@
 #
 #   scripts/dev/fuzz.sh [SECONDS_EACH] [NAME...]     (default 60 s, every harness; `make fuzz`)
 #
-# Builds the `fuzz` preset (clang, ASan + UBSan) when needed, fuzzes each harness from its
-# committed seed corpus (tests/fuzz/corpus/NAME, copied to build/fuzz/corpus/NAME so new inputs
-# stay out of the tree) and stops at the first crash, leaking input or timeout, whose input is
-# left in build/fuzz/crashes/NAME/. To keep a crash as a regression test: fix it, then copy the
-# input to tests/fuzz/regressions/NAME/ (replayed by `make test`).
+# Builds the named harnesses (all six by default) of the `fuzz` preset (clang, ASan + UBSan)
+# when needed, fuzzes each from its committed seed corpus (tests/fuzz/corpus/NAME, copied to
+# build/fuzz/corpus/NAME so new inputs stay out of the tree) and stops at the first crash,
+# leaking input or timeout, whose input is left in build/fuzz/crashes/NAME/. To keep a crash as
+# a regression test: fix it, then copy the input to tests/fuzz/regressions/NAME/ (replayed by
+# ctest, `make test`). `make test-fuzz` (run by .ci/run): 10 s each.
 set -euo pipefail
 if [[ ${1:-} == -h || ${1:-} == --help ]]; then
-  sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'
+  sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'
   exit 0
 fi
 seconds=${1:-60}
@@ -19,7 +20,7 @@ names=("$@")
 [[ ${#names[@]} -gt 0 ]] || names=(fuzz_chunk fuzz_config fuzz_checkpoint fuzz_policy_file fuzz_policy_snapshot fuzz_siteswap)
 command -v clang++ >/dev/null || { echo "error: clang++ not found (make deps installs it)" >&2; exit 1; }
 [[ -f build/fuzz/build.ninja ]] || cmake --preset fuzz >/dev/null
-cmake --build --preset fuzz -j "$(nproc)"
+cmake --build --preset fuzz -j "$(nproc)" --target "${names[@]}"
 status=0
 for name in "${names[@]}"; do
   corpus=build/fuzz/corpus/$name crashes=build/fuzz/crashes/$name

@@ -7,6 +7,7 @@
 #define JUGGLE_PLANNER_CEM_SEARCH_H_
 
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include "absl/status/status.h"
@@ -33,6 +34,9 @@ struct CemSettings {
   // Stop after an iteration that lowers the best cost by less than this fraction of it (0:
   // always run every iteration).
   double converged_fraction = 0;
+  // Stop after an iteration whose best cost is at or below this (good enough: a rescue search
+  // ends once out of trouble). -infinity: never.
+  double stop_below = -std::numeric_limits<double>::infinity();
 };
 
 // Writes the costs of `n` candidates (row-major [n, dim] in `candidates`) to costs[0..n).

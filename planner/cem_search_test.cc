@@ -131,6 +131,28 @@ TEST(CemSearchTest, StopsWhenAnIterationNoLongerImproves) {
   EXPECT_EQ((*MinimizeCem(Box(2, 1.0, 0.2), settings, {{0.0, 0.0}}, &rng2, flat)).iterations, 6);
 }
 
+TEST(CemSearchTest, StopsAfterTheFirstIterationWhoseBestIsGoodEnough) {
+  CemSettings settings;
+  settings.samples = 16;
+  settings.iterations = 8;
+  Rng full_rng(3);
+  const CemResult full = *MinimizeCem(Box(2, 1.0, 0.3), settings, {{0.9, 0.9}}, &full_rng, Bowl());
+  ASSERT_EQ(full.iterations, 8);
+  // A threshold the full search crosses part-way: the stopped search ends at the first
+  // iteration at or below it, with that iteration's best (the same draws up to there).
+  const double threshold = full.iteration_best[3];
+  int crossed = 0;
+  while (full.iteration_best[crossed] > threshold) ++crossed;
+  settings.stop_below = threshold;
+  Rng rng(3);
+  const CemResult stopped = *MinimizeCem(Box(2, 1.0, 0.3), settings, {{0.9, 0.9}}, &rng, Bowl());
+  EXPECT_EQ(stopped.iterations, crossed + 1);
+  EXPECT_LT(stopped.iterations, full.iterations);
+  EXPECT_EQ(stopped.best_cost, full.iteration_best[crossed]);
+  EXPECT_LE(stopped.best_cost, threshold);
+  EXPECT_LT(stopped.evaluations, full.evaluations);
+}
+
 TEST(CemSearchTest, TellsTheBatchTheBestCostSoFar) {
   std::vector<double> bounds;
   const BatchCost record = [&](const std::vector<double>& x, int n, double bound,

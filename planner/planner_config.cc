@@ -39,6 +39,12 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
         config.root.Where({{"planner"}, {"rescue"}, {"body"}}),
         ": the rescue searches the whole-body knots, but planner.body_knot_steps is 0 (none)"));
   }
+  if (p.rescue().stop_below() > 0 && p.rescue().stop_below() > p.rescue().cost_above()) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where({{"planner"}, {"rescue"}, {"stop_below"}}), ": a rescue that stops at ",
+        p.rescue().stop_below(), " may stop still in trouble (planner.rescue.cost_above is ",
+        p.rescue().cost_above(), "); set it at or below cost_above"));
+  }
   if (p.replan_every() > p.horizon_steps()) {
     return absl::InvalidArgumentError(
         absl::StrCat(where("replan_every"), ": re-planning every ", p.replan_every(),

@@ -68,6 +68,21 @@ TEST(PlannerConfigTest, ARescueOfBodyKnotsWithoutBodyKnotsIsRefused) {
   EXPECT_THAT(std::string(s.message()), HasSubstr("body_knot_steps is 0"));
 }
 
+TEST(PlannerConfigTest, ARescueStoppingAboveItsTroubleThresholdIsRefusedAtTheField) {
+  const std::string text = Config("rescue { cost_above: 500 stop_below: 600 }");
+  LoadedConfig config;
+  ASSERT_TRUE(Load("rescue_stop.textproto", text, &config).ok());
+  const absl::Status s = ValidatePlannerConfig(config);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()),
+              StartsWith(::juggle::testing::Loc(config.config_path, text, "stop_below: 600")));
+  EXPECT_THAT(std::string(s.message()), HasSubstr("cost_above is 500"));
+  ASSERT_TRUE(
+      Load("rescue_stop_ok.textproto", Config("rescue { cost_above: 500 stop_below: 100 }"), &config)
+          .ok());
+  EXPECT_TRUE(ValidatePlannerConfig(config).ok());
+}
+
 TEST(PlannerConfigTest, AHorizonLongerThanTheEpisodeIsRefused) {
   const std::string text = Config("horizon_steps: 5000");
   LoadedConfig config;

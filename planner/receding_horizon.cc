@@ -238,6 +238,7 @@ absl::Status RecedingHorizonPlanner::Rescue(ReplanState& r, CemResult* result) {
   CemSettings settings = settings_;
   settings.samples = rescue.samples();
   settings.iterations = rescue.iterations();
+  if (rescue.stop_below() > 0) settings.stop_below = rescue.stop_below();
   std::vector<std::vector<double>> seeds = {result->best};
   seeds.insert(seeds.end(), r.seeds.begin(), r.seeds.end());
   const BatchCost cost = [&](const std::vector<double>& candidates, int n, double bound,

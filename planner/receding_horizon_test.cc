@@ -174,6 +174,36 @@ TEST_F(RecedingHorizonTest, ARescueRunsOnlyAboveItsThresholdAndNeverRaisesTheCos
   EXPECT_EQ(rescued.last_replan().incumbent_cost, plain.last_replan().incumbent_cost);
 }
 
+TEST_F(RecedingHorizonTest, ARescueStopsAtTheFirstIterationBelowItsStopCost) {
+  // From rest every first re-plan is in trouble (above 0.5); the rescue may run 8 iterations.
+  config::PlannerConfig p = SmallSearch();
+  p.mutable_rescue()->set_cost_above(0.5);
+  p.mutable_rescue()->set_samples(16);
+  p.mutable_rescue()->set_iterations(8);
+  RecedingHorizonPlanner full(task_, p, &pool_, 0);
+  RecedingHorizonPlanner plain(task_, SmallSearch(), &pool_, 0);
+  std::unique_ptr<Env> env = spec_->NewEnv(Rng(1));
+  env->Reset(walk_);
+  float a[2];
+  ASSERT_TRUE(full.Act(*env, a).ok());
+  ASSERT_TRUE(plain.Act(*env, a).ok());
+  const int regular = plain.last_replan().evaluations;
+  const int all_iterations = full.last_replan().evaluations;
+  ASSERT_GT(all_iterations, regular + 16 * 7);  // later iterations reuse carried elites
+  // Its first iteration holds the regular search's best (a seed): with the stop cost at that
+  // cost, the rescue ends after one iteration; with the stop cost below every cost, it runs all.
+  p.mutable_rescue()->set_stop_below(plain.last_replan().best_cost);
+  RecedingHorizonPlanner stopped(task_, p, &pool_, 0);
+  ASSERT_TRUE(stopped.Act(*env, a).ok());
+  EXPECT_TRUE(stopped.last_replan().rescued);
+  EXPECT_EQ(stopped.last_replan().evaluations, regular + 16);
+  EXPECT_LE(stopped.last_replan().best_cost, plain.last_replan().best_cost);
+  p.mutable_rescue()->set_stop_below(1e-12);
+  RecedingHorizonPlanner unreachable(task_, p, &pool_, 0);
+  ASSERT_TRUE(unreachable.Act(*env, a).ok());
+  EXPECT_EQ(unreachable.last_replan().evaluations, all_iterations);
+}
+
 // A constant prior action: the plan's offsets are added to it.
 class ConstantPrior final : public ActionPrior {
  public:

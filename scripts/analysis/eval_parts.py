@@ -28,7 +28,9 @@ def percentile(values, q):
     return v[lo] + (pos - lo) * (v[hi] - v[lo])
 
 
-def main(paths):
+def summarize(paths):
+    """The episodes of `paths` and their planner cost: a dict with episodes (by number),
+    juggles (list), seconds (simulated), wall (s) and rollout_steps (0 when no log says)."""
     episodes = {}
     wall = 0.0
     rollout_steps = 0
@@ -49,8 +51,16 @@ def main(paths):
             rollout_steps += int(steps[-1]) if steps else 0
     if not episodes:
         sys.exit("no episode lines in " + " ".join(paths))
-    juggles = [e["juggles"] for e in episodes.values()]
-    seconds = sum(e["seconds"] for e in episodes.values())
+    return {"episodes": episodes,
+            "juggles": [e["juggles"] for e in episodes.values()],
+            "seconds": sum(e["seconds"] for e in episodes.values()),
+            "wall": wall, "rollout_steps": rollout_steps}
+
+
+def main(paths):
+    s = summarize(paths)
+    episodes, juggles, seconds = s["episodes"], s["juggles"], s["seconds"]
+    wall, rollout_steps = s["wall"], s["rollout_steps"]
     endings = {}
     for e in episodes.values():
         endings[e["outcome"]] = endings.get(e["outcome"], 0) + 1

@@ -1,0 +1,61 @@
+#!/usr/bin/env python3
+"""scripts/analysis/plot_realtime_curve.py on hand-made evaluation parts whose cost is known.
+
+Setting "cheap": episodes 0 and 1, 10 s each, 50,000 rollout steps each (5,000 per simulated s),
+juggles 4 and 8. Setting "dear": the same episodes, 20,000 steps per simulated s, juggles 10 and
+12. At 10,000 rollout steps per wall-s they sit at 0.5 and 2.0 wall-s per simulated s.
+A setting holding other episodes is refused.
+"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SCRIPT = os.path.join(HERE, '..', 'scripts', 'analysis', 'plot_realtime_curve.py')
+
+
+def part(folder, episode, juggles, steps, seconds=10.0):
+    os.makedirs(folder, exist_ok=True)
+    base = os.path.join(folder, f'ep_{episode}')
+    with open(base + '.jsonl', 'w') as f:
+        f.write(json.dumps({'table': 'episode', 'episode': episode, 'juggles': juggles,
+                            'seconds': seconds, 'outcome': 'time_limit'}) + '\n')
+    with open(base + '.log', 'w') as f:
+        f.write(f'episodes=1 planner_rollout_steps={steps} wall_s=99.0\n')
+
+
+def main():
+    with tempfile.TemporaryDirectory() as tmp:
+        cheap, dear, other = (os.path.join(tmp, n) for n in ('cheap', 'dear', 'other'))
+        part(cheap, 0, 4, 50000)
+        part(cheap, 1, 8, 50000)
+        part(dear, 0, 10, 200000)
+        part(dear, 1, 12, 200000)
+        part(other, 0, 10, 200000)
+        part(other, 2, 12, 200000)
+        out = os.path.join(tmp, 'curve.svg')
+        run = subprocess.run([sys.executable, SCRIPT, out, '10000', 'title',
+                              f'cheap={cheap}', f'dear={dear}'],
+                             capture_output=True, text=True)
+        assert run.returncode == 0, run.stderr
+        lines = run.stdout.splitlines()
+        assert lines[0] == ('cheap: rollout_steps_per_sim_s=5000 wall_s_per_sim_s_2cores=0.50 '
+                            'mean=6.00 median=6'), lines
+        assert lines[1] == ('dear: rollout_steps_per_sim_s=20000 wall_s_per_sim_s_2cores=2.00 '
+                            'mean=11.00 median=11'), lines
+        svg = open(out).read()
+        assert svg.startswith('<svg') and svg.rstrip().endswith('</svg>'), svg[:80]
+        for text in ('>cheap<', '>dear<', 'real time', '2 starts'):
+            assert text in svg, text
+        refused = subprocess.run([sys.executable, SCRIPT, out, '10000', 'title',
+                                  f'cheap={cheap}', f'other={other}'],
+                                 capture_output=True, text=True)
+        assert refused.returncode != 0
+        assert 'must share their starts' in refused.stderr, refused.stderr
+    print('ok')
+
+
+if __name__ == '__main__':
+    main()

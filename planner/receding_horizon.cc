@@ -224,8 +224,11 @@ absl::Status RecedingHorizonPlanner::Rescue(ReplanState& r, CemResult* result) {
   last_.rescued = false;
   const config::RescueSearch& rescue = config_.rescue();
   if (!(rescue.cost_above() > 0 && result->best_cost > rescue.cost_above())) {
+    troubled_ = 0;
     return absl::OkStatus();
   }
+  if (++troubled_ < rescue.patience()) return absl::OkStatus();
+  troubled_ = 0;
   // In trouble: search again, wider, from the best plan found (its incumbent), so the answer is
   // never worse than the regular search's. Variables the state holds stay held.
   SearchSpace wide = task_->rescue_space();
@@ -409,6 +412,7 @@ void RecedingHorizonPlanner::TrackCycles(const Env& env) {
     has_plan_ = false;
     cycle_ = 0;
     interval_ = config_.replan_every();
+    troubled_ = 0;
     last_node_ = env.node();
   } else if (env.node() != last_node_) {
     last_node_ = env.node();

@@ -183,6 +183,8 @@ class RecedingHorizonPlanner {
   int64_t replan_count_ = 0;
   // Control steps from this plan's origin to the next re-plan (PlannerConfig.replan_every_max).
   int interval_ = 0;
+  // Re-plans in a row whose regular search ended above the rescue's threshold.
+  int troubled_ = 0;
   // The current re-plan's robust noise: draws × robust_rows() × act_dim.
   std::vector<float> robust_noise_;
   // The chosen plan's predicted state fingerprints, from origin_step_ + 1 on.

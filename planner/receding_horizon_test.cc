@@ -204,6 +204,52 @@ TEST_F(RecedingHorizonTest, ARescueStopsAtTheFirstIterationBelowItsStopCost) {
   EXPECT_EQ(unreachable.last_replan().evaluations, all_iterations);
 }
 
+TEST_F(RecedingHorizonTest, APatientRescueWaitsForThatManyTroubledRePlansInARow) {
+  config::PlannerConfig p = SmallSearch();
+  p.mutable_rescue()->set_cost_above(0.5);
+  p.mutable_rescue()->set_samples(16);
+  p.mutable_rescue()->set_iterations(2);
+  // Re-plan by re-plan: was the regular search in trouble, did the rescue run.
+  auto trace = [&](int patience) {
+    p.mutable_rescue()->set_patience(patience);
+    RecedingHorizonPlanner planner(task_, p, &pool_, 0);
+    std::unique_ptr<Env> env = spec_->NewEnv(Rng(1));
+    env->Reset(walk_);
+    std::vector<std::pair<bool, bool>> replans;
+    float a[2];
+    for (int t = 0; t < 40; ++t) {
+      const int before = planner.totals().replans;
+      EXPECT_TRUE(planner.Act(*env, a).ok());
+      if (planner.totals().replans > before) {
+        const ReplanReport& r = planner.last_replan();
+        const bool troubled = r.rescued || r.best_cost > 0.5;
+        replans.push_back({troubled, r.rescued});
+      }
+      env->Step(a, walk_);
+    }
+    return replans;
+  };
+  const std::vector<std::pair<bool, bool>> at_once = trace(1);
+  ASSERT_TRUE(at_once[0].second);  // from rest the first re-plan is in trouble
+  const std::vector<std::pair<bool, bool>> never = trace(1000);
+  ASSERT_TRUE(never[0].first);
+  for (const auto& [troubled, rescued] : never) EXPECT_FALSE(rescued);
+  // Patience 2: a rescue exactly at the second troubled re-plan in a row, then the count
+  // starts again.
+  const std::vector<std::pair<bool, bool>> patient = trace(2);
+  EXPECT_FALSE(patient[0].second);
+  int run = 0, rescues = 0;
+  for (const auto& [troubled, rescued] : patient) {
+    run = troubled ? run + 1 : 0;
+    EXPECT_EQ(rescued, run == 2) << "troubled re-plans in a row: " << run;
+    if (rescued) {
+      ++rescues;
+      run = 0;
+    }
+  }
+  EXPECT_GT(rescues, 0) << "the point mass stays in trouble for two re-plans from rest";
+}
+
 // A constant prior action: the plan's offsets are added to it.
 class ConstantPrior final : public ActionPrior {
  public:

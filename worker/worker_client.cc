@@ -277,11 +277,12 @@ class Session {
 }  // namespace
 
 absl::Status RunWorker(const WorkerOptions& options) {
+  RETURN_IF_ERROR(Validate(options.connection));
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(64 << 20);
-  args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 100);
-  args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 2000);
-  double backoff = 0.1;
+  ApplyTo(options.connection, &args);
+  const double initial_backoff = options.connection.initial_reconnect_backoff_s;
+  double backoff = initial_backoff;
   auto unreachable_since = Clock::now();
   absl::StatusOr<std::shared_ptr<grpc::ChannelCredentials>> credentials =
       MakeChannelCredentials(options.security);
@@ -296,7 +297,7 @@ absl::Status RunWorker(const WorkerOptions& options) {
     if (options.stop->load()) break;
     if (session.fatal()) return status;
     if (session.registered()) {
-      backoff = 0.1;
+      backoff = initial_backoff;
       unreachable_since = Clock::now();
     }
     if (options.give_up_after_s > 0 &&
@@ -309,7 +310,7 @@ absl::Status RunWorker(const WorkerOptions& options) {
                    std::string(status.message()).c_str(), backoff);
     }
     InterruptibleSleep(backoff, options.stop);
-    backoff = std::min(backoff * 2, 10.0);
+    backoff = std::min(backoff * 2, options.connection.max_reconnect_backoff_s);
   }
   return absl::OkStatus();
 }

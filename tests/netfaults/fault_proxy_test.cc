@@ -261,7 +261,6 @@ TEST(FaultProxyTest, RefusedConnectionsAreResetAtOnce) {
   f.refuse_probability = 1;
   proxy->SetFaults(f);
   const int fd = Connect(proxy->port());
-  ::send(fd, "a", 1, MSG_NOSIGNAL);
   int error = 0;
   EXPECT_EQ(ReadN(fd, 1, 2, &error), "");
   EXPECT_EQ(error, ECONNRESET);

@@ -6,7 +6,7 @@ MINUTES   ?= 30
 BENCH_CONFIG ?= configs/right_foot.textproto
 JOBS      ?= $(shell nproc)
 
-.PHONY: deps configure build train train-toss test test-fuzz test-deploy test-sanitize fuzz bench clean
+.PHONY: deps configure build train train-toss test test-fuzz test-deploy test-netfaults test-sanitize fuzz bench clean
 
 deps:
 	@bash scripts/dev/install_deps.sh
@@ -28,13 +28,14 @@ train: build
 train-toss: build
 	JUGGLE=$(BUILD_DIR)/juggle scripts/experiments/train_toss.sh runs
 
-# Every test of ctest but the deployment tests (label `deploy`, `make test-deploy`); this
+# Every test of ctest but the deployment tests (label `deploy`, `make test-deploy`) and the
+# network-fault tests (label `netfaults`, `make test-netfaults`); this
 # includes replaying each fuzzer's corpus and past crashes (FuzzCorpus.*) through this build.
 # Twice as many tests at a time as cores: many tests wait (on child processes, sockets, the
 # soak's clock) more than they compute; the long ones start first (COST, CMakeLists.txt).
 TEST_JOBS ?= $(shell echo $$(( 2 * $(JOBS) )))
 test: build
-	cd $(BUILD_DIR) && ctest --output-on-failure -j $(TEST_JOBS) -LE deploy
+	cd $(BUILD_DIR) && ctest --output-on-failure -j $(TEST_JOBS) -LE 'deploy|netfaults'
 
 # Each libFuzzer harness briefly (FUZZ_BRIEF seconds each) on its own clang build of the
 # libraries (build/fuzz). Run by .ci/run after `make test`.
@@ -47,6 +48,15 @@ test-fuzz: deps
 test-deploy: build
 	@bash scripts/dev/install_deps.sh --deploy
 	cd $(BUILD_DIR) && ctest --output-on-failure -L deploy
+
+# The rollout service under network faults (docs/reliability.md, "Network faults"): a learner
+# and 4 workers in network namespaces (root; skipped with a message where namespaces are not
+# allowed) through the fault proxy, token and TLS on, latency, loss, partitions, a stall and a
+# learner restart on a seeded schedule (NETFAULTS_SEED), one test at a time. About 5 minutes.
+NETFAULTS_SEED ?= 47
+test-netfaults: build
+	@bash scripts/dev/install_deps.sh --netfaults
+	cd $(BUILD_DIR) && JUGGLE_NETFAULTS_SEED=$(NETFAULTS_SEED) ctest --output-on-failure -L netfaults
 
 # The service's tests under ASan+UBSan and TSan (docs/reliability.md).
 test-sanitize: deps

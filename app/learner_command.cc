@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "app/commands.h"
+#include "app/connection_flags.h"
 #include "app/learner_flags.h"
 #include "app/security_flags.h"
 #include "app/signals.h"
@@ -14,6 +15,7 @@ CommandBody AddLearnerCommand(CLI::App* cmd) {
   struct Flags {
     LearnerFlags learner;
     SecurityFlags security;
+    LearnerConnectionSettings connection;
     int port = -1;
     bool metrics_all_interfaces = false;
   };
@@ -25,7 +27,9 @@ CommandBody AddLearnerCommand(CLI::App* cmd) {
   cmd->add_flag("--metrics_all_interfaces", f->metrics_all_interfaces,
                 "serve /metrics and the dashboard on every interface (default: 127.0.0.1 only)");
   AddSecurityFlags(cmd, SecurityRole::kLearner, &f->security);
+  AddLearnerConnectionFlags(cmd, &f->connection);
   return [f] {
+    if (absl::Status s = Validate(f->connection); !s.ok()) return UsageError(std::string(s.message()));
     absl::StatusOr<LearnerOptions> options = MakeLearnerOptions(f->learner);
     if (!options.ok()) return Fail(options.status());
     absl::StatusOr<TransportSecurity> security = ResolveSecurity(f->security);
@@ -33,6 +37,7 @@ CommandBody AddLearnerCommand(CLI::App* cmd) {
     options->port = f->port;
     options->http_all_interfaces = f->metrics_all_interfaces;
     options->security = *std::move(security);
+    options->connection = f->connection;
     if (options->security.token.empty()) {
       std::fprintf(stderr,
                    "warning: no token (--token_file or $JUGGLE_TOKEN): anyone who reaches the "

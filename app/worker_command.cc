@@ -4,6 +4,7 @@
 
 #include "app/command.h"
 #include "app/commands.h"
+#include "app/connection_flags.h"
 #include "planner/planner_labeller.h"
 #include "app/security_flags.h"
 #include "app/signals.h"
@@ -37,7 +38,9 @@ CommandBody AddWorkerCommand(CLI::App* cmd) {
                 "check the learner's gRPC health service once (with these security flags) and "
                 "exit: 0 if it is SERVING, 1 if not (for container probes)");
   AddSecurityFlags(cmd, SecurityRole::kWorker, security.get());
+  AddWorkerConnectionFlags(cmd, &o->connection);
   return [o, security, probe] {
+    if (absl::Status s = Validate(o->connection); !s.ok()) return UsageError(std::string(s.message()));
     absl::StatusOr<TransportSecurity> resolved = ResolveSecurity(*security);
     if (!resolved.ok()) return Fail(resolved.status());
     o->security = *std::move(resolved);

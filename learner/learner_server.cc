@@ -248,7 +248,9 @@ absl::StatusOr<std::unique_ptr<LearnerServer>> LearnerServer::Start(LearnerOptio
   grpc::EnableDefaultHealthCheckService(true);
   ASSIGN_OR_RETURN(std::shared_ptr<grpc::ServerCredentials> credentials,
                    MakeServerCredentials(s->options.security));
+  RETURN_IF_ERROR(Validate(s->options.connection));
   grpc::ServerBuilder builder;
+  ApplyTo(s->options.connection, &builder);
   builder.AddListeningPort(
       absl::StrCat(s->options.listen_all_interfaces ? "0.0.0.0:" : "127.0.0.1:", port),
       credentials, &s->port);

@@ -18,6 +18,7 @@
 
 #include "absl/status/statusor.h"
 #include "common/config_loader.h"
+#include "common/connection_settings.h"
 #include "common/metrics.h"
 #include "common/transport_security.h"
 #include "learner/training_observer.h"
@@ -38,6 +39,9 @@ struct LearnerOptions {
   bool http_all_interfaces = false;
   // Token and TLS of the gRPC service (common/transport_security.h); empty: none.
   TransportSecurity security;
+  // Keepalive pings to workers and the ping policy enforced on them
+  // (common/connection_settings.h).
+  LearnerConnectionSettings connection;
   int64_t max_iterations = 0;   // 0: the config's ppo.iterations (0 = until stopped)
   double max_minutes = 0;
   // Told of every training event after the server's own observers (the run log

@@ -99,11 +99,29 @@ TEST(CliFlagsTest, DashboardNeedsARunDirWithAMetricsFile) {
 TEST(CliFlagsTest, WorkerBinaryHasTheWorkerFlags) {
   const Result r = RunBinary(JUGGLE_WORKER_BINARY, "--help");
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  for (const char* flag : {"--learner", "--envs", "--threads", "--slot", "--give_up_after"}) {
+  for (const char* flag : {"--learner", "--envs", "--threads", "--slot", "--give_up_after",
+                           "--keepalive_time", "--keepalive_timeout", "--max_reconnect_backoff",
+                           "--min_connect_timeout", "--keepalive_permit_without_calls"}) {
     EXPECT_THAT(r.output, HasSubstr(flag));
   }
   const Result bad = RunBinary(JUGGLE_WORKER_BINARY, "--envs=many");
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
+}
+
+TEST(CliFlagsTest, KeepaliveFlagsOutOfRangeNameTheFlagAndExitTwo) {
+  const Result worker = RunBinary(JUGGLE_WORKER_BINARY, "--keepalive_time=0.1");
+  EXPECT_EQ(worker.exit_code, 2) << worker.output;
+  EXPECT_THAT(worker.output, HasSubstr("--keepalive_time"));
+  EXPECT_THAT(worker.output, HasSubstr("0 (off) or in [0.5, 86400]"));
+  const Result backoff = RunBinary(JUGGLE_WORKER_BINARY, "--max_reconnect_backoff=0.05");
+  EXPECT_EQ(backoff.exit_code, 2) << backoff.output;
+  EXPECT_THAT(backoff.output, HasSubstr("--max_reconnect_backoff"));
+  const Result learner = Juggle("learner --min_worker_ping_interval=-3");
+  EXPECT_EQ(learner.exit_code, 2) << learner.output;
+  EXPECT_THAT(learner.output, HasSubstr("--min_worker_ping_interval"));
+  const Result help = Juggle("learner --help");
+  EXPECT_THAT(help.output, HasSubstr("--keepalive_time"));
+  EXPECT_THAT(help.output, HasSubstr("--min_worker_ping_interval"));
 }
 
 }  // namespace

@@ -41,7 +41,8 @@ declare -A PROJECT=(
 )
 # httplib: cpp-httplib, only common/http_server.cc (the one HTTP implementation; the learner and
 # tests reach HTTP through common/http_server.h, and juggle-worker never links it); grpc, only
-# common/transport_security (token and TLS credentials, its own library juggle_transport).
+# common/transport_security and common/connection_settings (token and TLS credentials, keepalive
+# and reconnect settings: their own library juggle_transport).
 # json: nlohmann-json, the one JSON library, where JSON is written or read: envs (toss
 # evaluation lines), eval (evaluation tables), learner (dashboard API), export (replay page),
 # app, bench, tests; not common, record, worker or render (the run log is protobuf JSON).

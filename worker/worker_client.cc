@@ -9,6 +9,7 @@
 
 #include <grpcpp/grpcpp.h>
 
+#include "absl/cleanup/cleanup.h"
 #include "absl/strings/str_cat.h"
 #include "common/chunk_codec.h"
 #include "common/status_macros.h"
@@ -81,11 +82,19 @@ absl::StatusOr<Snapshot> FetchPolicy(rpc::Rollout::Stub* stub, const std::string
   return snap;
 }
 
+// What the learner acknowledged to this worker over all its sessions: the worker's side of
+// the unroll accounts (docs/reliability.md, "Network faults").
+struct AckCounts {
+  int64_t unrolls = 0;   // unrolls in chunks the learner answered accepted
+  int64_t chunks = 0;
+  int64_t sessions = 0;  // registrations
+};
+
 // One connected session: from Register until an RPC fails or *stop. Returns OK on stop.
 class Session {
  public:
-  Session(const WorkerOptions& o, std::shared_ptr<grpc::Channel> channel)
-      : o_(o), stub_(rpc::Rollout::NewStub(channel)) {}
+  Session(const WorkerOptions& o, std::shared_ptr<grpc::Channel> channel, AckCounts* acks)
+      : o_(o), stub_(rpc::Rollout::NewStub(channel)), acks_(acks) {}
 
   absl::Status Run() {
     rpc::RegisterResponse reg;
@@ -107,6 +116,7 @@ class Session {
       if (!s.ok()) return FromGrpc(s, "Register");
     }
     registered_ = true;
+    ++acks_->sessions;
     incarnation_ = reg.incarnation();
     // The learner built the same spec before it listened, so these fail only if this binary
     // differs from the learner's: retrying cannot help.
@@ -229,7 +239,10 @@ class Session {
           return FromGrpc(stream->Finish(), "StreamTrajectories");
         }
         latest = std::max(latest, ack.latest_version());
-        if (!ack.accepted()) {
+        if (ack.accepted()) {
+          acks_->unrolls += chunk.num_unrolls();
+          ++acks_->chunks;
+        } else {
           if (o_.verbose) {
             std::fprintf(stderr, "worker: chunk rejected (%d): %s\n", ack.code(), ack.message().c_str());
           }
@@ -269,6 +282,7 @@ class Session {
 
   const WorkerOptions& o_;
   std::unique_ptr<rpc::Rollout::Stub> stub_;
+  AckCounts* acks_;
   uint64_t incarnation_ = 0;
   bool registered_ = false;
   bool fatal_ = false;
@@ -277,11 +291,12 @@ class Session {
 }  // namespace
 
 absl::Status RunWorker(const WorkerOptions& options) {
+  RETURN_IF_ERROR(Validate(options.connection));
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(64 << 20);
-  args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 100);
-  args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 2000);
-  double backoff = 0.1;
+  ApplyTo(options.connection, &args);
+  const double initial_backoff = options.connection.initial_reconnect_backoff_s;
+  double backoff = initial_backoff;
   auto unreachable_since = Clock::now();
   absl::StatusOr<std::shared_ptr<grpc::ChannelCredentials>> credentials =
       MakeChannelCredentials(options.security);
@@ -289,14 +304,24 @@ absl::Status RunWorker(const WorkerOptions& options) {
   if (!options.security.server_name.empty()) {
     args.SetSslTargetNameOverride(options.security.server_name);
   }
+  AckCounts acks;
+  // The worker's side of the accounts, printed once at the end, however it ends.
+  auto report = absl::MakeCleanup([&] {
+    if (options.verbose) {
+      std::printf("worker: the learner acknowledged %ld unrolls in %ld chunks over %ld sessions\n",
+                  static_cast<long>(acks.unrolls), static_cast<long>(acks.chunks),
+                  static_cast<long>(acks.sessions));
+      std::fflush(stdout);
+    }
+  });
   while (!options.stop->load()) {
     auto channel = grpc::CreateCustomChannel(options.learner_address, *credentials, args);
-    Session session(options, channel);
+    Session session(options, channel, &acks);
     const absl::Status status = session.Run();
     if (options.stop->load()) break;
     if (session.fatal()) return status;
     if (session.registered()) {
-      backoff = 0.1;
+      backoff = initial_backoff;
       unreachable_since = Clock::now();
     }
     if (options.give_up_after_s > 0 &&
@@ -309,7 +334,7 @@ absl::Status RunWorker(const WorkerOptions& options) {
                    std::string(status.message()).c_str(), backoff);
     }
     InterruptibleSleep(backoff, options.stop);
-    backoff = std::min(backoff * 2, 10.0);
+    backoff = std::min(backoff * 2, options.connection.max_reconnect_backoff_s);
   }
   return absl::OkStatus();
 }

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "absl/status/status.h"
+#include "common/connection_settings.h"
 #include "common/transport_security.h"
 #include "envs/labeller.h"
 
@@ -27,6 +28,9 @@ struct WorkerOptions {
   double give_up_after_s = 0;
   // Token and TLS towards the learner (common/transport_security.h).
   TransportSecurity security;
+  // Keepalive and reconnect backoff (common/connection_settings.h); max_reconnect_backoff_s
+  // also caps the worker's own wait between sessions.
+  WorkerConnectionSettings connection;
   // Builds the expert when the run's config asks for labels (ImitationConfig.label_envs > 0);
   // a run that asks for labels on a worker without one fails to start there (fatal).
   LabellerFactory labeller_factory;

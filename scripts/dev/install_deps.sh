@@ -3,6 +3,7 @@
 # Idempotent: does nothing (and needs no network) when everything is present.
 #   scripts/dev/install_deps.sh            build, run and `make test`
 #   scripts/dev/install_deps.sh --deploy   also `make test-deploy`'s engines (Slurm, podman, kubectl)
+#   scripts/dev/install_deps.sh --netfaults  also `make test-netfaults`'s iproute2 and iptables
 set -euo pipefail
 
 PACKAGES=(
@@ -29,6 +30,11 @@ if [ "${1:-}" = --deploy ]; then
              containernetworking-plugins iptables)
   # kubectl: any that has `kubectl kustomize`; Debian's kubernetes-client when there is none.
   command -v kubectl >/dev/null || PACKAGES+=(kubernetes-client)
+fi
+# Network-fault tests (docs/reliability.md): namespaces and veths (iproute2), partitions and
+# packet loss as iptables rules.
+if [ "${1:-}" = --netfaults ]; then
+  PACKAGES+=(iproute2 iptables)
 fi
 # Deploy tests (docs/cluster.md): a single-node Slurm 22.05 (slurmctld, slurmd, munge), podman
 # with runc (crun refuses this machine's hybrid cgroups) and catatonit (kube play's pause

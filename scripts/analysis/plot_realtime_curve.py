@@ -77,12 +77,17 @@ def main(out, steps_per_wall_s, title, settings):
                f'stroke="#c33" stroke-dasharray="5,4"/>')
     svg.append(f'<text x="{rt + 4:.1f}" y="{top + 14}" font-size="11" fill="#c33" '
                f'font-family="sans-serif">real time</text>')
+    placed = []  # (x, y) of the labels so far: a label near another moves down a line
     for p in points:
         x = px(p["steps"])
         svg.append(f'<circle cx="{x:.1f}" cy="{py(p["mean"]):.1f}" r="4" fill="#26a"/>')
         svg.append(f'<circle cx="{x:.1f}" cy="{py(p["median"]):.1f}" r="4" fill="none" '
                    f'stroke="#26a"/>')
-        svg.append(f'<text x="{x + 6:.1f}" y="{py(p["mean"]) - 6:.1f}" font-size="10" '
+        y = py(p["mean"]) - 6
+        while any(abs(x - lx) < 90 and abs(y - ly) < 11 for lx, ly in placed):
+            y += 12
+        placed.append((x, y))
+        svg.append(f'<text x="{x + 6:.1f}" y="{y:.1f}" font-size="10" '
                    f'font-family="sans-serif">{p["label"]}</text>')
     svg.append(f'<text x="{(left + right) / 2}" y="{top + height + 36}" font-size="11" '
                f'text-anchor="middle" font-family="sans-serif">rollout control steps per '

@@ -92,14 +92,17 @@ absl::StatusOr<Snapshot> FetchPolicy(rpc::Rollout::Stub* stub, const std::string
   return FetchPolicyOn(&ctx, stub, incarnation, min_version);
 }
 
-// The current snapshot fetched on its own thread while the worker simulates and streams
-// (asynchronous mode): a new version costs no stall. Cancelled (and joined) when destroyed.
+// A long-poll for the first snapshot newer than `min_version`, on its own thread while the
+// worker simulates and streams (asynchronous mode): the learner answers as soon as it publishes
+// one (or with the current one before the deadline), so a new version reaches the worker half
+// a round trip after it exists and costs no stall. Cancelled (and joined) when destroyed.
 class BackgroundFetch {
  public:
-  BackgroundFetch(rpc::Rollout::Stub* stub, const std::string& token, uint64_t incarnation) {
+  BackgroundFetch(rpc::Rollout::Stub* stub, const std::string& token, uint64_t incarnation,
+                  int64_t min_version) {
     PrepareContext(&ctx_, 15, token);
-    thread_ = std::thread([this, stub, incarnation] {
-      result_ = FetchPolicyOn(&ctx_, stub, incarnation, -1);
+    thread_ = std::thread([this, stub, incarnation, min_version] {
+      result_ = FetchPolicyOn(&ctx_, stub, incarnation, min_version);
       done_ = true;
     });
   }
@@ -338,22 +341,22 @@ class Session {
     const int64_t max_lag = reg.synchronous() ? 0 : run.service().max_policy_lag();
     Contribution contribution;
     int64_t sequence = 0;
-    int64_t rejections_seen = 0;
     const int obs_dim = pool->obs_dim();
     while (!o_.stop->load()) {
       if (*unknown) {
         close_stream(0);
         return absl::FailedPreconditionError("the learner forgot this worker");
       }
-      // Asynchronous: take a snapshot fetched meanwhile; wait for it only when the one in hand
-      // is already beyond the allowed lag (its chunks would be refused).
-      if (fetch) {
+      // Asynchronous: take a snapshot the long-poll brought meanwhile; wait for it only when
+      // the one in hand is already beyond the allowed lag (its chunks would be refused). One
+      // long-poll is always open.
+      if (!reg.synchronous()) {
         int64_t latest;
         {
           std::lock_guard<std::mutex> lock(window.mu);
           latest = window.latest_version;
         }
-        if (fetch->done() || latest - snap->version > max_lag) {
+        if (fetch && (fetch->done() || latest - snap->version > max_lag)) {
           absl::StatusOr<Snapshot> next = fetch->Take(o_.stop);
           fetch.reset();
           if (o_.stop->load()) break;
@@ -361,7 +364,11 @@ class Session {
             close_stream(0);
             return next.status();
           }
-          if (next.ok() && next->version >= snap->version) snap = std::move(next);
+          if (next.ok() && next->version > snap->version) snap = std::move(next);
+        }
+        if (!fetch) {
+          fetch = std::make_unique<BackgroundFetch>(stub_.get(), o_.security.token, incarnation_,
+                                                    snap->version);
         }
       }
       absl::StatusOr<FlatParameters> params = FlatParameters::Deserialize(snap->params);
@@ -423,14 +430,12 @@ class Session {
           return broken();
         }
         bool all_accepted;
-        int64_t latest;
         {
           std::lock_guard<std::mutex> lock(window.mu);
           all_accepted = window.rejected_sequence != this_sequence;
-          latest = window.latest_version;
         }
         const bool wait_for_next = all_accepted;
-        if (wait_for_next || latest > snap->version) {
+        {  // (a refused contribution: the current snapshot, whatever its version)
           const int64_t have = snap->version;
           absl::StatusOr<Snapshot> next;
           do {
@@ -444,19 +449,6 @@ class Session {
           } while (wait_for_next && (!next.ok() || next->version <= have) && !o_.stop->load() &&
                    !*unknown);
           if (next.ok()) snap = std::move(next);
-        }
-      } else if (!fetch) {
-        // Asynchronous: fetch the current snapshot beside the stream when an ack reported a
-        // newer version or a chunk was refused (stale, full queue).
-        int64_t latest, rejections;
-        {
-          std::lock_guard<std::mutex> lock(window.mu);
-          latest = window.latest_version;
-          rejections = window.rejections;
-        }
-        if (latest > snap->version || rejections != rejections_seen) {
-          rejections_seen = rejections;
-          fetch = std::make_unique<BackgroundFetch>(stub_.get(), o_.security.token, incarnation_);
         }
       }
     }

@@ -360,7 +360,10 @@ class Session {
           absl::StatusOr<Snapshot> next = fetch->Take(o_.stop);
           fetch.reset();
           if (o_.stop->load()) break;
-          if (!next.ok() && next.status().code() != absl::StatusCode::kDeadlineExceeded) {
+          // A long-poll past its deadline, or refused because the learner holds too many
+          // (the service's max_concurrent_calls), is only opened again.
+          if (!next.ok() && next.status().code() != absl::StatusCode::kDeadlineExceeded &&
+              next.status().code() != absl::StatusCode::kResourceExhausted) {
             close_stream(0);
             return next.status();
           }

@@ -33,6 +33,11 @@ CommandBody AddWorkerCommand(CLI::App* cmd) {
                   "exit after this many seconds without a learner (0: never)")
       ->check(AtLeast(0))
       ->capture_default_str();
+  cmd->add_option("--max_chunks_in_flight", o->max_chunks_in_flight,
+                  "trajectory chunks sent to the learner and not yet acknowledged, at most (1: "
+                  "wait for each chunk's ack before sending the next; more hides the round trip)")
+      ->check(Between(1, kMaxChunksInFlightLimit))
+      ->capture_default_str();
   auto probe = std::make_shared<bool>(false);
   cmd->add_flag("--probe", *probe,
                 "check the learner's gRPC health service once (with these security flags) and "

@@ -101,7 +101,8 @@ TEST(CliFlagsTest, WorkerBinaryHasTheWorkerFlags) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
   for (const char* flag : {"--learner", "--envs", "--threads", "--slot", "--give_up_after",
                            "--keepalive_time", "--keepalive_timeout", "--max_reconnect_backoff",
-                           "--min_connect_timeout", "--keepalive_permit_without_calls"}) {
+                           "--min_connect_timeout", "--keepalive_permit_without_calls",
+                           "--max_chunks_in_flight"}) {
     EXPECT_THAT(r.output, HasSubstr(flag));
   }
   const Result bad = RunBinary(JUGGLE_WORKER_BINARY, "--envs=many");
@@ -116,6 +117,12 @@ TEST(CliFlagsTest, KeepaliveFlagsOutOfRangeNameTheFlagAndExitTwo) {
   const Result backoff = RunBinary(JUGGLE_WORKER_BINARY, "--max_reconnect_backoff=0.05");
   EXPECT_EQ(backoff.exit_code, 2) << backoff.output;
   EXPECT_THAT(backoff.output, HasSubstr("--max_reconnect_backoff"));
+  for (const char* window : {"--max_chunks_in_flight=0", "--max_chunks_in_flight=257",
+                             "--max_chunks_in_flight=four"}) {
+    const Result bad = RunBinary(JUGGLE_WORKER_BINARY, window);
+    EXPECT_EQ(bad.exit_code, 2) << window << ": " << bad.output;
+    EXPECT_THAT(bad.output, HasSubstr("--max_chunks_in_flight"));
+  }
   const Result learner = Juggle("learner --min_worker_ping_interval=-3");
   EXPECT_EQ(learner.exit_code, 2) << learner.output;
   EXPECT_THAT(learner.output, HasSubstr("--min_worker_ping_interval"));

@@ -4,7 +4,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
 #include <cstdio>
+#include <deque>
+#include <memory>
+#include <mutex>
 #include <thread>
 
 #include <grpcpp/grpcpp.h>
@@ -55,15 +59,13 @@ struct Snapshot {
   std::vector<double> edge_counts;
 };
 
-absl::StatusOr<Snapshot> FetchPolicy(rpc::Rollout::Stub* stub, const std::string& token,
-                                     uint64_t incarnation, int64_t min_version,
-                                     double timeout_s) {
-  grpc::ClientContext ctx;
-  PrepareContext(&ctx, timeout_s + 5, token);
+// GetPolicy on `ctx` (prepared by the caller; it may cancel it from another thread).
+absl::StatusOr<Snapshot> FetchPolicyOn(grpc::ClientContext* ctx, rpc::Rollout::Stub* stub,
+                                       uint64_t incarnation, int64_t min_version) {
   rpc::PolicyRequest req;
   req.set_incarnation(incarnation);
   req.set_min_version(min_version);
-  std::unique_ptr<grpc::ClientReader<rpc::PolicyChunk>> reader = stub->GetPolicy(&ctx, req);
+  std::unique_ptr<grpc::ClientReader<rpc::PolicyChunk>> reader = stub->GetPolicy(ctx, req);
   Snapshot snap;
   rpc::PolicyChunk chunk;
   bool first = true;
@@ -81,6 +83,51 @@ absl::StatusOr<Snapshot> FetchPolicy(rpc::Rollout::Stub* stub, const std::string
   if (first) return absl::DataLossError("GetPolicy returned no snapshot");
   return snap;
 }
+
+absl::StatusOr<Snapshot> FetchPolicy(rpc::Rollout::Stub* stub, const std::string& token,
+                                     uint64_t incarnation, int64_t min_version,
+                                     double timeout_s) {
+  grpc::ClientContext ctx;
+  PrepareContext(&ctx, timeout_s + 5, token);
+  return FetchPolicyOn(&ctx, stub, incarnation, min_version);
+}
+
+// A long-poll for the first snapshot newer than `min_version`, on its own thread while the
+// worker simulates and streams (asynchronous mode): the learner answers as soon as it publishes
+// one (or with the current one before the deadline), so a new version reaches the worker half
+// a round trip after it exists and costs no stall. Cancelled (and joined) when destroyed.
+class BackgroundFetch {
+ public:
+  BackgroundFetch(rpc::Rollout::Stub* stub, const std::string& token, uint64_t incarnation,
+                  int64_t min_version) {
+    PrepareContext(&ctx_, 15, token);
+    thread_ = std::thread([this, stub, incarnation, min_version] {
+      result_ = FetchPolicyOn(&ctx_, stub, incarnation, min_version);
+      done_ = true;
+    });
+  }
+  ~BackgroundFetch() {
+    if (!done_) ctx_.TryCancel();
+    thread_.join();
+  }
+  bool done() const { return done_; }
+  // Waits for the answer (at most the call's deadline, or until *stop).
+  absl::StatusOr<Snapshot> Take(const std::atomic<bool>* stop) {
+    while (!done_ && !stop->load()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    if (!done_) {
+      ctx_.TryCancel();
+      thread_.join();
+      thread_ = std::thread([] {});
+    }
+    return std::move(result_);
+  }
+
+ private:
+  grpc::ClientContext ctx_;
+  std::atomic<bool> done_{false};
+  absl::StatusOr<Snapshot> result_ = absl::CancelledError("not fetched");
+  std::thread thread_;
+};
 
 // What the learner acknowledged to this worker over all its sessions: the worker's side of
 // the unroll accounts (docs/reliability.md, "Network faults").
@@ -196,6 +243,63 @@ class Session {
                                      status.message()));
   }
 
+  // The chunks written and not yet acknowledged, oldest first, and what their acks said; the
+  // acks are read on their own thread (StreamReader) while the loop writes.
+  struct InFlight {
+    int64_t sequence;
+    int32_t num_unrolls;
+  };
+  struct Window {
+    std::mutex mu;
+    std::condition_variable cv;
+    std::deque<InFlight> chunks;
+    bool reader_done = false;     // the stream ended (or broke): no more acks
+    int64_t latest_version = -1;  // the newest version any ack reported
+    int64_t rejected_sequence = -1;  // the newest contribution with a refused chunk
+    int64_t rejections = 0;
+    std::string unregistered;     // set when the learner no longer knows this incarnation
+  };
+
+  void ReadAcks(grpc::ClientReaderWriter<rpc::TrajectoryChunk, rpc::ChunkAck>* stream, Window* w) {
+    rpc::ChunkAck ack;
+    while (stream->Read(&ack)) {
+      std::lock_guard<std::mutex> lock(w->mu);
+      if (w->chunks.empty()) break;  // an ack for nothing written: a confused learner
+      const InFlight chunk = w->chunks.front();
+      w->chunks.pop_front();
+      w->latest_version = std::max(w->latest_version, ack.latest_version());
+      if (ack.accepted()) {
+        acks_->unrolls += chunk.num_unrolls;
+        ++acks_->chunks;
+      } else {
+        if (o_.verbose) {
+          std::fprintf(stderr, "worker: chunk rejected (%d): %s\n", ack.code(), ack.message().c_str());
+        }
+        if (ack.code() == static_cast<int>(absl::StatusCode::kFailedPrecondition) &&
+            ack.message().find("unregistered") != std::string::npos) {
+          w->unregistered = ack.message();
+        }
+        w->rejected_sequence = std::max(w->rejected_sequence, chunk.sequence);
+        ++w->rejections;
+      }
+      w->cv.notify_all();
+    }
+    std::lock_guard<std::mutex> lock(w->mu);
+    w->reader_done = true;
+    w->cv.notify_all();
+  }
+
+  // Waits until fewer than `limit` chunks are unacknowledged (true), or the stream ended, the
+  // learner forgot us, or *stop (false).
+  bool WaitForRoom(Window* w, size_t limit) {
+    std::unique_lock<std::mutex> lock(w->mu);
+    while (w->chunks.size() >= limit && !w->reader_done && w->unregistered.empty() &&
+           !o_.stop->load()) {
+      w->cv.wait_for(lock, std::chrono::milliseconds(50));
+    }
+    return w->chunks.size() < limit && !w->reader_done && w->unregistered.empty();
+  }
+
   absl::Status Loop(const rpc::RegisterResponse& reg, const config::RunConfig& run, EnvPool* pool,
                     RolloutCollector* collector, const std::atomic<bool>* unknown,
                     std::atomic<double>* steps_per_s, std::atomic<int64_t>* version_seen) {
@@ -205,17 +309,86 @@ class Session {
     PrepareContext(&stream_ctx, 0, o_.security.token);
     std::unique_ptr<grpc::ClientReaderWriter<rpc::TrajectoryChunk, rpc::ChunkAck>> stream =
         stub_->StreamTrajectories(&stream_ctx);
+    Window window;
+    std::thread reader([&] { ReadAcks(stream.get(), &window); });
+    std::unique_ptr<BackgroundFetch> fetch;
+    // Every way out: acks still in flight are awaited (briefly: they are counted only when
+    // they arrive), then the stream is cancelled and its reader joined.
+    auto close_stream = [&](double drain_s) {
+      fetch.reset();
+      {
+        std::unique_lock<std::mutex> lock(window.mu);
+        window.cv.wait_for(lock, std::chrono::milliseconds(static_cast<int64_t>(drain_s * 1000)),
+                           [&] { return window.reader_done; });
+      }
+      stream_ctx.TryCancel();
+      reader.join();
+    };
+    // The stream broke: its status, once the reader is done with it.
+    auto broken = [&]() -> absl::Status {
+      std::string unregistered;
+      {
+        std::lock_guard<std::mutex> lock(window.mu);
+        unregistered = window.unregistered;
+      }
+      close_stream(2);
+      if (!unregistered.empty()) return absl::FailedPreconditionError(unregistered);
+      return FromGrpc(stream->Finish(), "StreamTrajectories");
+    };
+    const size_t limit = static_cast<size_t>(std::max(1, o_.max_chunks_in_flight));
+    // Versions a chunk may lag behind the learner's (asynchronous mode; the learner refuses
+    // older ones, so a snapshot that far behind is replaced before simulating with it).
+    const int64_t max_lag = reg.synchronous() ? 0 : run.service().max_policy_lag();
     Contribution contribution;
     int64_t sequence = 0;
     const int obs_dim = pool->obs_dim();
     while (!o_.stop->load()) {
-      if (*unknown) return absl::FailedPreconditionError("the learner forgot this worker");
+      if (*unknown) {
+        close_stream(0);
+        return absl::FailedPreconditionError("the learner forgot this worker");
+      }
+      // Asynchronous: take a snapshot the long-poll brought meanwhile; wait for it only when
+      // the one in hand is already beyond the allowed lag (its chunks would be refused). One
+      // long-poll is always open.
+      if (!reg.synchronous()) {
+        int64_t latest;
+        {
+          std::lock_guard<std::mutex> lock(window.mu);
+          latest = window.latest_version;
+        }
+        if (fetch && (fetch->done() || latest - snap->version > max_lag)) {
+          absl::StatusOr<Snapshot> next = fetch->Take(o_.stop);
+          fetch.reset();
+          if (o_.stop->load()) break;
+          // A long-poll past its deadline, or refused because the learner holds too many
+          // (the service's max_concurrent_calls), is only opened again.
+          if (!next.ok() && next.status().code() != absl::StatusCode::kDeadlineExceeded &&
+              next.status().code() != absl::StatusCode::kResourceExhausted) {
+            close_stream(0);
+            return next.status();
+          }
+          if (next.ok() && next->version > snap->version) snap = std::move(next);
+        }
+        if (!fetch) {
+          fetch = std::make_unique<BackgroundFetch>(stub_.get(), o_.security.token, incarnation_,
+                                                    snap->version);
+        }
+      }
       absl::StatusOr<FlatParameters> params = FlatParameters::Deserialize(snap->params);
-      if (!params.ok()) return params.status();
+      if (!params.ok()) {
+        close_stream(0);
+        return params.status();
+      }
       absl::StatusOr<EigenPolicy> policy =
           EigenPolicy::Create(run.model(), *params, obs_dim, pool->act_dim());
-      if (!policy.ok()) return policy.status();
-      if (absl::Status s = pool->walk()->SetCounts(snap->edge_counts); !s.ok()) return s;
+      if (!policy.ok()) {
+        close_stream(0);
+        return policy.status();
+      }
+      if (absl::Status s = pool->walk()->SetCounts(snap->edge_counts); !s.ok()) {
+        close_stream(0);
+        return s;
+      }
       *version_seen = snap->version;
 
       // One contribution: an unroll of every env with this policy.
@@ -224,59 +397,67 @@ class Session {
       const absl::Status collected = collector->Collect(*policy, &contribution.batch,
                                                         &contribution.events, &contribution.node);
       if (o_.stop->load()) break;  // a contribution cut short is dropped
-      RETURN_IF_ERROR(collected);
+      if (!collected.ok()) {
+        close_stream(0);
+        return collected;
+      }
       contribution.stats = pool->TakeStats();
       contribution.expert_stats = pool->TakeSeparateStats();
       *steps_per_s = contribution.batch.num_samples() /
                      std::max(1e-9, std::chrono::duration<double>(Clock::now() - t0).count());
 
-      int64_t latest = snap->version;
-      bool all_accepted = true;
+      // Up to `limit` chunks unacknowledged; the parts after a refused one are not sent (the
+      // rest of that contribution is useless).
       for (const rpc::TrajectoryChunk& chunk :
            EncodeContribution(contribution, incarnation_, sequence, ChunkBytes(run))) {
-        rpc::ChunkAck ack;
-        if (!stream->Write(chunk) || !stream->Read(&ack)) {
-          return FromGrpc(stream->Finish(), "StreamTrajectories");
+        if (!WaitForRoom(&window, limit)) {
+          if (o_.stop->load()) break;
+          return broken();
         }
-        latest = std::max(latest, ack.latest_version());
-        if (ack.accepted()) {
-          acks_->unrolls += chunk.num_unrolls();
-          ++acks_->chunks;
-        } else {
-          if (o_.verbose) {
-            std::fprintf(stderr, "worker: chunk rejected (%d): %s\n", ack.code(), ack.message().c_str());
-          }
-          if (ack.code() == static_cast<int>(absl::StatusCode::kFailedPrecondition) &&
-              ack.message().find("unregistered") != std::string::npos) {
-            return absl::FailedPreconditionError(ack.message());
-          }
-          all_accepted = false;
-          break;  // the rest of this contribution is useless
+        {
+          std::lock_guard<std::mutex> lock(window.mu);
+          if (window.rejected_sequence == sequence) break;
+          window.chunks.push_back({sequence, chunk.num_unrolls()});
         }
+        if (!stream->Write(chunk)) return broken();
       }
-      ++sequence;
-      // Synchronous: after an accepted contribution, wait for the next version (the learner
-      // trains when every worker's is in). A refused one (stale, full queue) is redone with the
-      // current policy, or the learner would wait for it forever. Asynchronous: refresh only
-      // when a newer version exists.
-      const bool wait_for_next = reg.synchronous() && all_accepted;
-      if (wait_for_next || latest > snap->version || !all_accepted) {
-        const int64_t have = snap->version;
-        absl::StatusOr<Snapshot> next;
-        do {
-          next = FetchPolicy(stub_.get(), o_.security.token, incarnation_,
-                             wait_for_next ? have : -1, 20);
-          // A long update (cloning, a slow machine) outlasts one long-poll: poll again.
-          if (!next.ok() && next.status().code() != absl::StatusCode::kDeadlineExceeded) {
-            return next.status();
-          }
-        } while (wait_for_next && (!next.ok() || next->version <= have) && !o_.stop->load() &&
-                 !*unknown);
-        if (next.ok()) snap = std::move(next);
+      if (o_.stop->load()) break;
+      const int64_t this_sequence = sequence++;
+      if (reg.synchronous()) {
+        // Synchronous, as with one chunk in flight: every ack of this contribution first; after
+        // an accepted contribution wait for the next version (the learner trains when every
+        // worker's is in). A refused one (stale, full queue) is redone with the current policy,
+        // or the learner would wait for it forever.
+        if (!WaitForRoom(&window, 1)) {
+          if (o_.stop->load()) break;
+          return broken();
+        }
+        bool all_accepted;
+        {
+          std::lock_guard<std::mutex> lock(window.mu);
+          all_accepted = window.rejected_sequence != this_sequence;
+        }
+        const bool wait_for_next = all_accepted;
+        {  // (a refused contribution: the current snapshot, whatever its version)
+          const int64_t have = snap->version;
+          absl::StatusOr<Snapshot> next;
+          do {
+            next = FetchPolicy(stub_.get(), o_.security.token, incarnation_,
+                               wait_for_next ? have : -1, 20);
+            // A long update (cloning, a slow machine) outlasts one long-poll: poll again.
+            if (!next.ok() && next.status().code() != absl::StatusCode::kDeadlineExceeded) {
+              close_stream(0);
+              return next.status();
+            }
+          } while (wait_for_next && (!next.ok() || next->version <= have) && !o_.stop->load() &&
+                   !*unknown);
+          if (next.ok()) snap = std::move(next);
+        }
       }
     }
+    // Stopping: no more chunks; the learner answers those in flight, then ends the stream.
     stream->WritesDone();
-    stream_ctx.TryCancel();
+    close_stream(5);
     return absl::OkStatus();
   }
 

@@ -34,7 +34,15 @@ struct WorkerOptions {
   // Builds the expert when the run's config asks for labels (ImitationConfig.label_envs > 0);
   // a run that asks for labels on a worker without one fails to start there (fatal).
   LabellerFactory labeller_factory;
+  // Chunks written to the trajectory stream and not yet acknowledged, at most (1: wait for each
+  // chunk's ack before the next, as before; docs/reliability.md "Chunks in flight"). Acks are
+  // read beside the writes and new snapshots fetched beside the stream, so a round trip costs
+  // a window, not a chunk. Synchronous runs drain the window after each contribution.
+  int max_chunks_in_flight = 4;
 };
+
+// The range --max_chunks_in_flight accepts.
+inline constexpr int kMaxChunksInFlightLimit = 256;
 
 // Runs until *stop (OK) or give_up_after_s without a learner (UNAVAILABLE).
 absl::Status RunWorker(const WorkerOptions& options);

@@ -49,6 +49,12 @@ using testing::WaitFor;
 
 constexpr int kWorkers = 4;
 constexpr int kEnvs = 4;  // per worker: an accepted chunk carries at most this many unrolls
+// --max_chunks_in_flight of every worker: JUGGLE_NETFAULTS_WINDOW, default 4 (the worker's).
+int Window() {
+  const char* s = std::getenv("JUGGLE_NETFAULTS_WINDOW");
+  return s != nullptr && *s ? std::atoi(s) : 4;
+}
+const int kWindow = Window();
 // Keepalive and reconnect settings of the test (both sides), and the bounds they give.
 constexpr double kKeepaliveTime = 2, kKeepaliveTimeout = 2, kMaxBackoff = 2, kConnectTimeout = 2;
 // After a heal: a dead connection is noticed within keepalive time + timeout (connections made
@@ -59,12 +65,11 @@ constexpr double kKeepaliveTime = 2, kKeepaliveTimeout = 2, kMaxBackoff = 2, kCo
 constexpr double kRecoveryBound = kKeepaliveTime + kKeepaliveTimeout + kMaxBackoff + kConnectTimeout + 10;
 constexpr double kPartitionS = 10;
 // Asynchronous throughput under 100 ms ± 20 ms latency, as a share of the fault-free figure.
-// Issue 47 asks for 0.5; measured 0.25-0.32 here (docs/reliability.md): a worker waits one round
-// trip for every chunk's ack and another for every new snapshot, and this test's contributions
-// (4 envs × 20 steps) take less time to simulate than one 200 ms round trip. Until workers keep
-// several chunks in flight, this floor (0.1: the fault-free figure moves with the machine's load)
-// only catches a worker that stops under latency; set
-// JUGGLE_NETFAULTS_THROUGHPUT_SHARE=0.5 to hold the issue's target.
+// Issue 47 asks for 0.5; measured 0.25-0.32 with one chunk in flight, 0.46-0.47 with the
+// default window of 4 (docs/reliability.md "Chunks in flight"), where the run's max_policy_lag
+// bounds it. The floor (0.1: the fault-free figure moves with the machine's load) catches a
+// worker that stops under latency; set JUGGLE_NETFAULTS_THROUGHPUT_SHARE=0.5 to hold the
+// issue's target.
 double MinLatencyThroughputShare() {
   const char* s = std::getenv("JUGGLE_NETFAULTS_THROUGHPUT_SHARE");
   return s != nullptr && *s ? std::strtod(s, nullptr) : 0.1;
@@ -172,7 +177,8 @@ class NamespaceScheduleTest : public ::testing::Test {
             "--keepalive_time=" + std::to_string(kKeepaliveTime),
             "--keepalive_timeout=" + std::to_string(kKeepaliveTimeout),
             "--max_reconnect_backoff=" + std::to_string(kMaxBackoff),
-            "--min_connect_timeout=" + std::to_string(kConnectTimeout)},
+            "--min_connect_timeout=" + std::to_string(kConnectTimeout),
+            "--max_chunks_in_flight=" + std::to_string(kWindow)},
         WorkerLog(k));
   }
   std::string WorkerLog(int k) const { return absl::StrCat(dir_, "/worker", k, ".log"); }
@@ -417,10 +423,10 @@ void NamespaceScheduleTest::RunSchedule(bool synchronous) {
   EXPECT_GE(first.unaccounted(), 0);
   if (first.queued_chunks == 0) EXPECT_EQ(first.unaccounted(), 0);
   EXPECT_LE(acked.unrolls, accepted) << "workers were told of acceptances no learner counted";
-  // Nothing counted twice: a worker never resends (after a reset it starts a new contribution
+  // Nothing counted twice: a worker never resends (after a reset it starts new contributions
   // in a new registration), so the learners' excess over the workers' count is at most the acks
-  // lost with broken connections, one chunk of at most kEnvs unrolls per ended session.
-  EXPECT_LE(accepted - acked.unrolls, static_cast<double>(kEnvs * acked.sessions));
+  // lost with broken connections: a window of chunks of at most kEnvs unrolls per ended session.
+  EXPECT_LE(accepted - acked.unrolls, static_cast<double>(kWindow * kEnvs * acked.sessions));
   auto duplicates = [](const Accounts& a) {
     const auto it = a.dropped_by_reason.find("duplicate");
     return it == a.dropped_by_reason.end() ? 0.0 : it->second;

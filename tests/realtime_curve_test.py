@@ -47,7 +47,7 @@ def main():
                             'mean=11.00 median=11'), lines
         svg = open(out).read()
         assert svg.startswith('<svg') and svg.rstrip().endswith('</svg>'), svg[:80]
-        for text in ('>cheap<', '>dear<', 'real time', '2 starts'):
+        for text in ('>1: cheap<', '>2: dear<', 'real time', '2 starts'):
             assert text in svg, text
         refused = subprocess.run([sys.executable, SCRIPT, out, '10000', 'title',
                                   f'cheap={cheap}', f'other={other}'],

@@ -48,7 +48,7 @@ def main(out, steps_per_wall_s, title, settings):
     def py(v):
         return top + height - height * v / y_hi
 
-    svg = ['<svg xmlns="http://www.w3.org/2000/svg" width="680" height="420">',
+    svg = ['<svg xmlns="http://www.w3.org/2000/svg" width="860" height="420">',
            '<rect width="100%" height="100%" fill="white"/>',
            f'<rect x="{left}" y="{top}" width="{right - left}" height="{height}" fill="none" '
            f'stroke="#999"/>',
@@ -77,18 +77,17 @@ def main(out, steps_per_wall_s, title, settings):
                f'stroke="#c33" stroke-dasharray="5,4"/>')
     svg.append(f'<text x="{rt + 4:.1f}" y="{top + 14}" font-size="11" fill="#c33" '
                f'font-family="sans-serif">real time</text>')
-    placed = []  # (x, y) of the labels so far: a label near another moves down a line
-    for p in points:
+    # Each point carries its number; the legend beside the panel names it.
+    for i, p in enumerate(points, 1):
         x = px(p["steps"])
         svg.append(f'<circle cx="{x:.1f}" cy="{py(p["mean"]):.1f}" r="4" fill="#26a"/>')
         svg.append(f'<circle cx="{x:.1f}" cy="{py(p["median"]):.1f}" r="4" fill="none" '
                    f'stroke="#26a"/>')
-        y = py(p["mean"]) - 6
-        while any(abs(x - lx) < 90 and abs(y - ly) < 11 for lx, ly in placed):
-            y += 12
-        placed.append((x, y))
-        svg.append(f'<text x="{x + 6:.1f}" y="{y:.1f}" font-size="10" '
-                   f'font-family="sans-serif">{p["label"]}</text>')
+        svg.append(f'<text x="{x + (6 if i % 2 else -6):.1f}" y="{py(p["mean"]) + 4:.1f}" '
+                   f'font-size="10" text-anchor="{"start" if i % 2 else "end"}" '
+                   f'font-family="sans-serif">{i}</text>')
+        svg.append(f'<text x="{right + 14}" y="{top + 10 + 14 * (i - 1)}" font-size="11" '
+                   f'font-family="sans-serif">{i}: {p["label"]}</text>')
     svg.append(f'<text x="{(left + right) / 2}" y="{top + height + 36}" font-size="11" '
                f'text-anchor="middle" font-family="sans-serif">rollout control steps per '
                f'simulated s (log); filled: mean juggles, hollow: median; '

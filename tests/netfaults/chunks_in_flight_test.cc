@@ -19,53 +19,33 @@
 #include "common/testing/temp_dir.h"
 #include "gtest/gtest.h"
 #include "tests/netfaults/fault_proxy.h"
+#include "tests/netfaults/learner_behind_proxy.h"
 #include "tests/netfaults/netfaults_util.h"
 #include "tests/service_test_util.h"
 
 namespace juggle::netfaults {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using testing::ChildProcess;
-using testing::FreePort;
 using testing::WaitFor;
 
 constexpr int kEnvs = 4;  // per worker: a chunk carries at most this many unrolls
 constexpr double kMeasureS = 10;
 
-double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-class ChunksInFlightTest : public ::testing::Test {
+class ChunksInFlightTest : public LearnerBehindProxyTest {
  protected:
+  ChunksInFlightTest() : LearnerBehindProxyTest("juggle_inflight_") {}
   void SetUp() override {
-    dir_ = MakeTempDir("juggle_inflight_");
-    port_ = FreePort();
-    metrics_port_ = FreePort();
-    learner_ = std::make_unique<ChildProcess>(
-        std::vector<std::string>{"learner", "--config=tests/netfaults/netfaults_async.textproto",
-                                 "--port=" + std::to_string(port_),
-                                 "--metrics_port=" + std::to_string(metrics_port_),
-                                 "--run_dir=" + dir_ + "/run"},
-        dir_ + "/learner.log");
-    auto proxy = FaultProxy::Start("127.0.0.1", 0, "127.0.0.1", port_, /*seed=*/47);
-    ASSERT_TRUE(proxy.ok()) << proxy.status();
-    proxy_ = std::move(*proxy);
+    LearnerBehindProxyTest::SetUp();
     Faults f;
     f.upstream.latency_s = f.downstream.latency_s = 0.1;
     f.upstream.jitter_s = f.downstream.jitter_s = 0.02;
     proxy_->SetFaults(f);
   }
-  void TearDown() override {
-    if (worker_) worker_->Kill(SIGTERM), worker_->Wait(20);
-    learner_->Kill(SIGTERM);
-    learner_->Wait(30);
-    if (!HasFailure() && !std::getenv("JUGGLE_KEEP_TEST_LOGS")) std::system(("rm -rf " + dir_).c_str());
-    else std::fprintf(stderr, "logs kept in %s\n", dir_.c_str());
-  }
   std::string WorkerLog(int window) const { return absl::StrCat(dir_, "/worker_w", window, ".log"); }
   void StartWorker(int window) {
     worker_ = std::make_unique<ChildProcess>(
-        std::vector<std::string>{"worker", "--learner=127.0.0.1:" + std::to_string(proxy_->port()),
+        std::vector<std::string>{"worker", LearnerFlag(),
                                  "--envs=" + std::to_string(kEnvs), "--threads=1", "--slot=0",
                                  "--max_chunks_in_flight=" + std::to_string(window),
                                  "--keepalive_time=2", "--keepalive_timeout=2",
@@ -105,11 +85,6 @@ class ChunksInFlightTest : public ::testing::Test {
     }, 30);
     return last;
   }
-
-  std::string dir_;
-  int port_ = 0, metrics_port_ = 0;
-  std::unique_ptr<ChildProcess> learner_, worker_;
-  std::unique_ptr<FaultProxy> proxy_;
 };
 
 TEST_F(ChunksInFlightTest, AWindowOfFourOutrunsOneChunkAtATimeUnderLatency) {

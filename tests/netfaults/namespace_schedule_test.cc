@@ -42,7 +42,6 @@
 namespace juggle::netfaults {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using testing::ChildProcess;
 using testing::FreePort;
 using testing::WaitFor;
@@ -74,8 +73,6 @@ double MinLatencyThroughputShare() {
   const char* s = std::getenv("JUGGLE_NETFAULTS_THROUGHPUT_SHARE");
   return s != nullptr && *s ? std::strtod(s, nullptr) : 0.1;
 }
-
-double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 std::string Netns(const std::string& args) {
   return absl::StrCat("bash tests/netfaults/netns.sh ", args);

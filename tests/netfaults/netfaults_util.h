@@ -1,5 +1,6 @@
-// Helpers of the network-fault tests: the learner's unroll accounts from /metrics, the
-// workers' side of them from their logs, a process's RSS, and a thread's network namespace.
+// Helpers of the network-fault tests: wall time since a moment, the learner's unroll accounts
+// from /metrics, the workers' side of them from their logs, a process's RSS, and a thread's
+// network namespace.
 #ifndef JUGGLE_TESTS_NETFAULTS_NETFAULTS_UTIL_H_
 #define JUGGLE_TESTS_NETFAULTS_NETFAULTS_UTIL_H_
 
@@ -7,6 +8,7 @@
 #include <sched.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -17,6 +19,13 @@
 #include "common/http_server.h"
 
 namespace juggle::netfaults {
+
+using Clock = std::chrono::steady_clock;
+
+// Seconds of wall time since `t`.
+inline double Since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 // The learner's unroll accounts (docs/reliability.md, "Limits"): accepted = trained + dropped
 // + held + partial + what waits in the ingestion queue.

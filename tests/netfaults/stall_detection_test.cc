@@ -11,47 +11,24 @@
 #include "common/testing/temp_dir.h"
 #include "gtest/gtest.h"
 #include "tests/netfaults/fault_proxy.h"
+#include "tests/netfaults/learner_behind_proxy.h"
 #include "tests/netfaults/netfaults_util.h"
 #include "tests/service_test_util.h"
 
 namespace juggle::netfaults {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using testing::ChildProcess;
-using testing::FreePort;
 using testing::WaitFor;
 
 constexpr double kKeepaliveTime = 2, kKeepaliveTimeout = 2;
 
-double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-class StallDetectionTest : public ::testing::Test {
+class StallDetectionTest : public LearnerBehindProxyTest {
  protected:
-  void SetUp() override {
-    dir_ = MakeTempDir("juggle_stall_");
-    port_ = FreePort();
-    metrics_port_ = FreePort();
-    learner_ = std::make_unique<ChildProcess>(
-        std::vector<std::string>{"learner", "--config=tests/netfaults/netfaults_async.textproto",
-                                 "--port=" + std::to_string(port_),
-                                 "--metrics_port=" + std::to_string(metrics_port_),
-                                 "--run_dir=" + dir_ + "/run"},
-        dir_ + "/learner.log");
-    auto proxy = FaultProxy::Start("127.0.0.1", 0, "127.0.0.1", port_, /*seed=*/47);
-    ASSERT_TRUE(proxy.ok()) << proxy.status();
-    proxy_ = std::move(*proxy);
-  }
-  void TearDown() override {
-    if (worker_) worker_->Kill(SIGTERM), worker_->Wait(20);
-    learner_->Kill(SIGTERM);
-    learner_->Wait(30);
-    if (!HasFailure() && !std::getenv("JUGGLE_KEEP_TEST_LOGS")) std::system(("rm -rf " + dir_).c_str());
-    else std::fprintf(stderr, "logs kept in %s\n", dir_.c_str());
-  }
+  StallDetectionTest() : LearnerBehindProxyTest("juggle_stall_") {}
   void StartWorker(double keepalive_time) {
     worker_ = std::make_unique<ChildProcess>(
-        std::vector<std::string>{"worker", "--learner=127.0.0.1:" + std::to_string(proxy_->port()),
+        std::vector<std::string>{"worker", LearnerFlag(),
                                  "--envs=4", "--threads=1", "--slot=0",
                                  "--keepalive_time=" + std::to_string(keepalive_time),
                                  "--keepalive_timeout=" + std::to_string(kKeepaliveTimeout),
@@ -67,11 +44,6 @@ class StallDetectionTest : public ::testing::Test {
     f.stall_new = true;
     proxy_->SetFaults(f);
   }
-
-  std::string dir_;
-  int port_ = 0, metrics_port_ = 0;
-  std::unique_ptr<ChildProcess> learner_, worker_;
-  std::unique_ptr<FaultProxy> proxy_;
 };
 
 TEST_F(StallDetectionTest, AStalledConnectionIsDetectedWithinKeepaliveTimePlusTimeout) {

@@ -181,7 +181,9 @@ absl::Status RolloutService::Reject(const std::string& reason, absl::Status stat
 
 absl::Status RolloutService::Ingest(const rpc::TrajectoryChunk& chunk) {
   const absl::Status status = IngestChunk(chunk);
-  d_.registry->CountChunk(chunk.incarnation(), status.ok());
+  // A version the learner has not published is a peer's claim, not a sign of progress.
+  const int64_t version = chunk.policy_version() <= current_version() ? chunk.policy_version() : -1;
+  d_.registry->CountChunk(chunk.incarnation(), status.ok(), version);
   return status;
 }
 

@@ -43,6 +43,35 @@ TEST(SyncRoundTest, ABenchedSlotThatDeliversIsWaitedForAgain) {
   EXPECT_THAT(r.Required({0, 1}), ElementsAre(0, 1));
 }
 
+// The livelock of the network-fault schedule (tests/netfaults/): after a partition a slot is
+// benched, fetches each new version with the others but delivers it just after the round
+// closed without it, so each of its chunks is refused as stale and it never delivers the
+// current version. A chunk of the version it was benched in brings it back.
+TEST(SyncRoundTest, ABenchedSlotThatSendsAStaleChunkOfItsBenchVersionIsWaitedForAgain) {
+  SyncRound r;
+  r.Update(5, kT0, 3, {0, 1}, {1}, {{0, 5}, {1, 4}});
+  EXPECT_THAT(r.Update(5, kT0 + seconds(4), 3, {0, 1}, {1}, {{0, 5}, {1, 4}}), ElementsAre(1));
+  // Round 6: slot 1's chunk of version 5 arrives late (refused as stale by the service).
+  r.Update(6, kT0 + seconds(5), 3, {0, 1}, {0, 1}, {{0, 5}, {1, 5}});
+  EXPECT_THAT(r.Required({0, 1}), ElementsAre(0, 1));
+  // A full timeout from the readmission, even when the round began earlier.
+  EXPECT_THAT(r.Update(6, kT0 + seconds(7), 3, {0, 1}, {1}, {{0, 6}, {1, 5}}), IsEmpty());
+  EXPECT_THAT(r.Update(6, kT0 + seconds(8) + std::chrono::milliseconds(100), 3, {0, 1}, {1},
+                       {{0, 6}, {1, 5}}),
+              ElementsAre(1))
+      << "silent again for a full timeout: benched again";
+}
+
+TEST(SyncRoundTest, ABenchedSlotWhoseChunksAreOlderThanItsBenchVersionStaysBenched) {
+  SyncRound r;
+  r.Update(5, kT0, 3, {0, 1}, {1}, {{0, 5}, {1, 4}});
+  r.Update(5, kT0 + seconds(4), 3, {0, 1}, {1}, {{0, 5}, {1, 4}});
+  r.Update(6, kT0 + seconds(5), 3, {0, 1}, {1}, {{0, 5}, {1, 4}});
+  EXPECT_THAT(r.Required({0, 1}), ElementsAre(0));
+  r.Update(7, kT0 + seconds(6), 3, {0, 1}, {1}, {{0, 6}});
+  EXPECT_THAT(r.Required({0, 1}), ElementsAre(0)) << "no chunk at all from slot 1";
+}
+
 TEST(SyncRoundTest, NeverBenchesWhenNobodyDeliveredOrWithoutATimeout) {
   SyncRound r;
   r.Update(0, kT0, 30, {0, 1}, {0, 1});

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 #include "absl/strings/str_cat.h"
 #include "common/eigen_policy.h"
@@ -153,9 +154,11 @@ std::optional<Contribution> TrainingLoop::TakeBatch(const Live& live, Clock::tim
   std::optional<Contribution> batch;
   if (svc.synchronous()) {
     if (static_cast<int>(live.workers.size()) >= std::max(1, svc.min_workers())) {
+      std::map<int, int64_t> newest_sent;
+      for (const WorkerInfo& w : live.workers) newest_sent[w.slot] = w.newest_chunk_version;
       const std::vector<int> stragglers =
           round_.Update(version, now, svc.sync_round_timeout_s(), live.slots,
-                        assembler_.MissingSlots(version, live.slots));
+                        assembler_.MissingSlots(version, live.slots), newest_sent);
       for (int slot : stragglers) {
         d_.metrics->Add("juggle_sync_round_stragglers_total", 1);
         std::printf("worker slot %d sent nothing for policy version %ld within %.0f s; "

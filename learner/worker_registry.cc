@@ -93,11 +93,12 @@ std::optional<WorkerInfo> WorkerRegistry::Find(uint64_t incarnation) const {
   return it->second;
 }
 
-void WorkerRegistry::CountChunk(uint64_t incarnation, bool accepted) {
+void WorkerRegistry::CountChunk(uint64_t incarnation, bool accepted, int64_t policy_version) {
   std::lock_guard<std::mutex> lock(mu_);
   auto it = by_incarnation_.find(incarnation);
   if (it == by_incarnation_.end()) return;
   ++(accepted ? it->second.chunks_accepted : it->second.chunks_rejected);
+  it->second.newest_chunk_version = std::max(it->second.newest_chunk_version, policy_version);
 }
 
 std::vector<uint64_t> WorkerRegistry::Expire(Clock::time_point now,

@@ -36,6 +36,7 @@ struct WorkerInfo {
   double env_steps_per_s = 0;
   int64_t chunks_accepted = 0;   // chunks of this incarnation enqueued for training
   int64_t chunks_rejected = 0;   // chunks of this incarnation refused (any reason)
+  int64_t newest_chunk_version = -1;  // newest policy version of its chunks, accepted or not
 };
 
 class WorkerRegistry {
@@ -58,7 +59,9 @@ class WorkerRegistry {
              double env_steps_per_s = -1);
   std::optional<WorkerInfo> Find(uint64_t incarnation) const;
   // Counts a chunk of `incarnation` as accepted or rejected (unknown incarnations: ignored).
-  void CountChunk(uint64_t incarnation, bool accepted);
+  // `policy_version` (the caller passes only versions the learner has published; -1: none)
+  // raises newest_chunk_version.
+  void CountChunk(uint64_t incarnation, bool accepted, int64_t policy_version = -1);
   // Forgets workers silent for longer than `timeout`; returns their incarnations.
   std::vector<uint64_t> Expire(Clock::time_point now, std::chrono::duration<double> timeout);
   void Remove(uint64_t incarnation);

@@ -45,6 +45,20 @@ TEST(WorkerRegistryTest, AssignsTheLowestFreeSlot) {
   EXPECT_EQ(Reg(&r, -1).slot, 3);
 }
 
+TEST(WorkerRegistryTest, CountChunkKeepsTheNewestVersionOfAcceptedAndRefusedChunks) {
+  WorkerRegistry r(1);
+  const WorkerInfo w = Reg(&r, -1);
+  EXPECT_EQ(r.Find(w.incarnation)->newest_chunk_version, -1);
+  r.CountChunk(w.incarnation, true, 7);
+  r.CountChunk(w.incarnation, false, 9);
+  r.CountChunk(w.incarnation, true, 8);
+  r.CountChunk(w.incarnation, false);
+  const WorkerInfo after = *r.Find(w.incarnation);
+  EXPECT_EQ(after.newest_chunk_version, 9);
+  EXPECT_EQ(after.chunks_accepted, 2);
+  EXPECT_EQ(after.chunks_rejected, 2);
+}
+
 TEST(WorkerRegistryTest, LowestFreeSlotSkipsRequestedSlots) {
   WorkerRegistry r(1);
   Reg(&r, 0);

@@ -127,6 +127,7 @@ Json ThroughputJson(const ThroughputView& t) {
   le.push_back("+Inf");
   counts.push_back(t.policy_lag.count - below);
   return {{"queue_depth", t.queue_depth},
+          {"reconnects", t.reconnects},
           {"queue_capacity", t.queue_capacity},
           {"rejected", std::move(rejected)},
           {"dropped", std::move(dropped)},
@@ -149,6 +150,7 @@ Json WorkersJson(const std::vector<WorkerView>& workers, int needed) {
         {"policy_version", w.policy_version},
         {"chunks_accepted", w.chunks_accepted},
         {"chunks_rejected", w.chunks_rejected},
+        {"sessions", w.sessions},
         {"status", w.status},
     });
   }
@@ -176,6 +178,7 @@ std::vector<WorkerView> DescribeWorkers(const std::vector<WorkerInfo>& live,
     v.policy_version = w.policy_version;
     v.chunks_accepted = w.chunks_accepted;
     v.chunks_rejected = w.chunks_rejected;
+    v.sessions = w.sessions;
     const bool silent = v.heartbeat_age_s >= kSilentHeartbeatSeconds;
     const bool slow = live.size() > 1 && median > 0 && w.env_steps_per_s < 0.5 * median;
     const bool waited_on = std::find(waiting_for_slots.begin(), waiting_for_slots.end(),
@@ -191,6 +194,9 @@ ThroughputView DescribeThroughput(const Metrics& metrics, int queue_capacity) {
   ThroughputView t;
   t.queue_depth = static_cast<int>(metrics.Get("juggle_ingest_queue_chunks"));
   t.queue_capacity = queue_capacity;
+  for (const auto& [labels, value] : metrics.Series("juggle_worker_reconnects_total")) {
+    t.reconnects += value;
+  }
   for (const auto& [labels, value] : metrics.Series("juggle_chunks_rejected_total")) {
     auto reason = labels.find("reason");
     t.rejected.emplace_back(reason == labels.end() ? "" : reason->second, value);

@@ -32,6 +32,7 @@ struct WorkerView {
   double heartbeat_age_s = 0;
   int64_t policy_version = -1;
   int64_t chunks_accepted = 0, chunks_rejected = 0;
+  int64_t sessions = 1;  // the worker's registrations so far (more than 1: it reconnected)
   std::string status;
 };
 std::vector<WorkerView> DescribeWorkers(const std::vector<WorkerInfo>& live,
@@ -43,6 +44,7 @@ struct ThroughputView {
   int queue_depth = 0, queue_capacity = 0;
   std::vector<std::pair<std::string, double>> rejected;  // reason -> chunks
   std::vector<std::pair<std::string, double>> dropped;   // reason -> unrolls
+  double reconnects = 0;  // juggle_worker_reconnects_total over every slot
   Metrics::HistogramValues policy_lag;
 };
 ThroughputView DescribeThroughput(const Metrics& metrics, int queue_capacity);

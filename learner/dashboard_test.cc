@@ -148,6 +148,22 @@ TEST(DashboardJsonTest, StatusListsLiveWorkersAndMarksASilentOne) {
   EXPECT_EQ(rows[1]["status"], "silent");
   EXPECT_GE(rows[1]["heartbeat_age_s"].get<double>(), 5.0);
   EXPECT_EQ(j["workers"]["needed"], 2);
+  EXPECT_EQ(rows[0]["sessions"], 1);
+}
+
+TEST(DashboardJsonTest, StatusShowsAWorkersSessionsAndTheReconnectsOfEverySlot) {
+  DashboardState state(TwoNodeRun(), 100);
+  WorkerRegistry registry(1);
+  Metrics metrics;
+  DeclareLearnerMetrics(&metrics);
+  std::optional<uint64_t> replaced;
+  const auto now = WorkerRegistry::Clock::now();
+  registry.Register(0, 8, "node-a", now, &replaced, /*sessions_before=*/3);
+  metrics.Add("juggle_worker_reconnects_total", 3, {{"slot", "0"}});
+  metrics.Add("juggle_worker_reconnects_total", 2, {{"slot", "1"}});
+  const Json j = Json::parse(StatusJson(LiveStatus(state, registry, metrics)));
+  EXPECT_EQ(j["workers"]["rows"][0]["sessions"], 4);
+  EXPECT_EQ(j["throughput"]["reconnects"], 5);
 }
 
 TEST(RunStateTest, WaitingForWorkersWhenFewerThanTheModeNeeds) {

@@ -57,6 +57,9 @@ void DeclareLearnerMetrics(Metrics* m) {
   m->Declare("juggle_worker_chunks_total", "counter",
              "Chunks from each live worker, by result (accepted, rejected).");
   m->Declare("juggle_worker_restarts_total", "counter", "Registrations that replaced a live slot.");
+  m->Declare("juggle_worker_reconnects_total", "counter",
+             "Registrations from worker processes that had registered before (they say how many "
+             "times), by slot: reconnects after a lost connection or a learner restart.");
   m->Declare("juggle_worker_timeouts_total", "counter", "Workers forgotten after missing heartbeats.");
   m->Declare("juggle_registrations_rejected_total", "counter",
              "Registrations refused, by reason (limit: service.max_workers or "

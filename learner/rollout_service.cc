@@ -52,7 +52,8 @@ grpc::Status RolloutService::Register(grpc::ServerContext* ctx, const rpc::Regis
   if (grpc::Status auth = Authorize(ctx, "Register"); !auth.ok()) return auth;
   std::optional<uint64_t> replaced;
   const absl::StatusOr<WorkerInfo> registered = d_.registry->Register(
-      req->requested_slot(), req->num_envs(), req->hostname(), Clock::now(), &replaced);
+      req->requested_slot(), req->num_envs(), req->hostname(), Clock::now(), &replaced,
+      req->sessions_before());
   if (!registered.ok()) {
     d_.metrics->Add("juggle_registrations_rejected_total", 1,
                     {{"reason", registered.status().code() == absl::StatusCode::kResourceExhausted
@@ -62,6 +63,9 @@ grpc::Status RolloutService::Register(grpc::ServerContext* ctx, const rpc::Regis
   }
   const WorkerInfo& w = *registered;
   if (replaced) d_.metrics->Add("juggle_worker_restarts_total", 1);
+  if (w.sessions > 1) {
+    d_.metrics->Add("juggle_worker_reconnects_total", 1, {{"slot", std::to_string(w.slot)}});
+  }
   const WorkerBootstrap& b = *d_.bootstrap;
   resp->set_slot(w.slot);
   resp->set_incarnation(w.incarnation);
@@ -69,8 +73,9 @@ grpc::Status RolloutService::Register(grpc::ServerContext* ctx, const rpc::Regis
   resp->set_model_mjb(b.config.model_mjb);
   resp->set_synchronous(b.synchronous);
   resp->set_unroll_length(b.unroll_length);
-  std::printf("worker slot %d registered (incarnation %lx, %d envs, host %s)\n", w.slot,
-              static_cast<unsigned long>(w.incarnation), w.num_envs, req->hostname().c_str());
+  std::printf("worker slot %d registered (incarnation %lx, %d envs, host %s, session %ld)\n",
+              w.slot, static_cast<unsigned long>(w.incarnation), w.num_envs,
+              req->hostname().c_str(), static_cast<long>(w.sessions));
   std::fflush(stdout);
   return grpc::Status::OK;
 }

@@ -21,7 +21,8 @@ bool PrintableAscii(const std::string& s) {
 absl::StatusOr<WorkerInfo> WorkerRegistry::Register(int requested_slot, int num_envs,
                                                     const std::string& host,
                                                     Clock::time_point now,
-                                                    std::optional<uint64_t>* replaced) {
+                                                    std::optional<uint64_t>* replaced,
+                                                    int64_t sessions_before) {
   replaced->reset();
   if (requested_slot < -1 || requested_slot >= limits_.max_workers) {
     return absl::InvalidArgumentError(absl::StrCat("register: slot ", requested_slot,
@@ -71,6 +72,7 @@ absl::StatusOr<WorkerInfo> WorkerRegistry::Register(int requested_slot, int num_
   info.num_envs = num_envs;
   info.host = host;
   info.last_seen = now;
+  info.sessions = std::clamp<int64_t>(sessions_before, 0, int64_t{1} << 40) + 1;
   by_incarnation_[info.incarnation] = info;
   return info;
 }

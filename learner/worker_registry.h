@@ -37,6 +37,7 @@ struct WorkerInfo {
   int64_t chunks_accepted = 0;   // chunks of this incarnation enqueued for training
   int64_t chunks_rejected = 0;   // chunks of this incarnation refused (any reason)
   int64_t newest_chunk_version = -1;  // newest policy version of its chunks, accepted or not
+  int64_t sessions = 1;  // the worker process's registrations so far, this one included
 };
 
 class WorkerRegistry {
@@ -51,8 +52,11 @@ class WorkerRegistry {
   // limits). INVALID_ARGUMENT for a slot outside [-1, max_workers), num_envs outside
   // [1, max_envs_per_worker] or a host name that is empty, too long or not printable ASCII;
   // RESOURCE_EXHAUSTED when max_workers or the host's max_workers_per_host are live.
+  // `sessions_before`: the worker's own count of its earlier registrations (clamped to
+  // [0, 2^40]; it is the peer's claim, shown, never trusted for anything else).
   absl::StatusOr<WorkerInfo> Register(int requested_slot, int num_envs, const std::string& host,
-                                      Clock::time_point now, std::optional<uint64_t>* replaced);
+                                      Clock::time_point now, std::optional<uint64_t>* replaced,
+                                      int64_t sessions_before = 0);
   const RegistryLimits& limits() const { return limits_; }
   // Records a sign of life. False if the incarnation is unknown.
   bool Touch(uint64_t incarnation, Clock::time_point now, int64_t policy_version = -1,

@@ -59,6 +59,16 @@ TEST(WorkerRegistryTest, CountChunkKeepsTheNewestVersionOfAcceptedAndRefusedChun
   EXPECT_EQ(after.chunks_rejected, 2);
 }
 
+TEST(WorkerRegistryTest, RegisterKeepsTheWorkersSessionCountClamped) {
+  WorkerRegistry r(1);
+  std::optional<uint64_t> replaced;
+  EXPECT_EQ(r.Register(-1, 4, "h", kT0, &replaced)->sessions, 1);
+  EXPECT_EQ(r.Register(-1, 4, "h", kT0, &replaced, 6)->sessions, 7);
+  EXPECT_EQ(r.Register(-1, 4, "h", kT0, &replaced, -5)->sessions, 1) << "a negative claim";
+  EXPECT_EQ(r.Register(-1, 4, "h", kT0, &replaced, int64_t{1} << 62)->sessions,
+            (int64_t{1} << 40) + 1);
+}
+
 TEST(WorkerRegistryTest, LowestFreeSlotSkipsRequestedSlots) {
   WorkerRegistry r(1);
   Reg(&r, 0);

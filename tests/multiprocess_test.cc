@@ -79,6 +79,8 @@ TEST_F(MultiProcessTest, SurvivesWorkerAndLearnerDeathsAndResumes) {
   w1 = StartWorker(1);
   ASSERT_TRUE(WaitFor([&] { return Metric("juggle_workers_connected") == 2; }, 60));
   ASSERT_TRUE(TrainsFurther(2, 60));
+  EXPECT_LE(Metric("juggle_worker_reconnects_total{slot=\"1\"}"), 0)
+      << "a new worker process is a restart, not a reconnect";
 
   // The learner dies; a resumed learner continues from its last checkpoint and the workers
   // rejoin by themselves.
@@ -90,6 +92,8 @@ TEST_F(MultiProcessTest, SurvivesWorkerAndLearnerDeathsAndResumes) {
   ASSERT_TRUE(WaitFor([&] { return Metric("juggle_workers_connected") == 2; }, 60))
       << "workers did not rejoin the resumed learner";
   const double resumed_at = Metric("juggle_policy_version");
+  EXPECT_GE(Metric("juggle_worker_reconnects_total{slot=\"0\"}"), 1) << "counted as a reconnect";
+  EXPECT_GE(Metric("juggle_worker_reconnects_total{slot=\"1\"}"), 1) << "counted as a reconnect";
   ASSERT_TRUE(TrainsFurther(2, 60));
   EXPECT_GE(resumed_at, 3);  // it did not start over from version 0
   const std::string log = ReadFile(dir_ + "/learner.log").value_or("");

@@ -495,6 +495,90 @@ TEST_F(RolloutProtocolTest, OpenStreamsBeyondTheLimitAreRefusedAtOnce) {
   }
 }
 
+// Ray's RPC fault-tolerance check (issue 47): every handler called twice, as a client retrying
+// after a lost response would, leaves the learner as one call does. Register twice for the
+// same slot: one live worker (the second incarnation; the first is refused from then on).
+// GetPolicy and Heartbeat twice: the same answer, nothing counted. A chunk written twice (the
+// first part of a two-part contribution, and its last part after it completed): trained once,
+// the copies counted as duplicates, the accounts balanced.
+TEST_F(RolloutProtocolTest, EveryHandlerCalledTwiceLeavesTheStateOfOneCall) {
+  rpc::RegisterResponse first, again;
+  ASSERT_TRUE(TryRegister(3, 2, "retry", &first).ok());
+  ASSERT_TRUE(TryRegister(3, 2, "retry", &again).ok());
+  EXPECT_EQ(again.slot(), 3);
+  EXPECT_NE(again.incarnation(), first.incarnation());
+  // The training loop refreshes the gauge every pass.
+  const auto connected = [&] { return server_->metrics().Get("juggle_workers_connected"); };
+  EXPECT_TRUE(WaitFor([&] { return connected() == 1; }, 5)) << "one worker, not two: " << connected();
+  EXPECT_EQ(server_->metrics().Get("juggle_worker_restarts_total"), 1);
+  EXPECT_EQ(GetPolicy(first.incarnation(), -1).status.error_code(), grpc::StatusCode::FAILED_PRECONDITION)
+      << "the replaced incarnation is refused";
+
+  const Policy p1 = GetPolicy(again.incarnation(), -1);
+  const Policy p2 = GetPolicy(again.incarnation(), -1);
+  ASSERT_TRUE(p1.status.ok() && p2.status.ok());
+  EXPECT_EQ(p1.version, p2.version);
+  EXPECT_EQ(p1.params, p2.params);
+  EXPECT_EQ(p1.edge_counts, p2.edge_counts);
+
+  for (int i = 0; i < 2; ++i) {
+    grpc::ClientContext ctx;
+    SetDeadline(&ctx);
+    rpc::HeartbeatRequest req;
+    rpc::HeartbeatResponse resp;
+    req.set_incarnation(again.incarnation());
+    req.set_policy_version(0);
+    req.set_env_steps_per_s(100);
+    ASSERT_TRUE(stub_->Heartbeat(&ctx, req, &resp).ok());
+    EXPECT_EQ(resp.latest_version(), 0);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_EQ(connected(), 1);
+
+  // A two-unroll contribution in two parts (one unroll per part).
+  const int T = again.unroll_length();
+  const std::vector<rpc::TrajectoryChunk> parts = EncodeContribution(
+      ValidContribution(2, T, 0), again.incarnation(), 0, size_t(T) * kObsDim * 4);
+  ASSERT_EQ(parts.size(), 2u);
+  grpc::ClientContext ctx;
+  SetDeadline(&ctx, 30);
+  auto stream = stub_->StreamTrajectories(&ctx);
+  auto send = [&](const rpc::TrajectoryChunk& chunk) {
+    rpc::ChunkAck ack;
+    EXPECT_TRUE(stream->Write(chunk));
+    EXPECT_TRUE(stream->Read(&ack));
+    return ack;
+  };
+  EXPECT_TRUE(send(parts[0]).accepted());
+  send(parts[0]);  // the retry; its ack may say accepted: what counts is what is trained
+  EXPECT_TRUE(send(parts[1]).accepted());
+  ASSERT_TRUE(WaitFor([&] { return server_->metrics().Get("juggle_iterations_total") >= 1; }, 10))
+      << "the contribution was not trained on";
+  // The last part again, after the contribution was trained (version 1 now: refused as stale,
+  // or taken as a duplicate: either way not trained).
+  send(parts[1]);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  stream->WritesDone();
+  EXPECT_TRUE(stream->Finish().ok());
+
+  EXPECT_EQ(server_->version(), 1) << "trained once";
+  EXPECT_EQ(server_->metrics().Get("juggle_samples_total"), 2 * T) << "each unroll trained once";
+  EXPECT_EQ(server_->metrics().Get("juggle_unrolls_trained_total"), 2);
+  double chosen = 0;
+  for (const auto& [labels, value] : server_->metrics().Series("juggle_walk_edge_events_total")) {
+    if (labels.count("event") && labels.at("event") == "chosen") chosen += value;
+  }
+  EXPECT_EQ(chosen, 1) << "the contribution's edge events counted once";
+  const double accepted = server_->metrics().Get("juggle_unrolls_accepted_total");
+  const double dropped = server_->metrics().Get("juggle_unrolls_dropped_total", {{"reason", "duplicate"}});
+  const double rejected = server_->metrics().Get("juggle_unrolls_rejected_total", {{"reason", "stale"}});
+  EXPECT_GE(dropped, 1) << "the retried first part was not counted as a duplicate";
+  EXPECT_EQ(accepted + rejected, 4) << "4 parts of one unroll each were sent";
+  EXPECT_EQ(accepted, 2 + dropped + server_->metrics().Get("juggle_unrolls_partial") +
+                          server_->metrics().Get("juggle_unrolls_held"))
+      << "accepted = trained + dropped + partial + held";
+}
+
 TEST_F(RolloutProtocolTest, HealthServiceReportsServing) {
   // No generated grpc.health.v1 stub is installed: call Check through the generic stub.
   // HealthCheckRequest{service: ""} encodes to no bytes.

@@ -201,6 +201,7 @@
     const rows = [];
     for (const [reason, n] of Object.entries(t.rejected)) rows.push(['chunks rejected', reason, n]);
     for (const [reason, n] of Object.entries(t.dropped)) rows.push(['unrolls dropped', reason, n]);
+    if (t.reconnects) rows.push(['worker reconnects', 'all slots', t.reconnects]);
     const body = $('rejections').tBodies[0];
     body.innerHTML = '';
     if (!rows.length) rows.push(['none', '', '']);
@@ -225,7 +226,7 @@
       tr.dataset.slot = String(w.slot);
       tr.className = 'status-' + w.status.split(' ')[0];
       const cells = [w.slot, w.host, w.incarnation, w.envs, num(w.env_steps_per_s), num(w.heartbeat_age_s, 1) + ' s ago',
-                     w.policy_version, num(w.chunks_accepted), num(w.chunks_rejected), w.status];
+                     w.policy_version, num(w.chunks_accepted), num(w.chunks_rejected), num(w.sessions || 1), w.status];
       for (const c of cells) tr.insertCell().textContent = String(c);
     }
   }

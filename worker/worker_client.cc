@@ -154,6 +154,7 @@ class Session {
       char host[256] = "";
       ::gethostname(host, sizeof(host) - 1);
       req.set_hostname(host);
+      req.set_sessions_before(acks_->sessions);
       const grpc::Status s = stub_->Register(&ctx, req, &reg);
       // A wrong token or a request the learner's limits refuse will not change by retrying.
       if (s.error_code() == grpc::StatusCode::UNAUTHENTICATED ||

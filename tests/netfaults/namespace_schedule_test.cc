@@ -64,14 +64,14 @@ constexpr double kKeepaliveTime = 2, kKeepaliveTimeout = 2, kMaxBackoff = 2, kCo
 constexpr double kRecoveryBound = kKeepaliveTime + kKeepaliveTimeout + kMaxBackoff + kConnectTimeout + 10;
 constexpr double kPartitionS = 10;
 // Asynchronous throughput under 100 ms ± 20 ms latency, as a share of the fault-free figure.
-// Issue 47 asks for 0.5; measured 0.25-0.32 with one chunk in flight, 0.46-0.47 with the
-// default window of 4 (docs/reliability.md "Chunks in flight"), where the run's max_policy_lag
-// bounds it. The floor (0.1: the fault-free figure moves with the machine's load) catches a
-// worker that stops under latency; set JUGGLE_NETFAULTS_THROUGHPUT_SHARE=0.5 to hold the
-// issue's target.
+// Issue 47 asks for 0.5; measured 0.25-0.32 with one chunk in flight, 0.39-0.47 with the
+// default window of 4 and max_policy_lag 2, 0.59 (two runs) with the window of 4 and
+// max_policy_lag 4 (docs/reliability.md "Chunks in flight"). The floor is 0.45, not 0.5: the
+// fault-free figure moves with the machine's load (±25 % beside other jobs);
+// JUGGLE_NETFAULTS_THROUGHPUT_SHARE sets it.
 double MinLatencyThroughputShare() {
   const char* s = std::getenv("JUGGLE_NETFAULTS_THROUGHPUT_SHARE");
-  return s != nullptr && *s ? std::strtod(s, nullptr) : 0.1;
+  return s != nullptr && *s ? std::strtod(s, nullptr) : 0.45;
 }
 
 std::string Netns(const std::string& args) {
@@ -187,6 +187,16 @@ class NamespaceScheduleTest : public ::testing::Test {
                                                              "\"}"))
         .value_or(-1);
   }
+  // Reconnects the learner counted for slot k (0 before the first).
+  double Reconnects(int k) {
+    return std::max(0.0, testing::ScrapeMetric(metrics_port_, absl::StrCat("juggle_worker_reconnects_total{slot=\"", k,
+                                                                            "\"}")).value_or(0));
+  }
+  double AllReconnects() {
+    double sum = 0;
+    for (int k = 0; k < kWorkers; ++k) sum += Reconnects(k);
+    return sum;
+  }
   // Seconds until every worker in `slots` has had a chunk accepted after now (-1: not within
   // `timeout`).
   double WaitContributing(const std::vector<int>& slots, double timeout) {
@@ -297,6 +307,7 @@ void NamespaceScheduleTest::RunSchedule(bool synchronous) {
                        absl::StrCat(version_after_loss - version_before_loss, " iterations during it")});
 
   // 3a. One worker partitioned: the others go on without it.
+  const double lone_reconnects = Reconnects(lone);
   Partition(lone, "both");
   const Accounts before_lone = Scrape();
   EXPECT_TRUE(WaitFor([&] { return Scrape().workers == kWorkers - 1; }, kPartitionS))
@@ -313,6 +324,7 @@ void NamespaceScheduleTest::RunSchedule(bool synchronous) {
   Heal(lone);
   const double lone_recovery = WaitContributing({lone}, kRecoveryBound);
   EXPECT_GE(lone_recovery, 0) << "worker " << lone << " did not return within " << kRecoveryBound << " s";
+  EXPECT_GT(Reconnects(lone), lone_reconnects) << "/metrics did not count worker " << lone << "'s reconnect";
   outcomes_.push_back({absl::StrCat("worker ", lone, " partitioned (both ways), 10 s"), lone_recovery,
                        absl::StrCat(end_lone.version - before_lone.version, " iterations without it; connected ",
                                     during_lone.workers, " of 4")});
@@ -367,6 +379,7 @@ void NamespaceScheduleTest::RunSchedule(bool synchronous) {
   const Accounts first = Scrape();
   ASSERT_TRUE(first.ok);
   const double rss_first = RssMb(learner_->pid());
+  const double reconnects_first = AllReconnects();
   const auto partitioned_at = Clock::now();
   learner_->Kill(SIGKILL);
   learner_->Wait(10);
@@ -377,7 +390,10 @@ void NamespaceScheduleTest::RunSchedule(bool synchronous) {
   for (int k : all) Heal(k);
   const double resume_recovery = WaitContributing(all, kRecoveryBound);
   EXPECT_GE(resume_recovery, 0) << "the workers did not return to the resumed learner";
-  outcomes_.push_back({"learner SIGKILLed in an all-worker partition, resumed, healed at 10 s",
+  for (int k : all) {
+    EXPECT_GE(Reconnects(k), 1) << "the resumed learner did not count worker " << k << " as a reconnect";
+  }
+  const double reconnects_resumed = AllReconnects();  outcomes_.push_back({"learner SIGKILLed in an all-worker partition, resumed, healed at 10 s",
                        resume_recovery, ""});
   std::this_thread::sleep_for(std::chrono::seconds(3));
 
@@ -440,6 +456,8 @@ void NamespaceScheduleTest::RunSchedule(bool synchronous) {
   }
   std::printf("| reconciled | learners accepted %.0f unrolls, workers told of %ld, %ld sessions | unaccounted %.0f |\n",
               accepted, acked.unrolls, acked.sessions, last.unaccounted());
+  std::printf("| reconnects on /metrics | learner 1: %.0f; learner 2 (resumed): %.0f | 4 workers, %ld sessions |\n",
+              reconnects_first, reconnects_resumed, acked.sessions);
   std::fflush(stdout);
   learner_->Kill(SIGTERM);
   EXPECT_EQ(learner_->Wait(30), 0);

@@ -193,6 +193,25 @@ int Evaluate(EvalFlags f) {
         "prediction_checks=%d prediction_mismatches=%d wall_s=%.1f wall_s_per_sim_s=%.3f",
         t.replans, t.rollouts, t.rollout_steps, t.rescues, t.prediction_checks, t.prediction_mismatches,
         wall, wall / std::max(sim_seconds, 1e-9)));
+    if (t.model_checks > 0) {
+      // A planning model (planner.planning_model): its choices checked on the executed model.
+      const double disagreement = double(t.model_disagreements) / double(t.model_checks);
+      absl::StrAppend(&line, absl::StrFormat(
+          " planner_exact_rollouts=%d planner_exact_rollout_steps=%d model_checks=%d "
+          "model_disagreements=%d model_disagreement_share=%.3f model_overrides=%d "
+          "model_cost_gap_mean=%.2f",
+          t.exact_rollouts, t.exact_rollout_steps, t.model_checks, t.model_disagreements,
+          disagreement, t.model_overrides, t.model_cost_gap_sum / double(t.model_checks)));
+      const double limit = config.run.planner().planning_model().max_disagreement_share();
+      if (disagreement > limit) {
+        std::printf("warning: the planning model and the executed model judged the chosen plan "
+                    "differently (a failure or a missed contact predicted by one only) in %ld of "
+                    "%ld re-plans (%.1f %%), above planner.planning_model.max_disagreement_share "
+                    "%.3g: its predictions do not hold; use a finer planning model\n",
+                    static_cast<long>(t.model_disagreements), static_cast<long>(t.model_checks),
+                    100 * disagreement, limit);
+      }
+    }
   }
   if (observed.envs_measured() > 0) {
     absl::StrAppend(&line, planner::ImpactSummary(observed.accelerations(), f.impact_band[0],

@@ -15,6 +15,7 @@
 #include "envs/registry.h"
 #include "envs/soccer_juggle/env.h"
 #include "planner/planner_controller.h"
+#include "planner/planning_pools.h"
 #include "planner/rollout_pool.h"
 #include "planner/receding_horizon.h"
 #include "planner/tasks.h"
@@ -46,14 +47,17 @@ struct SearchRate {
 absl::StatusOr<SearchRate> PlannerEpisodeRate(std::shared_ptr<const JuggleSpec> spec,
                               const config::PlannerConfig& config, int replans, int threads,
                               std::vector<std::unique_ptr<EnvSnapshot>>* snapshots) {
-  RolloutPool pool(spec, threads);
+  absl::StatusOr<planner::PlanningPools> pools = planner::MakePlanningPools(spec, config, threads);
+  if (!pools.ok()) return pools.status();
+  RolloutPool& pool = *pools->search;
   JuggleEnv env(spec, Rng::ForStream(11, 0, 0));
   AdaptiveWalk walk(&spec->graph());
   env.Reset(walk);
   absl::StatusOr<std::shared_ptr<const planner::PlanningTask>> task =
       planner::MakePlanningTask(spec, config);
   if (!task.ok()) return task.status();
-  auto planner = std::make_unique<planner::RecedingHorizonPlanner>(*task, config, &pool, 0);
+  auto planner = std::make_unique<planner::RecedingHorizonPlanner>(*task, config, &pool, 0,
+                                                                   nullptr, pools->exact.get());
   planner::PlannerTotals done;  // of the episodes that ended
   int64_t control_steps = 0;
   float action[kNumActions];
@@ -68,8 +72,8 @@ absl::StatusOr<SearchRate> PlannerEpisodeRate(std::shared_ptr<const JuggleSpec> 
       done.rollout_steps += planner->totals().rollout_steps;
       done.rescues += planner->totals().rescues;
       env.Reset(walk);
-      planner = std::make_unique<planner::RecedingHorizonPlanner>(*task, config, &pool,
-                                                                  control_steps);
+      planner = std::make_unique<planner::RecedingHorizonPlanner>(
+          *task, config, &pool, control_steps, nullptr, pools->exact.get());
     }
   }
   const double seconds = Seconds(start);

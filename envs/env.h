@@ -118,6 +118,9 @@ class EnvSpec : public std::enable_shared_from_this<EnvSpec> {
   void SetFingerprint(const std::string& config_bytes) {
     fingerprint_ = Fingerprint(config_bytes, ModelFingerprint(model()));
   }
+  // A planning variant (envs/planning_model.h) takes the fingerprint of the spec it stands in
+  // for: its envs restore that spec's snapshots.
+  void ShareFingerprint(const EnvSpec& exact) { fingerprint_ = exact.fingerprint(); }
 
  private:
   uint64_t fingerprint_ = 0;

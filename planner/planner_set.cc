@@ -1,5 +1,9 @@
 #include "planner/planner_set.h"
 
+#include <utility>
+
+#include "absl/strings/str_cat.h"
+
 #include "planner/planner_config.h"
 #include "planner/tasks.h"
 
@@ -12,19 +16,26 @@ absl::StatusOr<std::unique_ptr<PlannerSet>> PlannerSet::Create(std::shared_ptr<c
   absl::StatusOr<std::shared_ptr<const PlanningTask>> task =
       MakePlanningTask(spec, config.run.planner());
   if (!task.ok()) return task.status();
-  return std::unique_ptr<PlannerSet>(
-      new PlannerSet(std::move(spec), *std::move(task), config.run.planner(), stream_base));
+  absl::StatusOr<PlanningPools> pools =
+      MakePlanningPools(spec, config.run.planner(), config.run.planner().threads());
+  if (!pools.ok()) {
+    return absl::Status(pools.status().code(),
+                        absl::StrCat(config.config_path, ": ", pools.status().message()));
+  }
+  return std::unique_ptr<PlannerSet>(new PlannerSet(
+      std::move(spec), *std::move(task), config.run.planner(), stream_base, *std::move(pools)));
 }
 
 PlannerSet::PlannerSet(std::shared_ptr<const EnvSpec> spec,
                        std::shared_ptr<const PlanningTask> task,
-                       const config::PlannerConfig& config, uint64_t stream_base)
+                       const config::PlannerConfig& config, uint64_t stream_base,
+                       PlanningPools pools)
     : spec_(std::move(spec)),
       task_(std::move(task)),
       config_(config),
       stream_base_(stream_base),
       proposal_(config.policy_prior() ? std::make_unique<PolicyPrior>(*spec_) : nullptr),
-      pool_(spec_, config_.threads()) {}
+      pools_(std::move(pools)) {}
 
 absl::Status PlannerSet::SetProposal(const EigenPolicy* policy) {
   if (proposal_ == nullptr) {
@@ -44,7 +55,8 @@ RecedingHorizonPlanner& PlannerSet::For(const Env& env, int* index) {
   auto [it, added] = planner_of_.try_emplace(&env, static_cast<int>(planners_.size()));
   if (added) {
     planners_.push_back(std::make_unique<RecedingHorizonPlanner>(
-        task_, config_, &pool_, stream_base_ + planners_.size(), proposal_.get()));
+        task_, config_, pools_.search.get(), stream_base_ + planners_.size(), proposal_.get(),
+        pools_.exact.get()));
   }
   if (index != nullptr) *index = it->second;
   return *planners_[it->second];

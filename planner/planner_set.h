@@ -15,6 +15,7 @@
 #include "common/config_loader.h"
 #include "envs/env.h"
 #include "common/eigen_policy.h"
+#include "planner/planning_pools.h"
 #include "planner/planning_task.h"
 #include "planner/policy_prior.h"
 #include "planner/receding_horizon.h"
@@ -49,14 +50,14 @@ class PlannerSet {
 
  private:
   PlannerSet(std::shared_ptr<const EnvSpec> spec, std::shared_ptr<const PlanningTask> task,
-             const config::PlannerConfig& config, uint64_t stream_base);
+             const config::PlannerConfig& config, uint64_t stream_base, PlanningPools pools);
 
   std::shared_ptr<const EnvSpec> spec_;
   std::shared_ptr<const PlanningTask> task_;
   config::PlannerConfig config_;
   uint64_t stream_base_;
   std::unique_ptr<PolicyPrior> proposal_;  // with config.policy_prior
-  RolloutPool pool_;
+  PlanningPools pools_;
   std::vector<std::unique_ptr<RecedingHorizonPlanner>> planners_;  // in order of first sight
   absl::flat_hash_map<const Env*, int> planner_of_;
 };

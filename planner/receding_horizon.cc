@@ -42,6 +42,12 @@ void PlannerTotals::Add(const PlannerTotals& other) {
   rescues += other.rescues;
   prediction_checks += other.prediction_checks;
   prediction_mismatches += other.prediction_mismatches;
+  exact_rollouts += other.exact_rollouts;
+  exact_rollout_steps += other.exact_rollout_steps;
+  model_checks += other.model_checks;
+  model_disagreements += other.model_disagreements;
+  model_overrides += other.model_overrides;
+  model_cost_gap_sum += other.model_cost_gap_sum;
 }
 
 struct RecedingHorizonPlanner::ReplanState {
@@ -57,10 +63,11 @@ struct RecedingHorizonPlanner::ReplanState {
 RecedingHorizonPlanner::RecedingHorizonPlanner(std::shared_ptr<const PlanningTask> task,
                                                const config::PlannerConfig& config,
                                                RolloutPool* pool, uint64_t stream,
-                                               const ActionPrior* prior)
+                                               const ActionPrior* prior, RolloutPool* exact_pool)
     : task_(std::move(task)),
       config_(config),
       pool_(pool),
+      exact_pool_(exact_pool),
       stream_(stream),
       prior_(prior),
       act_dim_(pool->spec().act_dim()),
@@ -341,7 +348,37 @@ absl::Status RecedingHorizonPlanner::Refine(const EnvSnapshot& snapshot, PlanClo
 
 absl::Status RecedingHorizonPlanner::Commit(const Env& env, const ReplanState& r,
                                             const CemResult& result) {
+  const bool had_plan = has_plan_;
   theta_ = result.best;
+  if (exact_pool_ != nullptr) {
+    // The planning model chose: simulate the choice (and the warm start) on the executed model.
+    RolloutOptions plain;
+    plain.clock = r.clock;
+    RolloutResult coarse, exact, warm;
+    RETURN_IF_ERROR(pool_->Run(*r.snapshot, 1, [&](int, Env* copy) {
+      coarse = Rollout(copy, theta_.data(), plain);
+    }));
+    ++totals_.rollouts;
+    totals_.rollout_steps += coarse.steps;
+    const bool check = config_.planning_model().check_on_exact() && had_plan;
+    RETURN_IF_ERROR(exact_pool_->Run(*r.snapshot, check ? 2 : 1, [&](int i, Env* copy) {
+      if (i == 0) exact = Rollout(copy, theta_.data(), plain);
+      else warm = Rollout(copy, r.shifted.data(), plain);
+    }));
+    totals_.exact_rollouts += check ? 2 : 1;
+    totals_.exact_rollout_steps += exact.steps + (check ? warm.steps : 0);
+    ++totals_.model_checks;
+    totals_.model_cost_gap_sum += exact.cost - coarse.cost;
+    auto fails = [](const RolloutResult& x) {
+      return x.missed || (x.end != Outcome::kRunning && x.end != Outcome::kTimeLimit);
+    };
+    if (fails(coarse) != fails(exact)) ++totals_.model_disagreements;
+    if (check && warm.cost + task_->PlanCost(r.shifted.data(), r.shifted, had_plan) <
+                     exact.cost + task_->PlanCost(theta_.data(), r.shifted, had_plan)) {
+      theta_ = r.shifted;
+      ++totals_.model_overrides;
+    }
+  }
   has_plan_ = true;
   origin_step_ = env.steps();
   knot0_step_ = r.knot0;
@@ -358,11 +395,12 @@ absl::Status RecedingHorizonPlanner::Commit(const Env& env, const ReplanState& r
   options.clock = r.clock;
   options.trace = &predicted_;
   options.terms = true;
-  const absl::Status status = pool_->Run(*r.snapshot, 1, [&](int, Env* copy) {
+  RolloutPool* predictor = exact_pool_ != nullptr ? exact_pool_ : pool_;
+  const absl::Status status = predictor->Run(*r.snapshot, 1, [&](int, Env* copy) {
     chosen = Rollout(copy, theta_.data(), options);
   });
-  ++totals_.rollouts;
-  totals_.rollout_steps += chosen.steps;
+  ++(exact_pool_ != nullptr ? totals_.exact_rollouts : totals_.rollouts);
+  (exact_pool_ != nullptr ? totals_.exact_rollout_steps : totals_.rollout_steps) += chosen.steps;
   last_.predicted_outcome = chosen.first_outcome;
   last_.terms = chosen.terms;
   last_.decision.assign(theta_.begin(), theta_.begin() + task_->decision_size());

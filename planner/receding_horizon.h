@@ -56,6 +56,17 @@ struct PlannerTotals {
   // bit), and those that differed: the executed future equals the predicted one.
   int64_t prediction_checks = 0;
   int64_t prediction_mismatches = 0;
+  // With a planning model (PlannerConfig.planning_model): rollouts and control steps on the
+  // executed model (not in rollouts / rollout_steps); re-plans whose choice was simulated on
+  // both models; those the two judged differently (a failure or a missed contact predicted by
+  // one only); those where the warm start acted because it cost less on the executed model;
+  // and the chosen plans' cost on the executed model minus on the planning model, summed.
+  int64_t exact_rollouts = 0;
+  int64_t exact_rollout_steps = 0;
+  int64_t model_checks = 0;
+  int64_t model_disagreements = 0;
+  int64_t model_overrides = 0;
+  double model_cost_gap_sum = 0;
   void Add(const PlannerTotals& other);
 };
 
@@ -64,10 +75,12 @@ class RecedingHorizonPlanner {
   // `pool` simulates copies of envs of the task's family (REQUIRES: the pool's spec is the one
   // the task was made for; the pool outlives the planner). `stream` selects the random stream
   // (e.g. the episode's env index). `prior`, if not null, is the action the plan's offsets are
-  // added to (must outlive the planner).
+  // added to (must outlive the planner). `exact_pool`, with a planning model (`pool` simulating
+  // PlannerConfig.planning_model): a pool on the executed model, where the chosen plan is
+  // simulated again (its prediction, and PlanningModel.check_on_exact).
   RecedingHorizonPlanner(std::shared_ptr<const PlanningTask> task,
                          const config::PlannerConfig& config, RolloutPool* pool, uint64_t stream,
-                         const ActionPrior* prior = nullptr);
+                         const ActionPrior* prior = nullptr, RolloutPool* exact_pool = nullptr);
 
   // Writes the action for `env`'s current state (act_dim floats), re-planning first when due. A
   // new episode (the env's step count went back) starts a new plan. Errors: the pool's (a
@@ -164,6 +177,7 @@ class RecedingHorizonPlanner {
   std::shared_ptr<const PlanningTask> task_;
   config::PlannerConfig config_;
   RolloutPool* pool_;
+  RolloutPool* exact_pool_;  // null: the rollouts run on the executed model
   uint64_t stream_;
   const ActionPrior* prior_;
   int act_dim_;

@@ -94,6 +94,30 @@ absl::StatusOr<std::shared_ptr<const JuggleSpec>> JuggleSpec::CreateFromCompiled
   return Build(config, std::move(model));
 }
 
+absl::StatusOr<std::shared_ptr<const JuggleSpec>> JuggleSpec::CreatePlanningVariant(
+    const JuggleSpec& exact, const PlanningModelOptions& options) {
+  const int factor = options.timestep_factor;
+  const int substeps = exact.env().substeps();
+  if (factor < 1 || substeps % factor != 0) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "planner.planning_model.timestep_factor ", factor, " does not divide the env's ",
+        substeps, " substeps per control step"));
+  }
+  LoadedConfig config = exact.config();
+  config::EnvConfig* env = config.run.mutable_soccer_juggle()->mutable_env();
+  env->set_sim_dt(env->sim_dt() * factor);
+  env->set_substeps(substeps / factor);
+  MjModelPtr model(mj_copyModel(nullptr, exact.model()));
+  model->opt.timestep = env->sim_dt();
+  if (options.solver_iterations > 0) model->opt.iterations = options.solver_iterations;
+  if (options.solver_tolerance > 0) model->opt.tolerance = options.solver_tolerance;
+  if (options.pyramidal_cone) model->opt.cone = mjCONE_PYRAMIDAL;
+  ASSIGN_OR_RETURN(std::shared_ptr<const JuggleSpec> built, Build(config, std::move(model)));
+  // Build made it; nothing else holds it yet.
+  std::const_pointer_cast<JuggleSpec>(built)->ShareFingerprint(exact);
+  return built;
+}
+
 absl::StatusOr<std::shared_ptr<const JuggleSpec>> JuggleSpec::Build(const LoadedConfig& config,
                                                                    MjModelPtr owned_model) {
   const config::EnvConfig& env = config.run.soccer_juggle().env();

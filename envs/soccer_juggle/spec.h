@@ -17,6 +17,7 @@
 #include "common/control_graph.h"
 #include "envs/soccer_juggle/graph_cursor.h"
 #include "envs/env.h"
+#include "envs/planning_model.h"
 #include "envs/mujoco_model.h"
 
 namespace juggle::soccer_juggle {
@@ -74,6 +75,11 @@ class JuggleSpec : public EnvSpec {
   // As Create, from a model compiled elsewhere (mj_saveModel bytes, as the learner ships it).
   static absl::StatusOr<std::shared_ptr<const JuggleSpec>> CreateFromCompiled(
       const LoadedConfig& config, const std::string& model_mjb);
+  // The planning variant of `exact` (envs/planning_model.h): its config and model with the
+  // options applied (sim_dt and the model's timestep × timestep_factor, substeps ÷ it), sharing
+  // exact's fingerprint. INVALID_ARGUMENT when the factor does not divide the substeps.
+  static absl::StatusOr<std::shared_ptr<const JuggleSpec>> CreatePlanningVariant(
+      const JuggleSpec& exact, const PlanningModelOptions& options);
   JuggleSpec(const JuggleSpec&) = delete;
   JuggleSpec& operator=(const JuggleSpec&) = delete;
 

@@ -106,7 +106,9 @@ TEST(ArmTrackingTest, ReplannedAccelerationsReachTheGoalStateExactlyInTheGivenSt
     }
     for (int j = 0; j < 3; ++j) {
       EXPECT_NEAR(v[j], v_goal[j], 1e-9) << steps << " steps, joint " << j;
-      if (steps > 1) EXPECT_NEAR(q[j], q_goal[j], 1e-9) << steps << " steps, joint " << j;
+      if (steps > 1) {
+        EXPECT_NEAR(q[j], q_goal[j], 1e-9) << steps << " steps, joint " << j;
+      }
     }
   }
 }
@@ -119,7 +121,6 @@ TEST(ArmTrackingTest, TargetsGiveTheAskedAccelerationInARealStepForBothArmsWithA
   world.Hold(0, Hand::kLeft);
   const ArmAngles qacc = {35.0, -80.0, 12.0};
   for (Hand hand : {Hand::kRight, Hand::kLeft}) {
-    const TossArmState before = world.ArmState(hand);
     const ArmAngles t = TargetsForAcceleration(world, hand, qacc);
     world.SetTargets(hand, {TossSpec::MirrorSign(hand) * spec->home()[0], t[0], t[1], t[2]});
   }

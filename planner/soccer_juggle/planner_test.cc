@@ -398,7 +398,10 @@ TEST_F(SoccerPlannerTest, ARescueSearchRunsOnlyAboveItsCostAndNeverRaisesIt) {
     PlannerTotals totals;
     std::vector<float> action;
   };
-  std::vector<Arm> arms = {{0}, {1e-9}, {1e30}};  // off, always, never
+  std::vector<Arm> arms(3);
+  arms[0].cost_above = 0;  // off
+  arms[1].cost_above = 1e-9;  // always
+  arms[2].cost_above = 1e30;  // never
   for (Arm& arm : arms) {
     config::RescueSearch& rescue = *config_.run.mutable_planner()->mutable_rescue();
     rescue.set_cost_above(arm.cost_above);

@@ -158,7 +158,7 @@ TEST(DashboardJsonTest, StatusShowsAWorkersSessionsAndTheReconnectsOfEverySlot) 
   DeclareLearnerMetrics(&metrics);
   std::optional<uint64_t> replaced;
   const auto now = WorkerRegistry::Clock::now();
-  registry.Register(0, 8, "node-a", now, &replaced, /*sessions_before=*/3);
+  ASSERT_TRUE(registry.Register(0, 8, "node-a", now, &replaced, /*sessions_before=*/3).ok());
   metrics.Add("juggle_worker_reconnects_total", 3, {{"slot", "0"}});
   metrics.Add("juggle_worker_reconnects_total", 2, {{"slot", "1"}});
   const Json j = Json::parse(StatusJson(LiveStatus(state, registry, metrics)));

@@ -169,5 +169,52 @@ TEST_F(PlanningModelTest, APlannerOnItStillPredictsTheExecutedFutureBitForBit) {
   EXPECT_EQ(t.prediction_mismatches, 0) << "the prediction is the executed model's";
 }
 
+// Multi-fidelity rollouts (PlanningModel.exact_within_m): within the distance the state moves to
+// the executed model. Within 100 m every step is the executed model's, so a candidate costs
+// exactly what it costs on the executed model; without it the 2x model's cost differs; within
+// 0.6 m a planner's search simulates part of its steps on each model.
+TEST_F(PlanningModelTest, AMultiFidelityRolloutIsTheExecutedModelsNearTheContact) {
+  config::PlannerConfig p = config_.run.planner();
+  p.set_samples(8);
+  p.set_iterations(2);
+  p.set_horizon_steps(32);
+  p.mutable_rescue()->set_cost_above(0);  // no rescue: a quick test
+  auto cost_with = [&](const config::PlannerConfig& c) -> double {
+    absl::StatusOr<PlanningPools> pools = MakePlanningPools(spec_, c, 1);
+    EXPECT_TRUE(pools.ok()) << pools.status();
+    RecedingHorizonPlanner planner(std::make_shared<SoccerJuggleTask>(Juggle(spec_), c), c,
+                                   pools->search.get(), 0, nullptr, pools->exact.get());
+    std::unique_ptr<JuggleEnv> env = ApexEnv();
+    const absl::StatusOr<double> cost =
+        planner.Evaluate(*env, std::vector<double>(planner.task().dim(), 0.0));
+    EXPECT_TRUE(cost.ok()) << cost.status();
+    return cost.value_or(-1);
+  };
+  const double exact = cost_with(p);
+  config::PlannerConfig coarse = p;
+  coarse.mutable_planning_model()->set_timestep_factor(2);
+  config::PlannerConfig everywhere = coarse;
+  everywhere.mutable_planning_model()->set_exact_within_m(100);
+  EXPECT_EQ(cost_with(everywhere), exact) << "every step on the executed model";
+  EXPECT_NE(cost_with(coarse), exact) << "the 2x model's cost differs";
+
+  config::PlannerConfig near = coarse;
+  near.mutable_planning_model()->set_exact_within_m(0.6);
+  absl::StatusOr<PlanningPools> pools = MakePlanningPools(spec_, near, 2);
+  ASSERT_TRUE(pools.ok()) << pools.status();
+  RecedingHorizonPlanner planner(std::make_shared<SoccerJuggleTask>(Juggle(spec_), near), near,
+                                 pools->search.get(), 0, nullptr, pools->exact.get());
+  std::unique_ptr<JuggleEnv> env = ApexEnv();
+  float action[kNumActions];
+  for (int t = 0; t < 12; ++t) {
+    ASSERT_TRUE(planner.Act(*env, action).ok());
+    env->Step(action, *walk_);
+  }
+  const PlannerTotals& t = planner.totals();
+  EXPECT_GT(t.rollout_steps, 0) << "steps on the planning model";
+  EXPECT_GT(t.exact_rollout_steps, 3 * t.replans * 2) << "steps of the search on the executed model";
+  EXPECT_EQ(t.prediction_mismatches, 0);
+}
+
 }  // namespace
 }  // namespace juggle::planner

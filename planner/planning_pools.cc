@@ -23,7 +23,9 @@ absl::StatusOr<PlanningPools> MakePlanningPools(std::shared_ptr<const EnvSpec> s
   }
   absl::StatusOr<std::shared_ptr<const EnvSpec>> planning = CreatePlanningSpec(spec, options);
   if (!planning.ok()) return planning.status();
-  pools.search = std::make_unique<RolloutPool>(*std::move(planning), threads);
+  const bool multi_fidelity = config.planning_model().exact_within_m() > 0;
+  pools.search = std::make_unique<RolloutPool>(*std::move(planning), threads,
+                                               multi_fidelity ? spec : nullptr);
   pools.exact = std::make_unique<RolloutPool>(std::move(spec), 1);
   return pools;
 }

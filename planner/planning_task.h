@@ -10,6 +10,7 @@
 #ifndef JUGGLE_PLANNER_PLANNING_TASK_H_
 #define JUGGLE_PLANNER_PLANNING_TASK_H_
 
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -103,6 +104,12 @@ class PlanningTask {
   // shifted plan's values (`shifted`), in `space` and in every seed. Default: nothing.
   virtual void Restrict(const Env& env, const std::vector<double>& shifted, SearchSpace* space,
                         std::vector<std::vector<double>>* seeds) const {}
+  // How far (m) the env's ball (or whatever the task's contacts are with) is from a contact
+  // that decides the task: PlanningModel.exact_within_m simulates the executed model inside
+  // that distance. Default: infinitely far (never).
+  virtual double ContactClearance(const Env& env) const {
+    return std::numeric_limits<double>::infinity();
+  }
   // The plan's own cost beside its rollout's (e.g. consistency with the warm start `warm`, which
   // is the previous plan shifted when `has_warm`, and a prior toward zero). Default: 0.
   virtual double PlanCost(const double* theta, const std::vector<double>& warm,

@@ -89,6 +89,17 @@ RecedingHorizonPlanner::RolloutResult RecedingHorizonPlanner::Rollout(
   RolloutResult result;
   const std::unique_ptr<RolloutScorer> scorer = task_->NewScorer();
   scorer->Begin(*env);
+  // PlanningModel.exact_within_m: the state moves to the executed model's twin near a contact
+  // and back to the planning model away from it.
+  const double exact_within = config_.planning_model().exact_within_m();
+  Env* const planning_env = env;
+  Env* const exact_env = exact_within > 0 ? pool_->TwinOf(env) : nullptr;
+  auto switch_to = [&](Env* target) {
+    const std::unique_ptr<EnvSnapshot> state = env->Snapshot();
+    const absl::Status moved = target->Restore(*state);
+    JUGGLE_CHECK(moved.ok(), "a twin env refused its pool env's state");
+    env = target;
+  };
   std::vector<float> action(act_dim_);
   std::vector<double> prior(prior_ != nullptr ? act_dim_ : 0);
   PlanClock clock = o.clock;
@@ -97,6 +108,12 @@ RecedingHorizonPlanner::RolloutResult RecedingHorizonPlanner::Rollout(
   int t = 0;
   int end = horizon;
   for (; t < end; ++t, ++clock.step) {
+    if (exact_env != nullptr) {
+      const bool near = task_->ContactClearance(*env) < exact_within;
+      if (near && env == planning_env) switch_to(exact_env);
+      if (!near && env == exact_env) switch_to(planning_env);
+      if (env == exact_env) ++result.exact_steps;
+    }
     if (prior_ != nullptr) prior_->Write(*env, prior.data());
     task_->Action(*env, theta, clock, prior_ != nullptr ? prior.data() : nullptr, action.data());
     if (o.noise != nullptr) {
@@ -168,7 +185,10 @@ RecedingHorizonPlanner::RolloutBatch(const EnvSnapshot& snapshot, PlanClock cloc
     job.noise = draw > 0 ? RobustNoise(draw) : nullptr;
     all[j] = Rollout(copy, candidates.data() + (j / per) * dim, job);
   }));
-  for (const RolloutResult& r : all) totals_.rollout_steps += r.steps;
+  for (const RolloutResult& r : all) {
+    totals_.rollout_steps += r.steps - r.exact_steps;
+    totals_.exact_rollout_steps += r.exact_steps;
+  }
   if (per == 1) return all;
   std::vector<RolloutResult> results(n);
   for (int i = 0; i < n; ++i) {

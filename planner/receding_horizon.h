@@ -112,6 +112,7 @@ class RecedingHorizonPlanner {
     int steps = 0;
     Outcome end = Outcome::kRunning;
     bool missed = false;  // RolloutScorer::predicts_miss
+    int exact_steps = 0;  // of `steps`, simulated on the executed model (exact_within_m)
     std::vector<double> first_outcome;
     std::vector<double> terms;  // only when asked for (the chosen plan's rollout)
   };

@@ -17,8 +17,11 @@ namespace juggle {
 
 class RolloutPool {
  public:
-  // REQUIRES: threads >= 1, `spec` owned by a shared_ptr.
-  RolloutPool(std::shared_ptr<const EnvSpec> spec, int threads);
+  // REQUIRES: threads >= 1, `spec` owned by a shared_ptr. With `twin_spec` (a spec sharing
+  // `spec`'s fingerprint: envs/planning_model.h), every thread's env has a twin of that spec,
+  // into which a rollout can move its state on the way (TwinOf).
+  RolloutPool(std::shared_ptr<const EnvSpec> spec, int threads,
+              std::shared_ptr<const EnvSpec> twin_spec = nullptr);
   ~RolloutPool();
   RolloutPool(const RolloutPool&) = delete;
   RolloutPool& operator=(const RolloutPool&) = delete;
@@ -29,11 +32,15 @@ class RolloutPool {
   absl::Status Run(const EnvSnapshot& snapshot, int n, const std::function<void(int, Env*)>& fn);
 
   int threads() const { return static_cast<int>(envs_.size()); }
+  // The twin of one of this pool's envs, or the env of a twin (the same thread's); null
+  // without twins or for an env of another pool. Only the thread running `env` may use it.
+  Env* TwinOf(const Env* env) const;
   const EnvSpec& spec() const { return *spec_; }
 
  private:
   std::shared_ptr<const EnvSpec> spec_;
   std::vector<std::unique_ptr<Env>> envs_;  // one per pool thread; [0] is the caller's
+  std::vector<std::unique_ptr<Env>> twins_;  // empty, or one per pool thread
   ForkJoinPool pool_;  // after envs_: destroyed (its threads joined) before them
 };
 

@@ -73,6 +73,10 @@ void SoccerJuggleTask::Restrict(const Env& env, const std::vector<double>& shift
   }
 }
 
+double SoccerJuggleTask::ContactClearance(const Env& env) const {
+  return BallClearance(static_cast<const JuggleEnv&>(env));
+}
+
 double SoccerJuggleTask::PlanCost(const double* theta, const std::vector<double>& warm,
                                   bool has_warm) const {
   // Kick consistency with the warm start and the kick prior (PlannerCost.kick_consistency,

@@ -44,6 +44,8 @@ class SoccerJuggleTask final : public PlanningTask {
                 std::vector<std::vector<double>>* seeds) const override;
   double PlanCost(const double* theta, const std::vector<double>& warm,
                   bool has_warm) const override;
+  // The ball's clearance from the bodies its node lets touch it (BallClearance).
+  double ContactClearance(const Env& env) const override;
   void Action(const Env& env, const double* theta, PlanClock clock, const double* prior,
               float* action) const override;
   std::unique_ptr<RolloutScorer> NewScorer() const override;

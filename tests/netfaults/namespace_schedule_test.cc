@@ -434,7 +434,9 @@ void NamespaceScheduleTest::RunSchedule(bool synchronous) {
   // each learner's accepted unrolls are trained, dropped by a counted reason, held or partial.
   EXPECT_EQ(last.unaccounted(), 0) << "the resumed learner lost accepted unrolls";
   EXPECT_GE(first.unaccounted(), 0);
-  if (first.queued_chunks == 0) EXPECT_EQ(first.unaccounted(), 0);
+  if (first.queued_chunks == 0) {
+    EXPECT_EQ(first.unaccounted(), 0);
+  }
   EXPECT_LE(acked.unrolls, accepted) << "workers were told of acceptances no learner counted";
   // Nothing counted twice: a worker never resends (after a reset it starts new contributions
   // in a new registration), so the learners' excess over the workers' count is at most the acks

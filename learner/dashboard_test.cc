@@ -123,13 +123,20 @@ TEST(DashboardJsonTest, GraphShowsWeightsProbabilitiesAndPerNodeSuccess) {
   EXPECT_EQ(j["latest"]["outcomes"]["ball_lost"], 3);
 }
 
-TEST(DashboardJsonTest, StatusListsLiveWorkersAndMarksASilentOne) {
-  DashboardState state(TwoNodeRun(), 100);
-  WorkerRegistry registry(1);
+// A live learner's status pieces: the two-node run's dashboard state, a registry, metrics.
+class DashboardStatusTest : public ::testing::Test {
+ protected:
+  void SetUp() override { DeclareLearnerMetrics(&metrics); }
+  Json Status() { return Json::parse(StatusJson(LiveStatus(state, registry, metrics))); }
+
+  DashboardState state{TwoNodeRun(), 100};
+  WorkerRegistry registry{1};
   Metrics metrics;
-  DeclareLearnerMetrics(&metrics);
   std::optional<uint64_t> replaced;
-  const auto now = WorkerRegistry::Clock::now();
+  const WorkerRegistry::Clock::time_point now = WorkerRegistry::Clock::now();
+};
+
+TEST_F(DashboardStatusTest, StatusListsLiveWorkersAndMarksASilentOne) {
   const WorkerInfo fresh = *registry.Register(0, 8, "node-a", now, &replaced);
   const WorkerInfo silent = *registry.Register(1, 8, "node-b", now - std::chrono::seconds(5), &replaced);
   registry.CountChunk(fresh.incarnation, true);
@@ -137,7 +144,7 @@ TEST(DashboardJsonTest, StatusListsLiveWorkersAndMarksASilentOne) {
   registry.CountChunk(fresh.incarnation, false);
   registry.Touch(fresh.incarnation, now, 3, 1000);
   registry.Touch(silent.incarnation, now - std::chrono::seconds(5), 3, 1000);
-  const Json j = Json::parse(StatusJson(LiveStatus(state, registry, metrics)));
+  const Json j = Status();
   const Json& rows = j["workers"]["rows"];
   ASSERT_EQ(rows.size(), 2u);
   EXPECT_EQ(rows[0]["slot"], 0);
@@ -151,17 +158,11 @@ TEST(DashboardJsonTest, StatusListsLiveWorkersAndMarksASilentOne) {
   EXPECT_EQ(rows[0]["sessions"], 1);
 }
 
-TEST(DashboardJsonTest, StatusShowsAWorkersSessionsAndTheReconnectsOfEverySlot) {
-  DashboardState state(TwoNodeRun(), 100);
-  WorkerRegistry registry(1);
-  Metrics metrics;
-  DeclareLearnerMetrics(&metrics);
-  std::optional<uint64_t> replaced;
-  const auto now = WorkerRegistry::Clock::now();
+TEST_F(DashboardStatusTest, StatusShowsAWorkersSessionsAndTheReconnectsOfEverySlot) {
   ASSERT_TRUE(registry.Register(0, 8, "node-a", now, &replaced, /*sessions_before=*/3).ok());
   metrics.Add("juggle_worker_reconnects_total", 3, {{"slot", "0"}});
   metrics.Add("juggle_worker_reconnects_total", 2, {{"slot", "1"}});
-  const Json j = Json::parse(StatusJson(LiveStatus(state, registry, metrics)));
+  const Json j = Status();
   EXPECT_EQ(j["workers"]["rows"][0]["sessions"], 4);
   EXPECT_EQ(j["throughput"]["reconnects"], 5);
 }

@@ -9,6 +9,7 @@
 #include "common/rng.h"
 #include "common/status_macros.h"
 #include "planner/planner_config.h"
+#include "planner/planning_pools.h"
 #include "planner/receding_horizon.h"
 #include "planner/rollout_pool.h"
 #include "planner/tasks.h"
@@ -42,7 +43,7 @@ absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
   }
   const config::PlannerConfig& pc = config.run.planner();
   ASSIGN_OR_RETURN(std::shared_ptr<const PlanningTask> task, MakePlanningTask(spec, pc));
-  RolloutPool pool(spec, pc.threads());
+  ASSIGN_OR_RETURN(PlanningPools pools, MakePlanningPools(spec, pc, pc.threads()));
   const int act = spec->act_dim();
   std::vector<double> sum(act, 0), sum_sq(act, 0);          // every visited state's label
   std::vector<double> student_sq(act, 0);                    // (student − label)²
@@ -54,7 +55,8 @@ absl::StatusOr<LabelSpreadReport> MeasureLabelSpread(
   for (int e = 0; e < o.episodes; ++e) {
     std::unique_ptr<Env> env = spec->NewEnv(Rng::ForStream(o.seed, 0, e));
     env->Reset(walk);
-    RecedingHorizonPlanner driver(task, pc, &pool, uint64_t(e) << 8);
+    RecedingHorizonPlanner driver(task, pc, pools.search.get(), uint64_t(e) << 8, nullptr,
+                                  pools.exact.get());
     const int steps = static_cast<int>(std::lround(o.seconds / spec->control_dt()));
     std::vector<float> a(act), fa(act), executed(act);
     Rng noise_rng = Rng::ForStream(o.seed ^ kNoiseSalt, 0, e);

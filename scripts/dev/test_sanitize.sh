@@ -20,8 +20,8 @@ ASAN_TARGETS=(juggle rollout_protocol_test secure_service_test async_mode_test l
               checkpoint_test chunk_codec_test policy_store_test)
 ASAN_SUITES='RolloutProtocolTest|SecureServiceTest|TransportSecurityTest|AsyncModeTest|LearnerStartTest|MultiProcessTest|ContributionAssemblerTest|WorkerRegistryTest|SyncRoundTest|CheckpointTest|CheckpointParseTest|ChunkCodecTest|PolicyStoreTest'
 TSAN_TARGETS=(rollout_protocol_test async_mode_test bounded_queue_test env_pool_test policy_store_test
-              fork_join_pool_test receding_horizon_test)
-TSAN_SUITES='RolloutProtocolTest|AsyncModeTest|BoundedQueueTest|EnvPoolTest|PolicyStoreTest|ForkJoinPoolTest|RecedingHorizonTest'
+              fork_join_pool_test receding_horizon_test planning_model_test)
+TSAN_SUITES='RolloutProtocolTest|AsyncModeTest|BoundedQueueTest|EnvPoolTest|PolicyStoreTest|ForkJoinPoolTest|RecedingHorizonTest|PlanningModelTest'
 status=0
 run() {  # run PRESET SUITES EXCLUDE TARGETS...
   local preset=$1 suites=$2 exclude=$3; shift 3

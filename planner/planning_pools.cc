@@ -1,5 +1,6 @@
 #include "planner/planning_pools.h"
 
+#include <algorithm>
 #include <utility>
 
 #include "envs/planning_model.h"
@@ -26,7 +27,8 @@ absl::StatusOr<PlanningPools> MakePlanningPools(std::shared_ptr<const EnvSpec> s
   const bool multi_fidelity = config.planning_model().exact_within_m() > 0;
   pools.search = std::make_unique<RolloutPool>(*std::move(planning), threads,
                                                multi_fidelity ? spec : nullptr);
-  pools.exact = std::make_unique<RolloutPool>(std::move(spec), 1);
+  // The chosen plan and the warm start run side by side (check_on_exact).
+  pools.exact = std::make_unique<RolloutPool>(std::move(spec), std::min(threads, 2));
   return pools;
 }
 

@@ -15,7 +15,7 @@ namespace juggle::planner {
 
 struct PlanningPools {
   std::unique_ptr<RolloutPool> search;  // `threads` threads
-  std::unique_ptr<RolloutPool> exact;   // 1 thread; null without a planning model
+  std::unique_ptr<RolloutPool> exact;   // min(threads, 2) threads; null without a planning model
 };
 
 // Errors: the planning model's (a timestep factor that does not divide the substeps, a family

@@ -366,38 +366,68 @@ absl::Status RecedingHorizonPlanner::Refine(const EnvSnapshot& snapshot, PlanClo
   return absl::OkStatus();
 }
 
+absl::Status RecedingHorizonPlanner::ChooseOnExact(const ReplanState& r, bool had_plan,
+                                                   RolloutResult* chosen) {
+  RolloutOptions plain;
+  plain.clock = r.clock;
+  RolloutResult coarse;
+  RETURN_IF_ERROR(pool_->Run(*r.snapshot, 1, [&](int, Env* copy) {
+    coarse = Rollout(copy, theta_.data(), plain);
+  }));
+  ++totals_.rollouts;
+  totals_.rollout_steps += coarse.steps;
+  // The choice and the warm start on the executed model, each with its prediction and terms.
+  const bool check = config_.planning_model().check_on_exact() && had_plan;
+  RolloutResult exact, warm;
+  std::vector<uint64_t> exact_trace, warm_trace;
+  RETURN_IF_ERROR(exact_pool_->Run(*r.snapshot, check ? 2 : 1, [&](int i, Env* copy) {
+    RolloutOptions o = plain;
+    o.terms = true;
+    o.trace = i == 0 ? &exact_trace : &warm_trace;
+    (i == 0 ? exact : warm) = Rollout(copy, (i == 0 ? theta_ : r.shifted).data(), o);
+  }));
+  totals_.exact_rollouts += check ? 2 : 1;
+  totals_.exact_rollout_steps += exact.steps + (check ? warm.steps : 0);
+  ++totals_.model_checks;
+  totals_.model_cost_gap_sum += exact.cost - coarse.cost;
+  auto fails = [](const RolloutResult& x) {
+    return x.missed || (x.end != Outcome::kRunning && x.end != Outcome::kTimeLimit);
+  };
+  if (fails(coarse) != fails(exact)) ++totals_.model_disagreements;
+  if (check && warm.cost + task_->PlanCost(r.shifted.data(), r.shifted, had_plan) <
+                   exact.cost + task_->PlanCost(theta_.data(), r.shifted, had_plan)) {
+    theta_ = r.shifted;
+    ++totals_.model_overrides;
+    *chosen = std::move(warm);
+    predicted_ = std::move(warm_trace);
+  } else {
+    *chosen = std::move(exact);
+    predicted_ = std::move(exact_trace);
+  }
+  return absl::OkStatus();
+}
+
 absl::Status RecedingHorizonPlanner::Commit(const Env& env, const ReplanState& r,
                                             const CemResult& result) {
   const bool had_plan = has_plan_;
   theta_ = result.best;
+  // The chosen plan's prediction: the states the next steps must visit. With a planning model
+  // it is the executed model's (ChooseOnExact); else one more rollout.
+  RolloutResult chosen;
+  predicted_.clear();
+  absl::Status status;
   if (exact_pool_ != nullptr) {
-    // The planning model chose: simulate the choice (and the warm start) on the executed model.
-    RolloutOptions plain;
-    plain.clock = r.clock;
-    RolloutResult coarse, exact, warm;
-    RETURN_IF_ERROR(pool_->Run(*r.snapshot, 1, [&](int, Env* copy) {
-      coarse = Rollout(copy, theta_.data(), plain);
-    }));
+    status = ChooseOnExact(r, had_plan, &chosen);
+  } else {
+    RolloutOptions options;
+    options.clock = r.clock;
+    options.trace = &predicted_;
+    options.terms = true;
+    status = pool_->Run(*r.snapshot, 1, [&](int, Env* copy) {
+      chosen = Rollout(copy, theta_.data(), options);
+    });
     ++totals_.rollouts;
-    totals_.rollout_steps += coarse.steps;
-    const bool check = config_.planning_model().check_on_exact() && had_plan;
-    RETURN_IF_ERROR(exact_pool_->Run(*r.snapshot, check ? 2 : 1, [&](int i, Env* copy) {
-      if (i == 0) exact = Rollout(copy, theta_.data(), plain);
-      else warm = Rollout(copy, r.shifted.data(), plain);
-    }));
-    totals_.exact_rollouts += check ? 2 : 1;
-    totals_.exact_rollout_steps += exact.steps + (check ? warm.steps : 0);
-    ++totals_.model_checks;
-    totals_.model_cost_gap_sum += exact.cost - coarse.cost;
-    auto fails = [](const RolloutResult& x) {
-      return x.missed || (x.end != Outcome::kRunning && x.end != Outcome::kTimeLimit);
-    };
-    if (fails(coarse) != fails(exact)) ++totals_.model_disagreements;
-    if (check && warm.cost + task_->PlanCost(r.shifted.data(), r.shifted, had_plan) <
-                     exact.cost + task_->PlanCost(theta_.data(), r.shifted, had_plan)) {
-      theta_ = r.shifted;
-      ++totals_.model_overrides;
-    }
+    totals_.rollout_steps += chosen.steps;
   }
   has_plan_ = true;
   origin_step_ = env.steps();
@@ -408,19 +438,6 @@ absl::Status RecedingHorizonPlanner::Commit(const Env& env, const ReplanState& r
   last_.incumbent_cost = result.incumbent_cost;
   last_.best_cost = result.best_cost;
   last_.evaluations = result.evaluations;
-  // The chosen plan's prediction (one more rollout): the states the next steps must visit.
-  RolloutResult chosen;
-  predicted_.clear();
-  RolloutOptions options;
-  options.clock = r.clock;
-  options.trace = &predicted_;
-  options.terms = true;
-  RolloutPool* predictor = exact_pool_ != nullptr ? exact_pool_ : pool_;
-  const absl::Status status = predictor->Run(*r.snapshot, 1, [&](int, Env* copy) {
-    chosen = Rollout(copy, theta_.data(), options);
-  });
-  ++(exact_pool_ != nullptr ? totals_.exact_rollouts : totals_.rollouts);
-  (exact_pool_ != nullptr ? totals_.exact_rollout_steps : totals_.rollout_steps) += chosen.steps;
   last_.predicted_outcome = chosen.first_outcome;
   last_.terms = chosen.terms;
   last_.decision.assign(theta_.begin(), theta_.begin() + task_->decision_size());

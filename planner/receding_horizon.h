@@ -150,6 +150,11 @@ class RecedingHorizonPlanner {
   absl::Status Rescue(ReplanState& r, CemResult* result);
   absl::Status RefineBest(const Env& env, ReplanState& r, CemResult* result);
   absl::Status Commit(const Env& env, const ReplanState& r, const CemResult& result);
+  // With a planning model: simulates theta_ (the planning model's choice) on it once more and,
+  // beside the warm start (PlanningModel.check_on_exact), on the executed model; counts the
+  // comparison, keeps whichever of the two costs less there in theta_, and returns its
+  // executed-model rollout with its prediction in predicted_.
+  absl::Status ChooseOnExact(const ReplanState& r, bool had_plan, RolloutResult* chosen);
 
   // Levenberg–Marquardt steps on `block` of `theta` (cost `cost`, plan cost against `warm`);
   // keeps a step only if the whole cost falls.

@@ -193,6 +193,11 @@ int Evaluate(EvalFlags f) {
         "prediction_checks=%d prediction_mismatches=%d wall_s=%.1f wall_s_per_sim_s=%.3f",
         t.replans, t.rollouts, t.rollout_steps, t.rescues, t.prediction_checks, t.prediction_mismatches,
         wall, wall / std::max(sim_seconds, 1e-9)));
+    if (t.proposal_tried > 0) {
+      // The learned proposal (--proposal): re-plans that chose it alone, without offsets.
+      absl::StrAppend(&line, absl::StrFormat(" proposal_tried=%d proposal_chosen=%d",
+                                             t.proposal_tried, t.proposal_chosen));
+    }
     if (t.model_checks > 0) {
       // A planning model (planner.planning_model): its choices checked on the executed model.
       const double disagreement = double(t.model_disagreements) / double(t.model_checks);

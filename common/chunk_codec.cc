@@ -83,6 +83,15 @@ std::vector<rpc::TrajectoryChunk> EncodeContribution(const Contribution& c, uint
   last.set_expert_episodes(c.expert_stats.episodes);
   last.set_expert_juggles_sum(c.expert_stats.juggles_sum);
   last.set_expert_length_sum(c.expert_stats.length_sum);
+  if (c.expert_cost.labels > 0 || c.expert_cost.replans > 0) {
+    rpc::ExpertCost* cost = last.mutable_expert_cost();
+    cost->set_labels(c.expert_cost.labels);
+    cost->set_replans(c.expert_cost.replans);
+    cost->set_rollout_steps(c.expert_cost.rollout_steps);
+    cost->set_rescues(c.expert_cost.rescues);
+    cost->set_proposal_tried(c.expert_cost.proposal_tried);
+    cost->set_proposal_chosen(c.expert_cost.proposal_chosen);
+  }
   return chunks;
 }
 
@@ -171,6 +180,14 @@ absl::StatusOr<Contribution> DecodeChunk(const rpc::TrajectoryChunk& ch, int obs
   c.expert_stats.episodes = ch.expert_episodes();
   c.expert_stats.juggles_sum = ch.expert_juggles_sum();
   c.expert_stats.length_sum = ch.expert_length_sum();
+  const rpc::ExpertCost& cost = ch.expert_cost();
+  c.expert_cost = {cost.labels(), cost.replans(), cost.rollout_steps(), cost.rescues(),
+                   cost.proposal_tried(), cost.proposal_chosen()};
+  if (!c.expert_cost.valid()) {
+    return invalid(absl::StrCat("chunk field 'expert_cost' is invalid (negative, or more ",
+                                "rescues or proposal choices than re-plans): ",
+                                cost.ShortDebugString()));
+  }
   return c;
 }
 
@@ -210,6 +227,7 @@ void AppendContribution(Contribution* into, const Contribution& part) {
   append(&into->events, part.events);
   into->stats.Add(part.stats);
   into->expert_stats.Add(part.expert_stats);
+  into->expert_cost.Add(part.expert_cost);
 }
 
 }  // namespace juggle

@@ -10,6 +10,7 @@
 #include "absl/status/statusor.h"
 #include "common/adaptive_walk.h"
 #include "common/episode_counters.h"
+#include "common/expert_counters.h"
 #include "common/unroll_batch.h"
 #include "proto/rollout.pb.h"
 
@@ -22,6 +23,8 @@ struct Contribution {
   EpisodeCounters stats;
   // Episodes the expert drove (episodes, length_sum and juggles_sum are carried).
   EpisodeCounters expert_stats;
+  // What the expert's labels cost (planner-guided training; zero without labels).
+  ExpertCounters expert_cost;
 };
 
 // Splits `c` into chunks of at most ~max_bytes payload each (at least one unroll per chunk).

@@ -90,6 +90,12 @@ void ExpectSameContribution(const Contribution& got, const Contribution& want) {
   EXPECT_EQ(got.expert_stats.episodes, want.expert_stats.episodes);
   EXPECT_EQ(got.expert_stats.juggles_sum, want.expert_stats.juggles_sum);
   EXPECT_EQ(got.expert_stats.length_sum, want.expert_stats.length_sum);
+  EXPECT_EQ(got.expert_cost.labels, want.expert_cost.labels);
+  EXPECT_EQ(got.expert_cost.replans, want.expert_cost.replans);
+  EXPECT_EQ(got.expert_cost.rollout_steps, want.expert_cost.rollout_steps);
+  EXPECT_EQ(got.expert_cost.rescues, want.expert_cost.rescues);
+  EXPECT_EQ(got.expert_cost.proposal_tried, want.expert_cost.proposal_tried);
+  EXPECT_EQ(got.expert_cost.proposal_chosen, want.expert_cost.proposal_chosen);
 }
 
 // RandomContribution with expert labels: unrolls 0 (expert-driven), 2 and 3 labelled.
@@ -107,6 +113,8 @@ Contribution LabelledContribution() {
   c.expert_stats.episodes = 2;
   c.expert_stats.juggles_sum = 31;
   c.expert_stats.length_sum = 900;
+  c.expert_cost = {.labels = 3 * kT, .replans = 40, .rollout_steps = 9000, .rescues = 3,
+                   .proposal_tried = 39, .proposal_chosen = 7};
   return c;
 }
 
@@ -239,6 +247,18 @@ TEST(ChunkCodecTest, RejectsNegativeExpertEpisodeCounts) {
   rpc::TrajectoryChunk ch = GoodLabelledChunk();
   ch.set_expert_juggles_sum(-1);
   ExpectInvalid(ch, "episode statistics are invalid");
+}
+
+TEST(ChunkCodecTest, RejectsAnExpertCostWithMoreProposalChoicesThanTries) {
+  rpc::TrajectoryChunk ch = GoodLabelledChunk();
+  ch.mutable_expert_cost()->set_proposal_chosen(ch.expert_cost().proposal_tried() + 1);
+  ExpectInvalid(ch, "chunk field 'expert_cost' is invalid");
+}
+
+TEST(ChunkCodecTest, RejectsANegativeExpertCost) {
+  rpc::TrajectoryChunk ch = GoodLabelledChunk();
+  ch.mutable_expert_cost()->set_rollout_steps(-5);
+  ExpectInvalid(ch, "chunk field 'expert_cost' is invalid");
 }
 
 TEST(ChunkCodecTest, BatchWithoutExpertUnrollsKeepsTheOthersAndTheirLabels) {

@@ -11,6 +11,7 @@
 
 #include "absl/status/statusor.h"
 #include "common/config_loader.h"
+#include "common/expert_counters.h"
 #include "common/eigen_policy.h"
 #include "envs/env.h"
 
@@ -28,6 +29,8 @@ class Labeller {
   // unroll). A planner may use it as its proposal (PlannerConfig.policy_prior). Errors: a policy
   // the expert cannot use (e.g. of other sizes than its envs).
   virtual absl::Status SetPolicy(const EigenPolicy* policy) { return absl::OkStatus(); }
+  // What the expert spent since the previous call (labels counted by the caller).
+  virtual ExpertCounters TakeCounters() { return {}; }
 };
 
 // Builds the labeller of a run (its config's planner settings) for envs of `spec` on the

@@ -1,5 +1,6 @@
 #include "learner/console_reporter.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "absl/strings/str_cat.h"
@@ -23,6 +24,15 @@ std::string ProgressLine(const runlog::IterationRecord& r, const std::string& la
                                            r.demo_buffer()));
     if (r.expert_episodes() > 0) {
       absl::StrAppend(&line, absl::StrFormat(" expert %.1f juggles/ep", r.expert_juggles_per_episode()));
+    }
+    if (r.expert_labels() > 0) {
+      absl::StrAppend(&line, absl::StrFormat(" planner %.0f steps/label rescues %.2f",
+                                             r.expert_rollout_steps() / r.expert_labels(),
+                                             r.expert_rescues() / std::max(1.0, r.expert_replans())));
+    }
+    if (r.expert_proposal_tried() > 0) {
+      absl::StrAppend(&line, absl::StrFormat(" policy chosen %.2f",
+                                             r.expert_proposal_chosen() / r.expert_proposal_tried()));
     }
   }
   if (!latest_eval.empty()) absl::StrAppend(&line, "  | ", latest_eval);

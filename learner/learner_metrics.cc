@@ -108,6 +108,17 @@ void DeclareLearnerMetrics(Metrics* m) {
              "Labelled states added to the demonstration buffer (evicted = this - buffer).");
   m->Declare("juggle_expert_juggles_per_episode", "gauge",
              "Juggles per episode of the expert-driven envs, last iteration with one.");
+  // The expert-iteration loop (issue 48): what the planner spends on the labels.
+  m->Declare("juggle_expert_labels_total", "counter", "Env steps the planner labelled.");
+  m->Declare("juggle_expert_replans_total", "counter", "Re-plans of the labelling planner.");
+  m->Declare("juggle_expert_rollout_steps_total", "counter",
+             "Control steps the labelling planner's rollouts simulated.");
+  m->Declare("juggle_expert_rescues_total", "counter",
+             "Re-plans of the labelling planner that ran the rescue search.");
+  m->Declare("juggle_expert_proposal_tried_total", "counter",
+             "Re-plans that tried the learned policy alone (planner.policy_prior).");
+  m->Declare("juggle_expert_proposal_chosen_total", "counter",
+             "Re-plans that chose the learned policy alone (its share of chosen candidates).");
   // The adaptive walk (labels: the edge's nodes; bounded by the graph).
   m->Declare("juggle_walk_edge_weight", "gauge",
              "Adaptive-walk count of each control-graph edge (sampling weight).");
@@ -163,6 +174,12 @@ void RecordIteration(const runlog::IterationRecord& r, Metrics* m) {
   if (r.expert_episodes() > 0) {
     m->Set("juggle_expert_juggles_per_episode", r.expert_juggles_per_episode());
   }
+  m->Add("juggle_expert_labels_total", r.expert_labels());
+  m->Add("juggle_expert_replans_total", r.expert_replans());
+  m->Add("juggle_expert_rollout_steps_total", r.expert_rollout_steps());
+  m->Add("juggle_expert_rescues_total", r.expert_rescues());
+  m->Add("juggle_expert_proposal_tried_total", r.expert_proposal_tried());
+  m->Add("juggle_expert_proposal_chosen_total", r.expert_proposal_chosen());
   if (r.has_gate_specialization()) {
     m->Set("juggle_moe_gate_specialization", r.gate_specialization());
     m->Set("juggle_moe_gate_utilization", r.gate_utilization());

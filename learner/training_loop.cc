@@ -285,6 +285,13 @@ runlog::IterationRecord TrainingLoop::Report(const Contribution& batch, const Up
   r.set_expert_episodes(static_cast<int32_t>(batch.expert_stats.episodes));
   r.set_expert_juggles_per_episode(batch.expert_stats.mean_juggles());
   r.set_expert_samples(static_cast<double>(expert_samples_));
+  const ExpertCounters& cost = batch.expert_cost;
+  r.set_expert_labels(static_cast<double>(cost.labels));
+  r.set_expert_replans(static_cast<double>(cost.replans));
+  r.set_expert_rollout_steps(static_cast<double>(cost.rollout_steps));
+  r.set_expert_rescues(static_cast<double>(cost.rescues));
+  r.set_expert_proposal_tried(static_cast<double>(cost.proposal_tried));
+  r.set_expert_proposal_chosen(static_cast<double>(cost.proposal_chosen));
   GateStatisticsOfBatch(*d_.trainer, batch.batch, d_.gate_sample_rows, &r);
   last_end_ = t_end;
   return r;

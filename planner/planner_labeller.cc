@@ -25,8 +25,22 @@ class PlannerLabeller final : public Labeller {
     return planners_->has_proposal() ? planners_->SetProposal(policy) : absl::OkStatus();
   }
 
+  ExpertCounters TakeCounters() override {
+    const planner::PlannerTotals now = planners_->totals();
+    ExpertCounters c;
+    c.replans = now.replans - taken_.replans;
+    c.rollout_steps = now.rollout_steps + now.exact_rollout_steps -
+                      (taken_.rollout_steps + taken_.exact_rollout_steps);
+    c.rescues = now.rescues - taken_.rescues;
+    c.proposal_tried = now.proposal_tried - taken_.proposal_tried;
+    c.proposal_chosen = now.proposal_chosen - taken_.proposal_chosen;
+    taken_ = now;
+    return c;
+  }
+
  private:
   std::unique_ptr<PlannerSet> planners_;
+  planner::PlannerTotals taken_;  // the totals at the previous TakeCounters
 };
 
 }  // namespace

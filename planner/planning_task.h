@@ -44,6 +44,9 @@ class ActionPrior {
   virtual ~ActionPrior() = default;
   // Writes act_dim values for `env`'s current state.
   virtual void Write(const Env& env, double* prior) const = 0;
+  // Whether the prior proposes anything (a policy is set): then every re-plan also tries the
+  // prior alone, zero offsets, as a candidate (RecedingHorizonPlanner::WarmStart).
+  virtual bool proposes() const { return true; }
 };
 
 // Scores one rollout: Begin at its first state, AfterStep after every step, Finish at its last.

@@ -29,6 +29,7 @@ class PolicyPrior final : public ActionPrior {
   bool has_policy() const { return policy_ != nullptr; }
 
   void Write(const Env& env, double* prior) const override;
+  bool proposes() const override { return has_policy(); }
 
  private:
   const EnvSpec& spec_;

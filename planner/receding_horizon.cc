@@ -40,6 +40,8 @@ void PlannerTotals::Add(const PlannerTotals& other) {
   rollouts += other.rollouts;
   rollout_steps += other.rollout_steps;
   rescues += other.rescues;
+  proposal_tried += other.proposal_tried;
+  proposal_chosen += other.proposal_chosen;
   prediction_checks += other.prediction_checks;
   prediction_mismatches += other.prediction_mismatches;
   exact_rollouts += other.exact_rollouts;
@@ -56,6 +58,7 @@ struct RecedingHorizonPlanner::ReplanState {
   int knot0 = 0;
   std::vector<double> shifted;  // the previous plan shifted to now (zero without one)
   std::vector<std::vector<double>> seeds;
+  int proposal_seed = -1;       // index of the proposal alone in `seeds` (-1: not tried)
   SearchSpace space;            // the task's, restricted at this state
   Rng rng{0};
 };
@@ -225,6 +228,12 @@ RecedingHorizonPlanner::ReplanState RecedingHorizonPlanner::WarmStart(const Env&
   const std::vector<double> start =
       config_.cold_start() ? std::vector<double>(task_->dim(), 0.0) : r.shifted;
   r.seeds = task_->Seeds(start);
+  // The learned proposal alone (zero offsets on the prior) is one of the first candidates, so
+  // the search can always fall back on the policy, and its wins measure the policy's share.
+  if (prior_ != nullptr && prior_->proposes() && settings_.samples > int(r.seeds.size())) {
+    r.proposal_seed = static_cast<int>(r.seeds.size());
+    r.seeds.emplace_back(task_->dim(), 0.0);
+  }
   r.space = task_->space();
   task_->Restrict(env, r.shifted, &r.space, &r.seeds);
   // A cold start draws from the state's step, so the same state gets the same answer whatever
@@ -411,6 +420,10 @@ absl::Status RecedingHorizonPlanner::Commit(const Env& env, const ReplanState& r
                                             const CemResult& result) {
   const bool had_plan = has_plan_;
   theta_ = result.best;
+  if (r.proposal_seed >= 0) {
+    ++totals_.proposal_tried;
+    if (theta_ == r.seeds[size_t(r.proposal_seed)]) ++totals_.proposal_chosen;
+  }
   // The chosen plan's prediction: the states the next steps must visit. With a planning model
   // it is the executed model's (ChooseOnExact); else one more rollout.
   RolloutResult chosen;

@@ -52,6 +52,11 @@ struct PlannerTotals {
   int64_t rollouts = 0;
   int64_t rollout_steps = 0;   // control steps simulated by rollouts
   int64_t rescues = 0;         // re-plans that ran the wider second search
+  // With a proposing prior (PlannerConfig.policy_prior and a policy set): re-plans that tried
+  // the proposal alone (zero offsets) as a candidate, and those that chose it (the policy's
+  // share of chosen candidates, issue 48).
+  int64_t proposal_tried = 0;
+  int64_t proposal_chosen = 0;
   // Visited states checked against the chosen plan's rollout (position and velocity, bit for
   // bit), and those that differed: the executed future equals the predicted one.
   int64_t prediction_checks = 0;

@@ -304,6 +304,31 @@ TEST_F(RecedingHorizonTest, APolicyPriorIsThePolicysMeanActionZeroWithoutOneAndR
   EXPECT_TRUE(prior.has_policy()) << "a refused policy leaves the last one";
 }
 
+TEST_F(RecedingHorizonTest, TheProposalAloneIsACandidateOfEveryReplanOnceAPolicyIsSet) {
+  PolicyPrior prior(*spec_);
+  {
+    RecedingHorizonPlanner planner(task_, SmallSearch(), &pool_, 0, &prior);
+    Drive(&planner, 20);
+    EXPECT_EQ(planner.totals().proposal_tried, 0) << "no policy, nothing proposed";
+  }
+  auto policy = std::make_shared<const EigenPolicy>(::juggle::testing::ConstantPolicy(4, 2, 0.5f));
+  ASSERT_TRUE(prior.Set(policy).ok());
+  RecedingHorizonPlanner planner(task_, SmallSearch(), &pool_, 0, &prior);
+  Drive(&planner, 20);
+  EXPECT_EQ(planner.totals().replans, 4);
+  EXPECT_EQ(planner.totals().proposal_tried, 4);
+  EXPECT_LE(planner.totals().proposal_chosen, 4);
+  // With only the seeds as candidates (the warm start, zero from rest, and the proposal alone)
+  // every re-plan chooses a plan of zero offsets: the proposal alone, counted as chosen.
+  config::PlannerConfig seeds_only = SmallSearch();
+  seeds_only.set_samples(2);
+  seeds_only.set_iterations(1);
+  RecedingHorizonPlanner plain(task_, seeds_only, &pool_, 0, &prior);
+  Drive(&plain, 20);
+  EXPECT_EQ(plain.totals().proposal_tried, 4);
+  EXPECT_EQ(plain.totals().proposal_chosen, 4);
+}
+
 TEST(PlanningTasksTest, AFamilyWithoutATaskIsAnErrorNamingTheFamiliesThatHaveOne) {
   const absl::StatusOr<std::shared_ptr<const PlanningTask>> task =
       MakePlanningTask(PointMassSpec::Create(), config::PlannerConfig());

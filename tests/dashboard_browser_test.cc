@@ -105,7 +105,7 @@ class DashboardBrowserTest : public ::testing::Test {
     EXPECT_THAT(dom, HasSubstr("id=\"js-errors\" hidden")) << "the page caught a JavaScript error";
     EXPECT_EQ(ConsoleMessages(name), "") << "console messages (errors?) while loading the page";
     EXPECT_EQ(Count(dom, std::regex("<g class=\"node[ \"]")), nodes) << "graph nodes drawn";
-    EXPECT_EQ(Count(dom, std::regex("<canvas id=\"chart-[a-z-]+\"[^>]*(width|style)=")), 12)
+    EXPECT_EQ(Count(dom, std::regex("<canvas id=\"chart-[a-z-]+\"[^>]*(width|style)=")), 13)
         << "every chart drew on its canvas";
   }
 
@@ -138,6 +138,7 @@ TEST_F(DashboardBrowserTest, LivePageShowsTheWorkerTheGraphAndTheLearnersNumbers
   const double samples_after = *ScrapeMetric(metrics_port, "juggle_samples_total");
 
   ExpectRendered(dom, "live", nodes);
+  EXPECT_THAT(dom, HasSubstr("<figure id=\"loop-figure\" hidden")) << "no labels, no loop view";
   // The worker's row, and the numbers of one refresh between the two scrapes of /metrics.
   EXPECT_THAT(dom, HasSubstr("<tr data-slot=\"0\""));
   EXPECT_THAT(dom, Not(HasSubstr("id=\"no-workers\" class=\"muted\">")));
@@ -157,6 +158,27 @@ TEST_F(DashboardBrowserTest, LivePageShowsTheWorkerTheGraphAndTheLearnersNumbers
   learner.Kill(SIGTERM);
   EXPECT_EQ(learner.Wait(60), 0);
 
+  // An iteration of planner-guided training appended to the log: the loop view shows it.
+  {
+    std::ifstream in(dir_ + "/run/metrics.jsonl");
+    std::string line, last_iteration;
+    while (std::getline(in, line)) {
+      if (line.rfind("{\"iteration\":", 0) == 0) last_iteration = line;  // learner/run_log.h
+    }
+    ASSERT_FALSE(last_iteration.empty());
+    Json guided = Json::parse(last_iteration);
+    guided["iteration"] = guided["iteration"].get<int>() + 1;
+    guided["demo_buffer"] = 400;
+    guided["imitation_fresh_error"] = 0.3;
+    guided["expert_labels"] = 40;
+    guided["expert_replans"] = 14;
+    guided["expert_rollout_steps"] = 9000;
+    guided["expert_rescues"] = 2;
+    guided["expert_proposal_tried"] = 14;
+    guided["expert_proposal_chosen"] = 5;
+    std::ofstream(dir_ + "/run/metrics.jsonl", std::ios::app) << guided.dump() << "\n";
+  }
+
   // The finished run, rendered offline by `juggle dashboard` into one file.
   ChildProcess report({"dashboard", "--run_dir=" + dir_ + "/run",
                        "--out=" + dir_ + "/report.html"},
@@ -168,6 +190,7 @@ TEST_F(DashboardBrowserTest, LivePageShowsTheWorkerTheGraphAndTheLearnersNumbers
   ExpectRendered(offline, "report", nodes);
   EXPECT_THAT(offline, HasSubstr("<span id=\"state\" class=\"badge\" data-state=\"recorded\">"));
   EXPECT_GE(std::stod(BodyAttribute(offline, "data-iteration")), iterations_after);
+  EXPECT_THAT(offline, HasSubstr("<figure id=\"loop-figure\">")) << "the loop view of the labels";
 }
 
 }  // namespace

@@ -64,6 +64,11 @@ TEST(GuidedTrainingTest, LabelsFillTheBufferAndPretrainingHandsOverToPpoWithImit
     EXPECT_EQ(it.expert_samples(), double(kT) * it.iteration());
     EXPECT_GT(it.imitation_loss(), 0);
     EXPECT_GT(it.imitation_fresh_error(), 0);  // held-out: the fresh labels of this iteration
+    // The loop view: what the planner spent on this iteration's labels.
+    EXPECT_EQ(it.expert_labels(), 2.0 * kT);
+    EXPECT_GT(it.expert_replans(), 0);
+    EXPECT_GT(it.expert_rollout_steps(), it.expert_replans()) << "rollouts of several steps";
+    EXPECT_EQ(it.expert_proposal_tried(), 0) << "no policy_prior, no proposal";
     if (it.iteration() <= 2) {
       EXPECT_TRUE(it.cloning_only());
       EXPECT_EQ(it.imitation_weight(), 0);
@@ -91,6 +96,7 @@ class ProposalRecorder final : public Labeller {
     }
     return inner_->SetPolicy(policy);
   }
+  ExpertCounters TakeCounters() override { return inner_->TakeCounters(); }
 
  private:
   std::unique_ptr<Labeller> inner_;
@@ -121,6 +127,16 @@ TEST(GuidedTrainingTest, ThePlannerProposesWithEachBroadcastPolicyAndItsLabelsRe
     };
     ASSERT_TRUE(TrainWithOneWorker(**server, recording).ok());
     EXPECT_EQ((*server)->metrics().Get("juggle_demo_labels_total"), 2.0 * kT * kIterations);
+    // The policy's share of chosen candidates reaches the learner only with the proposal.
+    const double tried = (*server)->metrics().Get("juggle_expert_proposal_tried_total");
+    const double replans = (*server)->metrics().Get("juggle_expert_replans_total");
+    if (prior) {
+      EXPECT_GT(tried, 0);
+      EXPECT_LE(tried, replans);
+      EXPECT_LE((*server)->metrics().Get("juggle_expert_proposal_chosen_total"), tried);
+    } else {
+      EXPECT_EQ(tried, 0);
+    }
     absl::StatusOr<std::string> bytes = ReadFile(dir + "/demos.jgld");
     ASSERT_TRUE(bytes.ok()) << bytes.status();
     demos.push_back(*bytes);

@@ -84,6 +84,10 @@
   lineChart('chart-teacher', [{ label: 'expert juggles / episode', color: '#2e7d32' },
                               { label: 'student juggles / episode', color: '#1565c0' },
                               { label: 'imitation loss', axis: 'y2', color: '#c62828' }]);
+  lineChart('chart-loop', [{ label: 'planner rollout steps / label', color: '#6a1b9a' },
+                           { label: 'policy chosen (share of re-plans)', axis: 'y2', color: '#2e7d32' },
+                           { label: 'rescues (share of re-plans)', axis: 'y2', color: '#ef6c00' },
+                           { label: 'student error, fresh labels', axis: 'y2', color: '#c62828' }]);
   lineChart('chart-rate', [{ label: 'samples/s' }, { label: 'sim-s/s', axis: 'y2' }]);
   lineChart('chart-split', [{ label: 'wait', color: '#ef6c00', fillTo: 'origin', stack: 's' },
                             { label: 'update', color: '#1565c0', fillTo: '-1', stack: 's' }], { stacked: true });
@@ -118,6 +122,14 @@
       .map((r) => ({ x: r.iteration, y: r.juggles_per_episode })));
     setSeries(charts['chart-teacher'], 2, xy((r) => positive(r.imitation_loss)));
     document.getElementById('teacher-figure').hidden = !p.some((r) => r.demo_buffer > 0);
+    // The expert-iteration loop (issue 48): the planner's cost and the policy's share.
+    const labelled = p.filter((r) => r.expert_labels > 0);
+    const share = (num, den) => labelled.map((r) => ({ x: r.iteration, y: r[den] > 0 ? (r[num] || 0) / r[den] : null }));
+    setSeries(charts['chart-loop'], 0, labelled.map((r) => ({ x: r.iteration, y: (r.expert_rollout_steps || 0) / r.expert_labels })));
+    setSeries(charts['chart-loop'], 1, share('expert_proposal_chosen', 'expert_proposal_tried'));
+    setSeries(charts['chart-loop'], 2, share('expert_rescues', 'expert_replans'));
+    setSeries(charts['chart-loop'], 3, labelled.map((r) => ({ x: r.iteration, y: positive(r.imitation_fresh_error) })));
+    document.getElementById('loop-figure').hidden = labelled.length === 0;
     setSeries(charts['chart-rate'], 0, xy((r) => r.samples_per_s));
     setSeries(charts['chart-rate'], 1, xy((r) => r.sim_s_per_s));
     setSeries(charts['chart-split'], 0, xy((r) => r.wait_s));
@@ -134,7 +146,7 @@
       }),
     }));
     for (const id of ['chart-return', 'chart-juggles', 'chart-length', 'chart-outcomes', 'chart-ppo',
-                      'chart-gates', 'chart-teacher', 'chart-rate', 'chart-split']) charts[id].update('none');
+                      'chart-gates', 'chart-teacher', 'chart-loop', 'chart-rate', 'chart-split']) charts[id].update('none');
   }
 
   function renderEvaluations() {

@@ -86,6 +86,7 @@ absl::Status RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* b
         // Labelled unrolls are the first L, so unroll u's label rows start at u·T·A.
         float* label = &batch->labels[i * A];
         RETURN_IF_ERROR(labels_.labeller->Label(pool_->env(u), label));
+        ++labels_since_take_;
         if (u < labels_.expert_envs) {
           // The expert acts (DART noise on top); the student's log-probability is not used
           // for such unrolls (they never reach PPO).
@@ -120,6 +121,18 @@ absl::Status RolloutCollector::Collect(const EigenPolicy& policy, UnrollBatch* b
   }
   std::copy(pool_->output().obs.begin(), pool_->output().obs.end(), batch->bootstrap_obs.begin());
   return absl::OkStatus();
+}
+
+}  // namespace juggle
+
+namespace juggle {
+
+ExpertCounters RolloutCollector::TakeExpertCounters() {
+  if (labels_.labeller == nullptr) return {};
+  ExpertCounters c = labels_.labeller->TakeCounters();
+  c.labels = labels_since_take_;
+  labels_since_take_ = 0;
+  return c;
 }
 
 }  // namespace juggle

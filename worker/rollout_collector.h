@@ -43,6 +43,8 @@ class RolloutCollector {
   // given. The first call resets the pool. Errors: the labeller's (the batch is then partial).
   absl::Status Collect(const EigenPolicy& policy, UnrollBatch* batch,
                std::vector<EdgeEvent>* events = nullptr, std::vector<int32_t>* nodes = nullptr);
+  // What the expert spent on labels since the previous call (zero without a labeller).
+  ExpertCounters TakeExpertCounters();
 
  private:
   EnvPool* pool_;
@@ -53,6 +55,7 @@ class RolloutCollector {
   const std::atomic<bool>* stop_ = nullptr;
   std::vector<Rng> expert_rngs_;  // noise of expert-driven actions, one stream per env
   bool started_ = false;
+  int64_t labels_since_take_ = 0;
 };
 
 }  // namespace juggle

@@ -404,6 +404,7 @@ class Session {
       }
       contribution.stats = pool->TakeStats();
       contribution.expert_stats = pool->TakeSeparateStats();
+      contribution.expert_cost = collector->TakeExpertCounters();
       *steps_per_s = contribution.batch.num_samples() /
                      std::max(1e-9, std::chrono::duration<double>(Clock::now() - t0).count());
 

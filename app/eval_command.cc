@@ -195,8 +195,9 @@ int Evaluate(EvalFlags f) {
         wall, wall / std::max(sim_seconds, 1e-9)));
     if (t.proposal_tried > 0) {
       // The learned proposal (--proposal): re-plans that chose it alone, without offsets.
-      absl::StrAppend(&line, absl::StrFormat(" proposal_tried=%d proposal_chosen=%d",
-                                             t.proposal_tried, t.proposal_chosen));
+      absl::StrAppend(&line, absl::StrFormat(
+          " proposal_tried=%d proposal_chosen=%d proposal_weight_mean=%.3f", t.proposal_tried,
+          t.proposal_chosen, t.proposal_weight_sum / double(t.proposal_tried)));
     }
     if (t.model_checks > 0) {
       // A planning model (planner.planning_model): its choices checked on the executed model.

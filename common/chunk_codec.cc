@@ -91,6 +91,7 @@ std::vector<rpc::TrajectoryChunk> EncodeContribution(const Contribution& c, uint
     cost->set_rescues(c.expert_cost.rescues);
     cost->set_proposal_tried(c.expert_cost.proposal_tried);
     cost->set_proposal_chosen(c.expert_cost.proposal_chosen);
+    cost->set_proposal_weight_sum(c.expert_cost.proposal_weight_sum);
   }
   return chunks;
 }
@@ -182,10 +183,10 @@ absl::StatusOr<Contribution> DecodeChunk(const rpc::TrajectoryChunk& ch, int obs
   c.expert_stats.length_sum = ch.expert_length_sum();
   const rpc::ExpertCost& cost = ch.expert_cost();
   c.expert_cost = {cost.labels(), cost.replans(), cost.rollout_steps(), cost.rescues(),
-                   cost.proposal_tried(), cost.proposal_chosen()};
+                   cost.proposal_tried(), cost.proposal_chosen(), cost.proposal_weight_sum()};
   if (!c.expert_cost.valid()) {
-    return invalid(absl::StrCat("chunk field 'expert_cost' is invalid (negative, or more ",
-                                "rescues or proposal choices than re-plans): ",
+    return invalid(absl::StrCat("chunk field 'expert_cost' is invalid (negative or not finite, ",
+                                "or more rescues or proposal choices than re-plans): ",
                                 cost.ShortDebugString()));
   }
   return c;

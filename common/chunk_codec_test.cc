@@ -1,5 +1,6 @@
 #include "common/chunk_codec.h"
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -96,6 +97,7 @@ void ExpectSameContribution(const Contribution& got, const Contribution& want) {
   EXPECT_EQ(got.expert_cost.rescues, want.expert_cost.rescues);
   EXPECT_EQ(got.expert_cost.proposal_tried, want.expert_cost.proposal_tried);
   EXPECT_EQ(got.expert_cost.proposal_chosen, want.expert_cost.proposal_chosen);
+  EXPECT_EQ(got.expert_cost.proposal_weight_sum, want.expert_cost.proposal_weight_sum);
 }
 
 // RandomContribution with expert labels: unrolls 0 (expert-driven), 2 and 3 labelled.
@@ -114,7 +116,7 @@ Contribution LabelledContribution() {
   c.expert_stats.juggles_sum = 31;
   c.expert_stats.length_sum = 900;
   c.expert_cost = {.labels = 3 * kT, .replans = 40, .rollout_steps = 9000, .rescues = 3,
-                   .proposal_tried = 39, .proposal_chosen = 7};
+                   .proposal_tried = 39, .proposal_chosen = 7, .proposal_weight_sum = 12.5};
   return c;
 }
 
@@ -252,6 +254,14 @@ TEST(ChunkCodecTest, RejectsNegativeExpertEpisodeCounts) {
 TEST(ChunkCodecTest, RejectsAnExpertCostWithMoreProposalChoicesThanTries) {
   rpc::TrajectoryChunk ch = GoodLabelledChunk();
   ch.mutable_expert_cost()->set_proposal_chosen(ch.expert_cost().proposal_tried() + 1);
+  ExpectInvalid(ch, "chunk field 'expert_cost' is invalid");
+}
+
+TEST(ChunkCodecTest, RejectsAProposalWeightAboveItsTriesOrNotFinite) {
+  rpc::TrajectoryChunk ch = GoodLabelledChunk();
+  ch.mutable_expert_cost()->set_proposal_weight_sum(ch.expert_cost().proposal_tried() + 0.5);
+  ExpectInvalid(ch, "chunk field 'expert_cost' is invalid");
+  ch.mutable_expert_cost()->set_proposal_weight_sum(std::nan(""));
   ExpectInvalid(ch, "chunk field 'expert_cost' is invalid");
 }
 

@@ -31,8 +31,9 @@ std::string ProgressLine(const runlog::IterationRecord& r, const std::string& la
                                              r.expert_rescues() / std::max(1.0, r.expert_replans())));
     }
     if (r.expert_proposal_tried() > 0) {
-      absl::StrAppend(&line, absl::StrFormat(" policy chosen %.2f",
-                                             r.expert_proposal_chosen() / r.expert_proposal_tried()));
+      absl::StrAppend(&line, absl::StrFormat(" policy chosen %.2f weight %.2f",
+                                             r.expert_proposal_chosen() / r.expert_proposal_tried(),
+                                             r.expert_proposal_weight_sum() / r.expert_proposal_tried()));
     }
   }
   if (!latest_eval.empty()) absl::StrAppend(&line, "  | ", latest_eval);

@@ -119,6 +119,9 @@ void DeclareLearnerMetrics(Metrics* m) {
              "Re-plans that tried the learned policy alone (planner.policy_prior).");
   m->Declare("juggle_expert_proposal_chosen_total", "counter",
              "Re-plans that chose the learned policy alone (its share of chosen candidates).");
+  m->Declare("juggle_expert_proposal_weight_total", "counter",
+             "The chosen plans' weight of the learned policy, summed over the re-plans that "
+             "tried it (/ juggle_expert_proposal_tried_total: the mean trust).");
   // The adaptive walk (labels: the edge's nodes; bounded by the graph).
   m->Declare("juggle_walk_edge_weight", "gauge",
              "Adaptive-walk count of each control-graph edge (sampling weight).");
@@ -180,6 +183,7 @@ void RecordIteration(const runlog::IterationRecord& r, Metrics* m) {
   m->Add("juggle_expert_rescues_total", r.expert_rescues());
   m->Add("juggle_expert_proposal_tried_total", r.expert_proposal_tried());
   m->Add("juggle_expert_proposal_chosen_total", r.expert_proposal_chosen());
+  m->Add("juggle_expert_proposal_weight_total", r.expert_proposal_weight_sum());
   if (r.has_gate_specialization()) {
     m->Set("juggle_moe_gate_specialization", r.gate_specialization());
     m->Set("juggle_moe_gate_utilization", r.gate_utilization());

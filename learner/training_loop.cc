@@ -292,6 +292,7 @@ runlog::IterationRecord TrainingLoop::Report(const Contribution& batch, const Up
   r.set_expert_rescues(static_cast<double>(cost.rescues));
   r.set_expert_proposal_tried(static_cast<double>(cost.proposal_tried));
   r.set_expert_proposal_chosen(static_cast<double>(cost.proposal_chosen));
+  r.set_expert_proposal_weight_sum(cost.proposal_weight_sum);
   GateStatisticsOfBatch(*d_.trainer, batch.batch, d_.gate_sample_rows, &r);
   last_end_ = t_end;
   return r;

@@ -45,6 +45,11 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
         p.rescue().stop_below(), " may stop still in trouble (planner.rescue.cost_above is ",
         p.rescue().cost_above(), "); set it at or below cost_above"));
   }
+  if (p.search_prior_trust() && !p.policy_prior()) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        where("search_prior_trust"), ": a trust in the learned proposal needs "
+        "planner.policy_prior: true (without it there is no policy to trust)"));
+  }
   if (p.replan_every() > p.horizon_steps()) {
     return absl::InvalidArgumentError(
         absl::StrCat(where("replan_every"), ": re-planning every ", p.replan_every(),

@@ -83,6 +83,21 @@ TEST(PlannerConfigTest, ARescueStoppingAboveItsTroubleThresholdIsRefusedAtTheFie
   EXPECT_TRUE(ValidatePlannerConfig(config).ok());
 }
 
+TEST(PlannerConfigTest, ATrustInTheProposalWithoutAPolicyPriorIsRefusedAtTheField) {
+  const std::string text = Config("search_prior_trust: true");
+  LoadedConfig config;
+  ASSERT_TRUE(Load("trust.textproto", text, &config).ok());
+  const absl::Status s = ValidatePlannerConfig(config);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()),
+              StartsWith(::juggle::testing::Loc(config.config_path, text, "search_prior_trust")));
+  EXPECT_THAT(std::string(s.message()), HasSubstr("needs planner.policy_prior: true"));
+  LoadedConfig with_prior;
+  ASSERT_TRUE(Load("trust_prior.textproto",
+                   Config("search_prior_trust: true policy_prior: true"), &with_prior).ok());
+  EXPECT_TRUE(ValidatePlannerConfig(with_prior).ok());
+}
+
 TEST(PlannerConfigTest, AHorizonLongerThanTheEpisodeIsRefused) {
   const std::string text = Config("horizon_steps: 5000");
   LoadedConfig config;

@@ -34,6 +34,7 @@ class PlannerLabeller final : public Labeller {
     c.rescues = now.rescues - taken_.rescues;
     c.proposal_tried = now.proposal_tried - taken_.proposal_tried;
     c.proposal_chosen = now.proposal_chosen - taken_.proposal_chosen;
+    c.proposal_weight_sum = now.proposal_weight_sum - taken_.proposal_weight_sum;
     taken_ = now;
     return c;
   }

@@ -5,6 +5,7 @@
 #include "absl/strings/str_cat.h"
 
 #include "planner/planner_config.h"
+#include "planner/proposal_trust_task.h"
 #include "planner/tasks.h"
 
 namespace juggle::planner {
@@ -16,6 +17,11 @@ absl::StatusOr<std::unique_ptr<PlannerSet>> PlannerSet::Create(std::shared_ptr<c
   absl::StatusOr<std::shared_ptr<const PlanningTask>> task =
       MakePlanningTask(spec, config.run.planner());
   if (!task.ok()) return task.status();
+  const config::PlannerConfig& planner = config.run.planner();
+  if (planner.search_prior_trust()) {  // with policy_prior (ValidatePlannerConfig)
+    *task = std::make_shared<const ProposalTrustTask>(*std::move(task), spec->act_dim(),
+                                                      planner.prior_trust_sigma());
+  }
   absl::StatusOr<PlanningPools> pools =
       MakePlanningPools(spec, config.run.planner(), config.run.planner().threads());
   if (!pools.ok()) {

@@ -103,6 +103,10 @@ class PlanningTask {
   virtual std::vector<std::vector<double>> Seeds(const std::vector<double>& start) const {
     return {start};
   }
+  // The plan that is the prior alone (the learned proposal without offsets; default: zero).
+  virtual std::vector<double> ProposalAlone() const { return std::vector<double>(dim(), 0.0); }
+  // How much of the prior plan `theta` takes, in [0, 1] (default: all of it).
+  virtual double PriorWeight(const double* theta) const { return 1; }
   // Narrows the search at `env`'s state: e.g. variables that can no longer act are held at the
   // shifted plan's values (`shifted`), in `space` and in every seed. Default: nothing.
   virtual void Restrict(const Env& env, const std::vector<double>& shifted, SearchSpace* space,

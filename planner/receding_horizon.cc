@@ -42,6 +42,7 @@ void PlannerTotals::Add(const PlannerTotals& other) {
   rescues += other.rescues;
   proposal_tried += other.proposal_tried;
   proposal_chosen += other.proposal_chosen;
+  proposal_weight_sum += other.proposal_weight_sum;
   prediction_checks += other.prediction_checks;
   prediction_mismatches += other.prediction_mismatches;
   exact_rollouts += other.exact_rollouts;
@@ -228,11 +229,19 @@ RecedingHorizonPlanner::ReplanState RecedingHorizonPlanner::WarmStart(const Env&
   const std::vector<double> start =
       config_.cold_start() ? std::vector<double>(task_->dim(), 0.0) : r.shifted;
   r.seeds = task_->Seeds(start);
-  // The learned proposal alone (zero offsets on the prior) is one of the first candidates, so
+  // The learned proposal alone (no offsets on the prior) is one of the first candidates, so
   // the search can always fall back on the policy, and its wins measure the policy's share.
-  if (prior_ != nullptr && prior_->proposes() && settings_.samples > int(r.seeds.size())) {
-    r.proposal_seed = static_cast<int>(r.seeds.size());
-    r.seeds.emplace_back(task_->dim(), 0.0);
+  // A seed that already is the proposal alone (e.g. the nominal-kick seed of a plan without
+  // body knots) stands for it, so no candidate is simulated twice.
+  if (prior_ != nullptr && prior_->proposes()) {
+    std::vector<double> alone = task_->ProposalAlone();
+    const auto same = std::find(r.seeds.begin(), r.seeds.end(), alone);
+    if (same != r.seeds.end()) {
+      r.proposal_seed = static_cast<int>(same - r.seeds.begin());
+    } else if (settings_.samples > static_cast<int>(r.seeds.size())) {
+      r.proposal_seed = static_cast<int>(r.seeds.size());
+      r.seeds.push_back(std::move(alone));
+    }
   }
   r.space = task_->space();
   task_->Restrict(env, r.shifted, &r.space, &r.seeds);
@@ -423,6 +432,7 @@ absl::Status RecedingHorizonPlanner::Commit(const Env& env, const ReplanState& r
   if (r.proposal_seed >= 0) {
     ++totals_.proposal_tried;
     if (theta_ == r.seeds[size_t(r.proposal_seed)]) ++totals_.proposal_chosen;
+    totals_.proposal_weight_sum += task_->PriorWeight(theta_.data());
   }
   // The chosen plan's prediction: the states the next steps must visit. With a planning model
   // it is the executed model's (ChooseOnExact); else one more rollout.

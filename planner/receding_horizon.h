@@ -57,6 +57,9 @@ struct PlannerTotals {
   // share of chosen candidates, issue 48).
   int64_t proposal_tried = 0;
   int64_t proposal_chosen = 0;
+  // Over the re-plans that tried it: the chosen plans' weight of the prior (PriorWeight: 1
+  // unless the trust is searched, PlannerConfig.search_prior_trust), summed.
+  double proposal_weight_sum = 0;
   // Visited states checked against the chosen plan's rollout (position and velocity, bit for
   // bit), and those that differed: the executed future equals the predicted one.
   int64_t prediction_checks = 0;

@@ -318,15 +318,17 @@ TEST_F(RecedingHorizonTest, TheProposalAloneIsACandidateOfEveryReplanOnceAPolicy
   EXPECT_EQ(planner.totals().replans, 4);
   EXPECT_EQ(planner.totals().proposal_tried, 4);
   EXPECT_LE(planner.totals().proposal_chosen, 4);
-  // With only the seeds as candidates (the warm start, zero from rest, and the proposal alone)
-  // every re-plan chooses a plan of zero offsets: the proposal alone, counted as chosen.
-  config::PlannerConfig seeds_only = SmallSearch();
-  seeds_only.set_samples(2);
-  seeds_only.set_iterations(1);
-  RecedingHorizonPlanner plain(task_, seeds_only, &pool_, 0, &prior);
-  Drive(&plain, 20);
-  EXPECT_EQ(plain.totals().proposal_tried, 4);
-  EXPECT_EQ(plain.totals().proposal_chosen, 4);
+  // At rest on the target under a zero policy, zero offsets cost nothing and anything else
+  // costs more: every re-plan chooses the proposal alone.
+  PointMassTaskSettings at_rest;
+  at_rest.target[0] = at_rest.target[1] = 0;
+  auto zero = std::make_shared<const EigenPolicy>(::juggle::testing::ConstantPolicy(4, 2, 0.0f));
+  ASSERT_TRUE(prior.Set(zero).ok());
+  RecedingHorizonPlanner resting(std::make_shared<PointMassTask>(at_rest), SmallSearch(), &pool_,
+                                 0, &prior);
+  Drive(&resting, 20);
+  EXPECT_EQ(resting.totals().proposal_tried, 4);
+  EXPECT_EQ(resting.totals().proposal_chosen, 4);
 }
 
 TEST(PlanningTasksTest, AFamilyWithoutATaskIsAnErrorNamingTheFamiliesThatHaveOne) {

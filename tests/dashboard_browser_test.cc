@@ -176,6 +176,7 @@ TEST_F(DashboardBrowserTest, LivePageShowsTheWorkerTheGraphAndTheLearnersNumbers
     guided["expert_rescues"] = 2;
     guided["expert_proposal_tried"] = 14;
     guided["expert_proposal_chosen"] = 5;
+    guided["expert_proposal_weight_sum"] = 9.5;
     std::ofstream(dir_ + "/run/metrics.jsonl", std::ios::app) << guided.dump() << "\n";
   }
 

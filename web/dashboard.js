@@ -87,7 +87,8 @@
   lineChart('chart-loop', [{ label: 'planner rollout steps / label', color: '#6a1b9a' },
                            { label: 'policy chosen (share of re-plans)', axis: 'y2', color: '#2e7d32' },
                            { label: 'rescues (share of re-plans)', axis: 'y2', color: '#ef6c00' },
-                           { label: 'student error, fresh labels', axis: 'y2', color: '#c62828' }]);
+                           { label: 'student error, fresh labels', axis: 'y2', color: '#c62828' },
+                           { label: 'policy weight in chosen plans (mean)', axis: 'y2', color: '#00838f' }]);
   lineChart('chart-rate', [{ label: 'samples/s' }, { label: 'sim-s/s', axis: 'y2' }]);
   lineChart('chart-split', [{ label: 'wait', color: '#ef6c00', fillTo: 'origin', stack: 's' },
                             { label: 'update', color: '#1565c0', fillTo: '-1', stack: 's' }], { stacked: true });
@@ -129,6 +130,7 @@
     setSeries(charts['chart-loop'], 1, share('expert_proposal_chosen', 'expert_proposal_tried'));
     setSeries(charts['chart-loop'], 2, share('expert_rescues', 'expert_replans'));
     setSeries(charts['chart-loop'], 3, labelled.map((r) => ({ x: r.iteration, y: positive(r.imitation_fresh_error) })));
+    setSeries(charts['chart-loop'], 4, share('expert_proposal_weight_sum', 'expert_proposal_tried'));
     document.getElementById('loop-figure').hidden = labelled.length === 0;
     setSeries(charts['chart-rate'], 0, xy((r) => r.samples_per_s));
     setSeries(charts['chart-rate'], 1, xy((r) => r.sim_s_per_s));

@@ -48,7 +48,8 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
   if (p.search_prior_trust() && !p.policy_prior()) {
     return absl::InvalidArgumentError(absl::StrCat(
         where("search_prior_trust"), ": a trust in the learned proposal needs "
-        "planner.policy_prior: true (without it there is no policy to trust)"));
+        "planner.policy_prior: true (without it there is no policy to trust; `juggle eval` "
+        "sets it with --proposal=POLICY)"));
   }
   if (p.replan_every() > p.horizon_steps()) {
     return absl::InvalidArgumentError(

@@ -105,7 +105,8 @@ void AddLearnerFlags(CLI::App* cmd, LearnerFlags* f) {
                   "stop after this many iterations (0: the config's ppo.iterations)")
       ->check(AtLeast(0))
       ->capture_default_str();
-  cmd->add_option("--minutes", f->minutes, "stop after this many minutes (0: no limit)")
+  cmd->add_option("--minutes", f->minutes, "stop after this many minutes of this process (a resumed run counts from its "
+                  "restart; 0: no limit)")
       ->check(AtLeast(0))
       ->capture_default_str();
   cmd->add_option("--seed", f->seed, "run seed (-1: the config's seed)")

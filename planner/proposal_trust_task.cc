@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <utility>
 
+#include "absl/container/inlined_vector.h"
+
 namespace juggle::planner {
 namespace {
 
@@ -74,8 +76,9 @@ void ProposalTrustTask::Action(const Env& env, const double* theta, PlanClock cl
     inner_->Action(env, theta, clock, nullptr, action);
     return;
   }
+  // Called at every rollout step: no heap allocation for the character's action sizes.
   const double t = PriorWeight(theta);
-  std::vector<double> scaled(prior, prior + act_dim_);
+  absl::InlinedVector<double, 64> scaled(prior, prior + act_dim_);
   for (double& p : scaled) p *= t;
   inner_->Action(env, theta, clock, scaled.data(), action);
 }

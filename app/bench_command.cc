@@ -99,8 +99,20 @@ CommandBody AddBenchCommand(CLI::App* cmd) {
   d->add_option("--poll_hz", dashboard->poll_hz, "page refreshes per second while polled")
       ->check(Between(0.01, 100))->capture_default_str();
 
+  auto play = std::make_shared<PlayBenchOptions>();
+  CLI::App* p = cmd->add_subcommand("play", "what streaming the live page costs the simulation: "
+                                            "steps/s without and with a viewer");
+  p->add_option("--config", play->config, "run config")->capture_default_str();
+  p->add_option("--phase_seconds", play->phase_seconds, "length of each phase")
+      ->check(Between(0.5, 3600))->capture_default_str();
+  p->add_option("--repeats", play->repeats, "quiet/watched phase pairs")
+      ->check(Between(1, 100))->capture_default_str();
+  p->add_option("--frame_rate", play->frame_rate, "frames per wall second at most")
+      ->check(Between(1, 1000))->capture_default_str();
+
   return [=] {
     absl::Status status;
+    if (p->parsed()) status = RunPlayBench(*play);
     if (s->parsed()) status = RunSimBench(*sim);
     if (pl->parsed()) status = RunPlannerBench(*plan);
     if (m->parsed()) status = RunMoeBench(*moe);

@@ -17,6 +17,7 @@ CommandBody AddSiteswapCommand(CLI::App* cmd);
 CommandBody AddTossCommand(CLI::App* cmd);
 CommandBody AddExportPolicyCommand(CLI::App* cmd);
 CommandBody AddReplayCommand(CLI::App* cmd);
+CommandBody AddPlayCommand(CLI::App* cmd);
 CommandBody AddExportBvhCommand(CLI::App* cmd);
 CommandBody AddBenchCommand(CLI::App* cmd);
 CommandBody AddDashboardCommand(CLI::App* cmd);

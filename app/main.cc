@@ -30,6 +30,8 @@ const Command kCommands[] = {
      juggle::AddExportPolicyCommand},
     {"replay", "write a recording as a self-contained 3D HTML page (or serve it)",
      juggle::AddReplayCommand},
+    {"play", "the character live in the browser: choose skills, poke the ball (docs/play.md)",
+     juggle::AddPlayCommand},
     {"export-bvh", "write a recording's character motion as BVH (+ the balls as CSV)",
      juggle::AddExportBvhCommand},
     {"dashboard", "render a run's dashboard (metrics.jsonl) as one self-contained HTML file",

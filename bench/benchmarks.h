@@ -62,6 +62,15 @@ struct LocalBenchOptions {
 // Local-mode iteration time vs sampling alone + update alone.
 absl::Status RunLocalBench(const LocalBenchOptions& options);
 
+// `juggle bench play` (bench/play_bench.cc).
+struct PlayBenchOptions {
+  std::string config = "configs/foot_and_head_planner.textproto";
+  double phase_seconds = 5;
+  int repeats = 2;
+  int frame_rate = 60;  // frames per wall second at most, as `juggle play` streams
+};
+absl::Status RunPlayBench(const PlayBenchOptions& options);
+
 struct DashboardBenchOptions {
   std::string config = "configs/right_foot.textproto";
   double phase_seconds = 30;  // length of each quiet and each polled phase

@@ -1,6 +1,7 @@
 #include "common/adaptive_walk.h"
 
 #include <algorithm>
+#include <utility>
 
 #include "absl/strings/str_cat.h"
 
@@ -13,6 +14,10 @@ AdaptiveWalk::AdaptiveWalk(const ControlGraph* graph) : graph_(graph) {
 
 int AdaptiveWalk::SampleEdge(int node, Rng* rng) const {
   const std::vector<int>& out = graph_->node(node).out_edges;
+  if (!steering_.empty() && steering_[node] >= 0) {
+    (void)rng->Uniform();  // the stream advances as it would unsteered
+    return steering_[node];
+  }
   double total = 0;
   for (int e : out) total += counts_[e];
   double u = rng->Uniform() * total;
@@ -21,6 +26,27 @@ int AdaptiveWalk::SampleEdge(int node, Rng* rng) const {
     if (u < 0) return e;
   }
   return out.back();  // rounding guard
+}
+
+absl::Status AdaptiveWalk::SetSteering(std::vector<int> edge_for_node) {
+  if (edge_for_node.empty()) {
+    steering_.clear();
+    return absl::OkStatus();
+  }
+  if (static_cast<int>(edge_for_node.size()) != graph_->num_nodes()) {
+    return absl::InvalidArgumentError(absl::StrCat("steering names ", edge_for_node.size(),
+                                                   " nodes; the graph has ",
+                                                   graph_->num_nodes()));
+  }
+  for (int n = 0; n < graph_->num_nodes(); ++n) {
+    const int e = edge_for_node[n];
+    if (e >= 0 && (e >= graph_->num_edges() || graph_->edge(e).from != n)) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("steering: edge ", e, " does not leave node ", graph_->node(n).name));
+    }
+  }
+  steering_ = std::move(edge_for_node);
+  return absl::OkStatus();
 }
 
 absl::Status AdaptiveWalk::Apply(const EdgeEvent& event) {

@@ -44,8 +44,15 @@ class AdaptiveWalk {
   // REQUIRES: `graph` outlives this object.
   explicit AdaptiveWalk(const ControlGraph* graph);
 
-  // Samples an outgoing edge of `node` ∝ counts; returns the edge index.
+  // Samples an outgoing edge of `node` ∝ counts; returns the edge index. A steered node
+  // (SetSteering) returns its steered edge instead (drawing from `rng` all the same).
   int SampleEdge(int node, Rng* rng) const;
+
+  // The live page's skill choice (play/steering.h): per node, the edge to take from it, or −1
+  // to sample as usual; empty: no steering. INVALID_ARGUMENT (nothing changed) for a size
+  // other than the number of nodes or an edge that does not leave its node.
+  absl::Status SetSteering(std::vector<int> edge_for_node);
+  const std::vector<int>& steering() const { return steering_; }
 
   // Applies one event with the counting rule above. INVALID_ARGUMENT for an unknown edge.
   absl::Status Apply(const EdgeEvent& event);
@@ -62,6 +69,7 @@ class AdaptiveWalk {
  private:
   const ControlGraph* graph_;
   std::vector<double> counts_;
+  std::vector<int> steering_;  // empty, or an edge (or −1) per node
 };
 
 }  // namespace juggle

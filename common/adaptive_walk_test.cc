@@ -204,5 +204,34 @@ TEST_F(AdaptiveWalkTest, ChosenEventsShiftTheSamplingTowardTheEdge) {
   EXPECT_NEAR(to_a / 10000.0, 99.0 / 101.0, 0.01);
 }
 
+TEST_F(AdaptiveWalkTest, ASteeredNodeAlwaysTakesItsEdgeAndOthersStillSample) {
+  std::vector<int> steering(graph_.num_nodes(), -1);
+  steering[*graph_.FindNode("hub")] = kHubToB;
+  ASSERT_TRUE(walk_.SetSteering(steering).ok());
+  Rng rng(3), unsteered_rng(3);
+  int stall_loops = 0;
+  for (int i = 0; i < 2000; ++i) {
+    EXPECT_EQ(walk_.SampleEdge(*graph_.FindNode("hub"), &rng), kHubToB);
+    (void)unsteered_rng.Uniform();
+    stall_loops += walk_.SampleEdge(*graph_.FindNode("stall"), &rng) == kStallLoop;
+    (void)unsteered_rng.Uniform();
+  }
+  EXPECT_GT(stall_loops, 1800);  // 30 : 1 unsteered
+  EXPECT_LT(stall_loops, 2000);
+  EXPECT_EQ(rng.Uniform(), unsteered_rng.Uniform());  // the stream advanced as unsteered
+  ASSERT_TRUE(walk_.SetSteering({}).ok());
+  int to_b = 0;
+  for (int i = 0; i < 3000; ++i) to_b += walk_.SampleEdge(*graph_.FindNode("hub"), &rng) == kHubToB;
+  EXPECT_NEAR(to_b / 3000.0, 1.0 / 3.0, 0.05);
+}
+
+TEST_F(AdaptiveWalkTest, RefusesSteeringOfTheWrongSizeOrWithAnEdgeLeavingAnotherNode) {
+  EXPECT_THAT(walk_.SetSteering({0, 1}).message(), HasSubstr("the graph has 4"));
+  std::vector<int> steering(graph_.num_nodes(), -1);
+  steering[*graph_.FindNode("a")] = kHubToA;
+  EXPECT_THAT(walk_.SetSteering(steering).message(), HasSubstr("does not leave node a"));
+  EXPECT_TRUE(walk_.steering().empty());
+}
+
 }  // namespace
 }  // namespace juggle

@@ -34,7 +34,7 @@ HttpServer::HttpServer() : impl_(std::make_unique<Impl>()) {}
 HttpServer::~HttpServer() { Stop(); }
 
 absl::StatusOr<std::unique_ptr<HttpServer>> HttpServer::Start(int port, bool all_interfaces,
-                                                              Handler handler) {
+                                                              Handler handler, Handler post) {
   std::unique_ptr<HttpServer> s(new HttpServer());
   httplib::Server& server = s->impl_->server;
   server.new_task_queue = [] { return new httplib::ThreadPool(kRequestThreads); };
@@ -49,22 +49,59 @@ absl::StatusOr<std::unique_ptr<HttpServer>> HttpServer::Start(int port, bool all
     const int yes = 1;
     ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
   });
-  server.Get(".*", [handler](const httplib::Request& req, httplib::Response& res) {
+  const auto to_request = [](const httplib::Request& req, const char* method) {
     HttpRequest request;
+    request.method = method;
     request.path = req.path;
     for (const auto& [key, value] : req.params) request.params[key] = value;
-    HttpResponse response = handler(request);
+    request.authorization = req.get_header_value("Authorization");
+    request.remote_address = req.remote_addr;
+    return request;
+  };
+  const auto answer = [](HttpResponse response, httplib::Response& res) {
     res.status = response.status;
     res.set_header("Cache-Control",
                    response.cache_control.empty() ? "no-store" : response.cache_control);
-    res.set_content(std::move(response.body), response.content_type.c_str());
+    if (!response.stream) {
+      res.set_content(std::move(response.body), response.content_type.c_str());
+      return;
+    }
+    auto stream = std::move(response.stream);
+    auto done = std::move(response.stream_done);
+    res.set_header("X-Accel-Buffering", "no");
+    res.set_chunked_content_provider(
+        response.content_type,
+        [stream](size_t, httplib::DataSink& sink) {
+          const HttpResponse::ChunkWriter write = [&sink](const std::string& chunk) {
+            return sink.is_writable() && sink.write(chunk.data(), chunk.size());
+          };
+          if (stream(write)) return true;
+          sink.done();
+          return true;
+        },
+        [done](bool) {
+          if (done) done();
+        });
+  };
+  server.Get(".*", [handler, to_request, answer](const httplib::Request& req,
+                                                 httplib::Response& res) {
+    answer(handler(to_request(req, "GET")), res);
   });
   const auto refuse = [](const httplib::Request&, httplib::Response& res) {
     res.status = 405;
     res.set_header("Allow", "GET, HEAD");
     res.set_content("only GET and HEAD\n", "text/plain");
   };
-  server.Post(".*", refuse);
+  if (post) {
+    server.Post(".*", [post, to_request, answer](const httplib::Request& req,
+                                                 httplib::Response& res) {
+      HttpRequest request = to_request(req, "POST");
+      request.body = req.body;
+      answer(post(request), res);
+    });
+  } else {
+    server.Post(".*", refuse);
+  }
   server.Put(".*", refuse);
   server.Patch(".*", refuse);
   server.Delete(".*", refuse);
@@ -120,6 +157,56 @@ absl::StatusOr<HttpResult> HttpFetch(int port, const std::string& path) {
   out.content_type = result->get_header_value("Content-Type");
   out.body = std::move(result->body);
   return out;
+}
+
+absl::StatusOr<HttpResult> HttpPost(int port, const std::string& path, const std::string& body,
+                                    const std::string& content_type,
+                                    const std::string& authorization) {
+  httplib::Client client("127.0.0.1", port);
+  client.set_connection_timeout(5);
+  client.set_read_timeout(5);
+  httplib::Headers headers;
+  if (!authorization.empty()) headers.emplace("Authorization", authorization);
+  httplib::Result result = client.Post(path.c_str(), headers, body, content_type.c_str());
+  if (!result) {
+    return absl::UnavailableError(absl::StrCat("cannot connect to 127.0.0.1:", port, ": ",
+                                               httplib::to_string(result.error())));
+  }
+  HttpResult out;
+  out.status = result->status;
+  out.content_type = result->get_header_value("Content-Type");
+  out.body = std::move(result->body);
+  return out;
+}
+
+absl::Status HttpStream(int port, const std::string& path,
+                        const std::function<bool(const std::string& data)>& on_data) {
+  httplib::Client client("127.0.0.1", port);
+  client.set_connection_timeout(5);
+  client.set_read_timeout(5);
+  int status = 0;
+  std::string error_body;
+  httplib::Result result = client.Get(
+      path.c_str(),
+      [&status](const httplib::Response& response) {
+        status = response.status;
+        return true;
+      },
+      [&](const char* data, size_t length) {
+        if (status != 200) {
+          error_body.append(data, length);
+          return true;
+        }
+        return on_data(std::string(data, length));
+      });
+  if (status != 0 && status != 200) {
+    return absl::FailedPreconditionError(absl::StrCat("HTTP ", status, ": ", error_body));
+  }
+  if (!result && status == 0) {
+    return absl::UnavailableError(absl::StrCat("cannot connect to 127.0.0.1:", port, ": ",
+                                               httplib::to_string(result.error())));
+  }
+  return absl::OkStatus();
 }
 
 absl::StatusOr<std::string> HttpGet(int port, const std::string& path) {

@@ -1,5 +1,6 @@
 // The HTTP server (cpp-httplib underneath): HTTP/1.1 answers with the handler's status, type
-// and body, keep-alive, concurrent requests, gzip when asked, 405 for other methods, and the
+// and body, keep-alive, concurrent requests, gzip when asked, 405 for other methods, POST to its
+// own handler (413 above 1 MiB), streamed answers (ended by the handler or the client), and the
 // client helpers' errors.
 #include "common/http_server.h"
 
@@ -191,6 +192,90 @@ TEST(HttpServerTest, StartFailsWithUnavailableWhenThePortIsTaken) {
   EXPECT_EQ(second.status().code(), absl::StatusCode::kUnavailable);
   EXPECT_THAT(std::string(second.status().message()),
               HasSubstr("cannot listen on port " + std::to_string((*first)->port())));
+}
+
+TEST(HttpServerTest, APostHandlerGetsTheBodyAndTheAuthorizationHeader) {
+  std::string seen_body, seen_auth, seen_method;
+  absl::StatusOr<std::unique_ptr<HttpServer>> server = HttpServer::Start(
+      0, false, TestHandler, [&](const HttpRequest& r) {
+        seen_body = r.body;
+        seen_auth = r.authorization;
+        seen_method = r.method;
+        return HttpResponse{201, "application/json", "{\"n\":" + r.Param("n", "0") + "}\n"};
+      });
+  ASSERT_TRUE(server.ok()) << server.status();
+  absl::StatusOr<HttpResult> r =
+      HttpPost((*server)->port(), "/cmd?n=3", "{\"cmd\":\"x\"}", "application/json", "Bearer t");
+  ASSERT_TRUE(r.ok()) << r.status();
+  EXPECT_EQ(r->status, 201);
+  EXPECT_EQ(r->body, "{\"n\":3}\n");
+  EXPECT_EQ(seen_body, "{\"cmd\":\"x\"}");
+  EXPECT_EQ(seen_auth, "Bearer t");
+  EXPECT_EQ(seen_method, "POST");
+  // Bodies over 1 MiB never reach the handler.
+  seen_body.clear();
+  absl::StatusOr<HttpResult> huge = HttpPost((*server)->port(), "/cmd", std::string(2 << 20, 'x'));
+  ASSERT_TRUE(huge.ok()) << huge.status();
+  EXPECT_EQ(huge->status, 413);
+  EXPECT_EQ(seen_body, "");
+}
+
+TEST(HttpServerTest, AStreamedAnswerArrivesPieceByPieceAndEndsItsStreamOnce) {
+  std::atomic<int> done{0};
+  absl::StatusOr<std::unique_ptr<HttpServer>> server =
+      HttpServer::Start(0, false, [&](const HttpRequest&) {
+        HttpResponse r;
+        r.content_type = "text/event-stream";
+        auto n = std::make_shared<int>(0);
+        r.stream = [n](const HttpResponse::ChunkWriter& write) {
+          if (*n == 3) return false;
+          ++*n;
+          return write("data: " + std::to_string(*n) + "\n\n");
+        };
+        r.stream_done = [&done] { ++done; };
+        return r;
+      });
+  ASSERT_TRUE(server.ok()) << server.status();
+  std::string received;
+  absl::Status s = HttpStream((*server)->port(), "/events", [&](const std::string& data) {
+    received += data;
+    return true;
+  });
+  ASSERT_TRUE(s.ok()) << s;
+  EXPECT_EQ(received, "data: 1\n\ndata: 2\n\ndata: 3\n\n");
+  for (int i = 0; i < 100 && done.load() == 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(done.load(), 1);
+}
+
+TEST(HttpServerTest, AStreamEndsWhenTheClientLeavesAndStopDoesNotWaitForever) {
+  std::atomic<int> done{0};
+  absl::StatusOr<std::unique_ptr<HttpServer>> server =
+      HttpServer::Start(0, false, [&](const HttpRequest&) {
+        HttpResponse r;
+        r.content_type = "text/event-stream";
+        r.stream = [](const HttpResponse::ChunkWriter& write) {
+          std::this_thread::sleep_for(std::chrono::milliseconds(20));
+          return write(": tick\n\n");
+        };
+        r.stream_done = [&done] { ++done; };
+        return r;
+      });
+  ASSERT_TRUE(server.ok()) << server.status();
+  int pieces = 0;
+  // The client reads three pieces, then hangs up.
+  absl::Status s = HttpStream((*server)->port(), "/events", [&](const std::string&) {
+    return ++pieces < 3;
+  });
+  EXPECT_GE(pieces, 3);
+  for (int i = 0; i < 300 && done.load() == 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(done.load(), 1);
+  const auto start = std::chrono::steady_clock::now();
+  (*server)->Stop();
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5));
 }
 
 }  // namespace

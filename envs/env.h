@@ -47,6 +47,9 @@ class Env {
   // Starts an episode at graph node `node` (tools: render --node). False, with nothing
   // changed, for families that cannot.
   virtual bool ResetAt(int node, const AdaptiveWalk& walk) { return false; }
+  // The walk's steering changed (AdaptiveWalk::SetSteering: the live page's skill choice):
+  // families with a graph re-draw the successors not yet committed to. Default: nothing.
+  virtual void Resteer(const AdaptiveWalk& walk) {}
   // Advances one control step. REQUIRES: `action` holds act_dim values (clamped to [−1, 1] by
   // the env) and the episode has not ended.
   virtual StepResult Step(const float* action, const AdaptiveWalk& walk) = 0;

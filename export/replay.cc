@@ -70,26 +70,8 @@ absl::StatusOr<std::string> ReadWhole(const std::string& path) {
 
 }  // namespace
 
-absl::StatusOr<ReplayData> BuildReplayData(const mjModel* m, const Trajectory& t, int episode) {
-  if (t.num_samples() == 0) return absl::InvalidArgumentError("the recording has no samples");
-  if (t.nq != m->nq) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("the recording has nq ", t.nq, " but the model ", m->nq));
-  }
-  ReplayData r;
-  r.family = t.family;
-  r.config_path = t.config_path;
-  r.control_dt = t.control_dt;
-  r.channels = t.channels;
-  for (int i = 0; i < t.num_samples(); ++i) {
-    if (episode < 0 || t.episode(i) == episode) r.samples.push_back(i);
-  }
-  if (r.samples.empty()) {
-    return absl::InvalidArgumentError(absl::StrCat("the recording has no episode ", episode,
-                                                   " (episodes 0..", t.episode(t.num_samples() - 1),
-                                                   ")"));
-  }
-
+ReplayScene BuildReplayScene(const mjModel* m) {
+  ReplayScene r;
   // Bodies with drawable geoms get transforms; world geoms are static.
   std::vector<int> body_index(m->nbody, -1);
   for (int g = 0; g < m->ngeom; ++g) {
@@ -124,6 +106,36 @@ absl::StatusOr<ReplayData> BuildReplayData(const mjModel* m, const Trajectory& t
       break;
     }
   }
+
+  return r;
+}
+
+absl::StatusOr<ReplayData> BuildReplayData(const mjModel* m, const Trajectory& t, int episode) {
+  if (t.num_samples() == 0) return absl::InvalidArgumentError("the recording has no samples");
+  if (t.nq != m->nq) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("the recording has nq ", t.nq, " but the model ", m->nq));
+  }
+  ReplayData r;
+  r.family = t.family;
+  r.config_path = t.config_path;
+  r.control_dt = t.control_dt;
+  r.channels = t.channels;
+  for (int i = 0; i < t.num_samples(); ++i) {
+    if (episode < 0 || t.episode(i) == episode) r.samples.push_back(i);
+  }
+  if (r.samples.empty()) {
+    return absl::InvalidArgumentError(absl::StrCat("the recording has no episode ", episode,
+                                                   " (episodes 0..", t.episode(t.num_samples() - 1),
+                                                   ")"));
+  }
+
+  ReplayScene scene = BuildReplayScene(m);
+  r.body_ids = std::move(scene.body_ids);
+  r.body_names = std::move(scene.body_names);
+  r.follow = scene.follow;
+  r.geoms = std::move(scene.geoms);
+  r.skipped_geoms = scene.skipped_geoms;
 
   std::unique_ptr<mjData, DataDeleter> d(mj_makeData(m));
   const int nb = static_cast<int>(r.body_ids.size());
@@ -174,6 +186,30 @@ absl::StatusOr<ReplayData> BuildReplayData(const mjModel* m, const Trajectory& t
   return r;
 }
 
+namespace {
+
+nlohmann::ordered_json GeomsJson(const std::vector<ReplayGeom>& geoms) {
+  using Json = nlohmann::ordered_json;
+  auto shorts = [](const auto& v) {
+    Json a = Json::array();
+    for (double x : v) a.push_back(Short(x));
+    return a;
+  };
+  Json out = Json::array();
+  for (const ReplayGeom& g : geoms) {
+    out.push_back({{"name", g.name}, {"body", g.body}, {"type", g.type},
+                   {"size", shorts(g.size)}, {"pos", shorts(g.pos)},
+                   {"quat", shorts(g.quat)}, {"rgba", shorts(g.rgba)}});
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string ReplayGeomsJson(const std::vector<ReplayGeom>& geoms) {
+  return GeomsJson(geoms).dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+}
+
 std::string ReplayJson(const ReplayData& r) {
   using Json = nlohmann::ordered_json;
   auto shorts = [](const auto& v) {
@@ -182,13 +218,8 @@ std::string ReplayJson(const ReplayData& r) {
     return a;
   };
   auto fixed = [](double v) { return Fixed(v); };
-  Json geoms = Json::array(), channels = Json::array(), contacts = Json::array(),
+  Json geoms = GeomsJson(r.geoms), channels = Json::array(), contacts = Json::array(),
        events = Json::array();
-  for (const ReplayGeom& g : r.geoms) {
-    geoms.push_back({{"name", g.name}, {"body", g.body}, {"type", g.type},
-                     {"size", shorts(g.size)}, {"pos", shorts(g.pos)},
-                     {"quat", shorts(g.quat)}, {"rgba", shorts(g.rgba)}});
-  }
   for (const AnnotationChannel& c : r.channels) {
     channels.push_back({{"name", c.name}, {"labels", c.labels}});
   }
@@ -237,7 +268,7 @@ std::string ReplayHtml(const ReplayData& data, const ReplayLibraries& libraries,
   const std::string scripts =
       absl::StrCat(script("", libraries.three_js), script("", libraries.orbit_controls_js),
                    script(" id=\"replay-data\" type=\"application/json\"", ReplayJson(data)),
-                   script("", kReplayJs));
+                   script("", kSceneJs), script("", kReplayJs));
   std::string escaped_title = absl::StrReplaceAll(title, {{"&", "&amp;"}, {"<", "&lt;"}});
   return absl::StrReplaceAll(kReplayHtml, {{"<!-- juggle:title -->", escaped_title},
                                            {"<!-- juggle:scripts -->", scripts}});

@@ -42,6 +42,19 @@ struct ReplayEvent {
   std::string label;    // the new label (the episode number for "episode")
 };
 
+// What a model's page draws: the bodies that carry drawable geoms (their transforms change),
+// the geoms, and the body the camera follows (the character's root).
+struct ReplayScene {
+  std::vector<int> body_ids;             // model bodies with per-frame transforms
+  std::vector<std::string> body_names;
+  int follow = 0;                        // index into body_ids: the character's root
+  std::vector<ReplayGeom> geoms;
+  int skipped_geoms = 0;                 // meshes, height fields, invisible geoms
+};
+ReplayScene BuildReplayScene(const mjModel* model);
+// The scene's geoms as a JSON array (the page's "geoms", web/scene.js).
+std::string ReplayGeomsJson(const std::vector<ReplayGeom>& geoms);
+
 struct ReplayData {
   std::string family, config_path;
   double control_dt = 0;

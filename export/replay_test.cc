@@ -164,7 +164,7 @@ TEST(ReplayTest, InlinedScriptsCannotCloseTheirElementEarly) {
        at = html.find("</script>", at + 1)) {
     ++closes;
   }
-  EXPECT_EQ(closes, 4u);  // three.js, OrbitControls, the data, replay.js
+  EXPECT_EQ(closes, 5u);  // three.js, OrbitControls, the data, scene.js, replay.js
 }
 
 TEST(ReplayTest, MissingThreeJsNamesTheDebianPackage) {

@@ -35,9 +35,10 @@ declare -A PROJECT=(
   [learner]="eval envs record common proto"
   [render]="eval envs record common proto"
   [export]="envs record common proto"
-  [bench]="worker learner planner eval envs record common proto"
-  [app]="worker learner render export planner eval bench envs record common proto"
-  [tests]="worker learner render export planner eval envs record common proto"
+  [play]="export planner eval envs record common proto"
+  [bench]="worker learner play planner eval envs record common proto"
+  [app]="worker learner render export play planner eval bench envs record common proto"
+  [tests]="worker learner render export play planner eval envs record common proto"
 )
 # httplib: cpp-httplib, only common/http_server.cc (the one HTTP implementation; the learner and
 # tests reach HTTP through common/http_server.h, and juggle-worker never links it); grpc, only
@@ -56,6 +57,7 @@ declare -A LIBS=(
   [learner]="mujoco grpc torch json"
   [render]="mujoco gl"
   [export]="mujoco json"
+  [play]="mujoco json"
   [bench]="mujoco grpc torch json"
   [app]="mujoco grpc torch gl json"
   [tests]="mujoco grpc torch json"

@@ -1,4 +1,4 @@
-// juggle's browser replay (docs/replay_and_export.md). Plays the recording embedded
+// juggle's browser replay (docs/replay_and_export.md), drawn by web/scene.js. Plays the recording embedded
 // in the page's #replay-data JSON (export/replay.cc): per-frame world transforms of the bodies,
 // the geoms to draw on them, annotation channels, ball contacts and channel changes. No physics
 // here. URL fragment: #t=SECONDS (show that time, paused), &speed=X, &follow=0|1.
@@ -14,102 +14,10 @@
   const episodeChannel = data.channels.findIndex((c) => c.name === 'episode');
   const episodeOf = (f) => (episodeChannel >= 0 ? data.values[f * nc + episodeChannel] : 0);
 
-  // ---- Scene: MuJoCo's z-up world as is; the camera's up is +z.
+  // ---- Scene (web/scene.js): MuJoCo's z-up world as is; the camera's up is +z.
   const view = document.getElementById('view');
-  const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
-  renderer.setPixelRatio(window.devicePixelRatio || 1);
-  view.appendChild(renderer.domElement);
-  const scene = new THREE.Scene();
-  scene.background = new THREE.Color(0xe6e6e6);
-  const camera = new THREE.PerspectiveCamera(40, 1, 0.05, 200);
-  camera.up.set(0, 0, 1);
-  scene.add(new THREE.HemisphereLight(0xffffff, 0x667766, 0.75));
-  const sun = new THREE.DirectionalLight(0xffffff, 0.55);
-  sun.position.set(2, -3, 6);
-  scene.add(sun);
-
-  // Ground: a checker texture drawn on a canvas, 1 m squares.
-  const groundCanvas = document.createElement('canvas');
-  groundCanvas.width = groundCanvas.height = 64;
-  const gctx = groundCanvas.getContext('2d');
-  for (let i = 0; i < 2; ++i) {
-    for (let j = 0; j < 2; ++j) {
-      gctx.fillStyle = (i + j) % 2 ? '#5f7f55' : '#6b8c60';
-      gctx.fillRect(i * 32, j * 32, 32, 32);
-    }
-  }
-  const groundTexture = new THREE.CanvasTexture(groundCanvas);
-  groundTexture.wrapS = groundTexture.wrapT = THREE.RepeatWrapping;
-  groundTexture.repeat.set(20, 20);
-
-  const quat = (q) => new THREE.Quaternion(q[1], q[2], q[3], q[0]);  // MuJoCo w x y z
-  function geomMesh(g) {
-    const color = new THREE.Color(g.rgba[0], g.rgba[1], g.rgba[2]);
-    const material = new THREE.MeshLambertMaterial({
-      color: color, transparent: g.rgba[3] < 1, opacity: g.rgba[3],
-    });
-    const s = g.size;
-    const zAxis = (geometry) => geometry.rotateX(Math.PI / 2);  // three's cylinders lie along y
-    let object;
-    switch (g.type) {
-      case 'plane': {
-        const ground = new THREE.Mesh(new THREE.PlaneBufferGeometry(40, 40),
-                                      new THREE.MeshLambertMaterial({ map: groundTexture }));
-        object = ground;
-        break;
-      }
-      case 'sphere':
-        object = new THREE.Mesh(new THREE.SphereBufferGeometry(s[0], 24, 16), material);
-        break;
-      case 'ellipsoid':
-        object = new THREE.Mesh(new THREE.SphereBufferGeometry(1, 24, 16), material);
-        object.scale.set(s[0], s[1], s[2]);
-        break;
-      case 'cylinder':
-        object = new THREE.Mesh(zAxis(new THREE.CylinderBufferGeometry(s[0], s[0], 2 * s[1], 20)),
-                                material);
-        break;
-      case 'capsule': {
-        object = new THREE.Group();
-        object.add(new THREE.Mesh(
-            zAxis(new THREE.CylinderBufferGeometry(s[0], s[0], 2 * s[1], 20, 1, true)), material));
-        for (const z of [-s[1], s[1]]) {
-          const cap = new THREE.Mesh(new THREE.SphereBufferGeometry(s[0], 20, 12), material);
-          cap.position.z = z;
-          object.add(cap);
-        }
-        break;
-      }
-      case 'box':
-        object = new THREE.Mesh(new THREE.BoxBufferGeometry(2 * s[0], 2 * s[1], 2 * s[2]), material);
-        break;
-      default:
-        return null;
-    }
-    object.position.set(g.pos[0], g.pos[1], g.pos[2]);
-    object.quaternion.copy(quat(g.quat));
-    object.name = g.name;
-    return object;
-  }
-
-  const bodies = data.bodies.map((name) => {
-    const group = new THREE.Group();
-    group.name = name;
-    scene.add(group);
-    return group;
-  });
-  let hasGround = false;
-  for (const g of data.geoms) {
-    const mesh = geomMesh(g);
-    if (!mesh) continue;
-    hasGround = hasGround || g.type === 'plane';
-    (g.body >= 0 ? bodies[g.body] : scene).add(mesh);
-  }
-  if (!hasGround) {  // families without a floor still get one to stand on
-    const ground = geomMesh({ type: 'plane', size: [0, 0, 0], pos: [0, 0, 0], quat: [1, 0, 0, 0],
-                              rgba: [1, 1, 1, 1], name: 'ground' });
-    scene.add(ground);
-  }
+  const world = JuggleScene.create(view, data);
+  const bodies = world.bodies;
 
   // ---- Poses: interpolated between the two frames around t (positions linearly, orientations
   // spherically) within an episode; a reset frame shares its time with the episode's end and
@@ -149,17 +57,8 @@
   }
 
   // ---- Camera: front-right of the character, 3.2 m away, orbiting its root.
-  const controls = new THREE.OrbitControls(camera, renderer.domElement);
-  controls.enableDamping = false;
-  const followTarget = new THREE.Vector3();
-  function rootTarget(out) {
-    const root = bodies[data.follow] || bodies[0];
-    return out.set(root.position.x, root.position.y, 0.8);
-  }
   pose(0);
-  rootTarget(controls.target);
-  camera.position.copy(controls.target).add(new THREE.Vector3(1.5, -2.7, 0.55));
-  controls.update();
+  world.placeCamera();
 
   // ---- Text: every channel of the current frame.
   const info = document.getElementById('info');
@@ -281,26 +180,9 @@
     setPlaying(false);
   });
 
-  function resize() {
-    const w = view.clientWidth, h = view.clientHeight;
-    renderer.setSize(w, h);
-    camera.aspect = w / Math.max(1, h);
-    camera.updateProjectionMatrix();
-  }
-  window.addEventListener('resize', resize);
-  resize();
-
-  const delta = new THREE.Vector3();
   function draw() {
     const f = pose(state.t);
-    if (state.follow) {
-      rootTarget(followTarget);
-      delta.subVectors(followTarget, controls.target);
-      camera.position.add(delta);
-      controls.target.copy(followTarget);
-    }
-    controls.update();
-    renderer.render(scene, camera);
+    world.draw(state.follow);
     info.textContent = describe(f, state.t);
     clock.textContent = `${state.t.toFixed(2)} / ${duration.toFixed(2)} s`;
     scrub.value = String(duration > 0 ? Math.round((state.t / duration) * 1000) : 0);

@@ -51,6 +51,8 @@ void JuggleEnv::Reset(const AdaptiveWalk& walk) {
   StartEpisode();
 }
 
+void JuggleEnv::Resteer(const AdaptiveWalk& walk) { spec_->cursor().Resteer(walk, &s_.cursor); }
+
 bool JuggleEnv::ResetAt(int node, const AdaptiveWalk& walk) {
   s_.events.clear();
   spec_->cursor().ResetAt(node, walk, &s_.rng, &s_.cursor);

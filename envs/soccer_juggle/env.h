@@ -72,6 +72,9 @@ class JuggleEnv : public juggle::Env {
   // Starts an episode at DOWN node `node` (REQUIRES: a DOWN node). Returns true.
   bool ResetAt(int node, const AdaptiveWalk& walk) override;
 
+  // The node after the coming one follows the walk's new steering (GraphCursor::Resteer).
+  void Resteer(const AdaptiveWalk& walk) override;
+
   // Advances one control step. REQUIRES: `action` holds kNumActions values in [−1, 1] (clamped
   // here) and the episode has not ended. Events of this step: events().
   StepResult Step(const float* action, const AdaptiveWalk& walk) override;

@@ -88,6 +88,16 @@ bool GraphCursor::Advance(const AdaptiveWalk& walk, Rng* rng, CursorState* s,
   return true;
 }
 
+bool GraphCursor::Resteer(const AdaptiveWalk& walk, CursorState* s) const {
+  const std::vector<int>& steering = walk.steering();
+  if (steering.empty() || s->next < 0) return false;
+  const int e = steering[s->next];
+  if (e < 0 || e == s->edge_to_next_next) return false;
+  s->edge_to_next_next = e;
+  s->next_next = graph_->edge(e).to;
+  return true;
+}
+
 void GraphCursor::Fail(const CursorState& s, std::vector<EdgeEvent>* events) const {
   if (s.entered_by >= 0) events->push_back({s.entered_by, EdgeEventType::kFailed});
 }

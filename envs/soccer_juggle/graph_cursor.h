@@ -63,6 +63,12 @@ class GraphCursor {
   bool Advance(const AdaptiveWalk& walk, Rng* rng, CursorState* s,
                std::vector<EdgeEvent>* events) const;
 
+  // The walk's steering changed (AdaptiveWalk::SetSteering, the live page's skill choice):
+  // `next_next` — the node after the coming one, which a DOWN node's kick already aims at — is
+  // taken from the steering when it names an edge from `next`. `current` and `next` stay.
+  // Returns true if next_next changed.
+  bool Resteer(const AdaptiveWalk& walk, CursorState* s) const;
+
   // Appends the event for an episode that ends in `s` (kFailed for the edge into the current
   // node, if any). Time-limit truncation is not a failure: call nothing.
   void Fail(const CursorState& s, std::vector<EdgeEvent>* events) const;

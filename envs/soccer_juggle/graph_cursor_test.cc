@@ -47,6 +47,19 @@ constexpr char kFootHeadTour[] =
     "edge { from: 'head_down' to: 'head_up' }"
     "edge { from: 'head_up' to: 'foot_down' }";
 
+// Foot juggles and headers with both transitions (the live page's skill choice).
+constexpr char kFootAndHead[] =
+    "node { name: 'foot_down' stage: DOWN initial: true " FOOT_FIELDS " }"
+    "node { name: 'foot_up' stage: UP " FOOT_FIELDS " }"
+    "node { name: 'head_down' stage: DOWN " HEAD_FIELDS " }"
+    "node { name: 'head_up' stage: UP " HEAD_FIELDS " }"
+    "edge { from: 'foot_down' to: 'foot_up' }"
+    "edge { from: 'foot_up' to: 'foot_down' }"
+    "edge { from: 'foot_up' to: 'head_down' }"
+    "edge { from: 'head_down' to: 'head_up' }"
+    "edge { from: 'head_up' to: 'head_down' }"
+    "edge { from: 'head_up' to: 'foot_down' }";
+
 // Head juggle only.
 constexpr char kHead[] =
     "node { name: 'head_down' stage: DOWN initial: true " HEAD_FIELDS " }"
@@ -480,6 +493,32 @@ TEST(GraphCursorTest, ResetStartsAtAnInitialNodeDrawnUniformly) {
     EXPECT_EQ(t.graph->edge(t.s.edge_to_next_next).to, t.s.next_next);
   }
   EXPECT_NEAR(static_cast<double>(foot) / resets, 0.5, 0.03);
+}
+
+// The live page's skill choice: a steering toward the head takes effect for the node after the
+// coming one at once (the DOWN node's kick aims there), and every later choice of the walk
+// follows it; the current and the coming node stay.
+TEST(GraphCursorTest, ResteerTakesTheSteeredEdgeForTheNodeAfterTheComingOne) {
+  Harness h(kFootAndHead);
+  h.ResetAt("foot_down");
+  std::vector<int> steering(h.graph->num_nodes(), -1);
+  steering[h.Node("foot_up")] = h.EdgeBetween("foot_up", "head_down");
+  steering[h.Node("head_up")] = h.EdgeBetween("head_up", "head_down");
+  ASSERT_TRUE(h.walk->SetSteering(steering).ok());
+  const bool sampled_head = h.graph->node(h.s.next_next).name == "head_down";
+  EXPECT_EQ(h.cursor->Resteer(*h.walk, &h.s), !sampled_head);
+  EXPECT_EQ(h.Current(), "foot_down");
+  EXPECT_EQ(h.graph->node(h.s.next).name, "foot_up");
+  EXPECT_EQ(h.graph->node(h.s.next_next).name, "head_down");
+  EXPECT_EQ(h.s.edge_to_next_next, h.EdgeBetween("foot_up", "head_down"));
+  EXPECT_FALSE(h.cursor->Resteer(*h.walk, &h.s));  // nothing left to change
+  std::vector<std::string> visited;
+  for (int i = 0; i < 7; ++i) {
+    ASSERT_GT(h.StepsToTransition(), 0);
+    visited.push_back(h.Current());
+  }
+  EXPECT_EQ(visited, std::vector<std::string>({"foot_up", "head_down", "head_up", "head_down",
+                                               "head_up", "head_down", "head_up"}));
 }
 
 }  // namespace

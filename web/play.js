@@ -125,9 +125,10 @@
       return;
     }
     const ns = 'http://www.w3.org/2000/svg';
-    const n = options.nodes.length, w = 284, h = 220, r = Math.min(w, h) / 2 - 28;
-    const at = (i) => [w / 2 + r * Math.cos((2 * Math.PI * i) / n - Math.PI / 2),
-                       h / 2 + r * Math.sin((2 * Math.PI * i) / n - Math.PI / 2)];
+    // An ellipse that leaves room for the names left and right.
+    const n = options.nodes.length, w = 284, h = 220, rx = w / 2 - 80, ry = h / 2 - 28;
+    const at = (i) => [w / 2 + rx * Math.cos((2 * Math.PI * i) / n - Math.PI / 2),
+                       h / 2 + ry * Math.sin((2 * Math.PI * i) / n - Math.PI / 2)];
     svg.innerHTML = '<defs><marker id="arrow" viewBox="0 0 6 6" refX="6" refY="3" ' +
         'markerWidth="6" markerHeight="6" orient="auto"><path d="M0,0L6,3L0,6z" fill="#888"/>' +
         '</marker></defs>';
@@ -325,10 +326,14 @@
       report.fps = (state.frames - f0) / ((performance.now() - t0) / 1000);
       // 2. A skill choice: chosen at a fresh start, then the node sequence.
       if (hash.has('skill')) {
+        // Paused around the choice, so that the start's first steps are the same every run.
         const skill = hash.get('skill');
+        await sendCommand({ cmd: 'pause' });
         await sendCommand({ cmd: 'restart', seed: Number(hash.get('seed') || 0) });
         $(`skill-${skill}`).click();
         report.skill_acknowledged = await until(() => state.status.chosen === skill, 3000);
+        report.start_node = state.status.node;
+        await sendCommand({ cmd: 'resume' });
         const nodes = [];
         const listen = (frame) => {
           if (nodes[nodes.length - 1] !== frame.status.node) nodes.push(frame.status.node);
@@ -385,7 +390,8 @@
   fetch(withToken('/api/scene')).then((r) => r.json()).then((scene) => {
     state.scene = scene;
     state.world = JuggleScene.create($('view'), scene);
-    state.world.placeCamera();
+    // Nothing is drawn until the first frame places the bodies.
+    for (const b of state.world.bodies) b.visible = false;
     buildChoices(scene.options);
     buildGraph(scene.options);
     wireControls();
@@ -393,6 +399,7 @@
     let placed = false;
     function tick() {
       if (!placed && state.lastFrame) {
+        for (const b of state.world.bodies) b.visible = true;
         state.world.placeCamera();
         placed = true;
       }

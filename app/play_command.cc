@@ -23,6 +23,7 @@
 #include "play/play_page.h"
 #include "play/play_server.h"
 #include "play/play_session.h"
+#include "play/siteswap_world.h"
 
 namespace juggle {
 namespace {
@@ -76,7 +77,10 @@ absl::StatusOr<std::unique_ptr<play::PlayWorld>> MakeWorld(const PlayFlags& f) {
           "toss: play runs the two-arm runtime with the config's base controllers "
           "(--controller=zero or none)");
     }
-    return absl::UnimplementedError("toss: TODO");
+    absl::StatusOr<std::unique_ptr<play::SiteswapWorld>> world =
+        play::SiteswapWorld::Create(*spec, f.pattern, f.seed);
+    if (!world.ok()) return world.status();
+    return std::unique_ptr<play::PlayWorld>(*std::move(world));
   }
   ControllerChoice choice;
   choice.kind = f.controller.empty() ? "zero" : f.controller;

@@ -1,7 +1,7 @@
 // What the live page plays (`juggle play`, docs/play.md): one simulated world stepped by the
 // session's thread (play/play_session.h). Two kinds: an env of any family driven by a
 // controller (play/env_world.h: soccer juggling, with the control graph's skill choice) and the
-// two-arm toss runtime (play/toss_world.h: the siteswap chosen live, wind). Thread-compatible:
+// two-arm toss runtime (play/siteswap_world.h: the siteswap chosen live, wind). Thread-compatible:
 // the session calls it from its one thread.
 #ifndef JUGGLE_PLAY_PLAY_WORLD_H_
 #define JUGGLE_PLAY_PLAY_WORLD_H_

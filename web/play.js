@@ -92,8 +92,11 @@
       names = options.patterns;
       $('choice-title').textContent = 'Next pattern';
       $('wind-row').hidden = false;
+      $('siteswap-row').hidden = false;
       $('wind').max = options.max_wind;
       $('wind').min = -options.max_wind;
+      $('siteswap-go').addEventListener('click', () =>
+        sendCommand({ cmd: 'pattern', siteswap: $('siteswap').value.trim() }));
     }
     state.choices = names;
     const command = (name) => (options.kind === 'graph' ? { cmd: 'skill', node: name }
@@ -196,7 +199,10 @@
       `frames ${state.fps.toFixed(1)} per s`,
     ];
     if (s.node !== undefined) lines.push(`node ${s.node}   next skill ${s.chosen}`);
-    if (s.pattern !== undefined) lines.push(`pattern ${s.pattern}   wind ${(s.wind || 0).toFixed(2)} N`);
+    if (s.pattern !== undefined) {
+      lines.push(`pattern ${s.pattern} (${s.schedule})   wind ${(s.wind || 0).toFixed(2)} N`);
+      lines.push(`throws ${s.throws}   catches ${s.catches}`);
+    }
     if (s.planner) {
       lines.push(`planner: ${s.planner.rollouts} rollouts in the last re-plan` +
                  `${s.planner.rescued ? ' (rescue)' : ''}, cost ${s.planner.cost.toFixed(2)}` +

@@ -98,6 +98,41 @@ absl::StatusOr<JuggleSchedule> JuggleSchedule::Transitions(const std::vector<Sit
   return s;
 }
 
+JugglingState JuggleSchedule::StateAt(int beat) const {
+  JugglingState state = 0;
+  for (int b = beat - std::max(max_throw_, 1); b < beat; ++b) {
+    const int landing = b + At(b).value;
+    if (At(b).value > 0 && landing >= beat && landing - beat < 64) {
+      state |= JugglingState{1} << (landing - beat);
+    }
+  }
+  return state;
+}
+
+absl::StatusOr<JuggleSchedule> JuggleSchedule::SwitchAt(int beat, const Siteswap& next) const {
+  if (beat < 0) return absl::InvalidArgumentError("a switch needs a beat >= 0");
+  const int width = std::max({max_throw_, next.max_throw(), 1});
+  if (width > 16) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("throws of ", width, " beats are beyond the passages searched (16)"));
+  }
+  absl::StatusOr<std::vector<ScheduledThrow>> pass =
+      FindScheduleTransition(StateAt(beat), next.state(), width);
+  if (!pass.ok()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("from ", Name(), " to ", next.ToString(), ": ", pass.status().message()));
+  }
+  JuggleSchedule s;
+  s.patterns_ = patterns_;
+  s.patterns_.push_back(next);
+  for (int b = 0; b < beat; ++b) s.sequence_.push_back(At(b));
+  s.sequence_.insert(s.sequence_.end(), pass->begin(), pass->end());
+  s.max_throw_ = std::max(max_throw_, next.max_throw());
+  s.max_balls_ = std::max(max_balls_, next.balls());
+  for (const ScheduledThrow& t : *pass) s.max_throw_ = std::max(s.max_throw_, t.value);
+  return s;
+}
+
 ScheduledThrow JuggleSchedule::At(int beat) const {
   auto periodic = [](const Siteswap& p, int k) {
     const int n = p.period();

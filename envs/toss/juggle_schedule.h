@@ -40,6 +40,14 @@ class JuggleSchedule {
   static absl::StatusOr<JuggleSchedule> Transitions(const std::vector<Siteswap>& patterns,
                                                     int throws_each);
 
+  // This schedule up to `beat` (exclusive), then the shortest passage from the juggling state
+  // its throws leave at `beat` into `next`, then `next` forever (the live page's pattern
+  // choice). Beats before `beat` throw as before. INVALID_ARGUMENT for beat < 0, states wider
+  // than 16 beats or no passage.
+  absl::StatusOr<JuggleSchedule> SwitchAt(int beat, const Siteswap& next) const;
+  // The juggling state at `beat`: bit k set when a ball thrown before `beat` lands at beat + k.
+  JugglingState StateAt(int beat) const;
+
   // The throw of `beat`; beats < 0 repeat the first pattern (the run starts inside it).
   ScheduledThrow At(int beat) const;
   const Siteswap& first() const { return patterns_.front(); }

@@ -102,5 +102,36 @@ TEST(TransitionRunTest, BaseControllersJuggleThreeTo531To5To7AndBackToThreeWitho
   EXPECT_EQ(in_play, 3);  // back to three: four balls were put away
 }
 
+// The live page's pattern choice: beats before the switch throw as before, the passage from
+// the state those throws leave is a legal juggle into the new pattern, which then repeats.
+TEST(JuggleScheduleTest, SwitchAtKeepsTheBeatsBeforeAndPassesLegallyIntoTheNewPattern) {
+  const JuggleSchedule three(S("3"));
+  EXPECT_EQ(three.StateAt(7), S("3").state());
+  for (const char* next : {"531", "5", "441", "3"}) {
+    absl::StatusOr<JuggleSchedule> s = three.SwitchAt(7, S(next));
+    ASSERT_TRUE(s.ok()) << next << ": " << s.status();
+    for (int b = -3; b < 7; ++b) EXPECT_EQ(s->At(b).value, 3) << next << " beat " << b;
+    std::vector<ScheduledThrow> passage;
+    for (int b = 7; b < s->sequence_length(); ++b) passage.push_back(s->At(b));
+    JugglingState end = 0;
+    int changes = 0;
+    ASSERT_TRUE(Replay(three.StateAt(7), passage, &end, &changes)) << next;
+    EXPECT_EQ(end, S(next).state()) << next;
+    EXPECT_EQ(s->StateAt(s->sequence_length()), S(next).state()) << next;
+    for (int k = 0; k < 2 * S(next).period(); ++k) {
+      EXPECT_EQ(s->At(s->sequence_length() + k).value, S(next).throws()[k % S(next).period()]);
+    }
+    EXPECT_EQ(s->Name(), std::string("3>") + next);
+  }
+  // A switch from inside the passage of a switch: the state at that beat, whatever it is.
+  absl::StatusOr<JuggleSchedule> first = three.SwitchAt(4, S("531"));
+  ASSERT_TRUE(first.ok());
+  absl::StatusOr<JuggleSchedule> second = first->SwitchAt(first->sequence_length() + 1, S("5"));
+  ASSERT_TRUE(second.ok()) << second.status();
+  EXPECT_EQ(second->StateAt(second->sequence_length()), S("5").state());
+  EXPECT_EQ(second->max_balls(), 5);
+  EXPECT_FALSE(three.SwitchAt(-1, S("5")).ok());
+}
+
 }  // namespace
 }  // namespace juggle::toss

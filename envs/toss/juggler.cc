@@ -57,6 +57,23 @@ TossJuggler::TossJuggler(std::shared_ptr<const TossSpec> spec, const JuggleSched
 
 int TossJuggler::Value(int beat) const { return schedule_.At(beat).value; }
 
+absl::StatusOr<int> TossJuggler::SwitchPattern(const Siteswap& next) {
+  if (over_) return absl::FailedPreconditionError("the run is over");
+  if (next.balls() < 1 || next.balls() > kTossBalls) {
+    return absl::InvalidArgumentError(absl::StrCat(next.ToString(), " has ", next.balls(),
+                                                   " balls; the model has 1 to ", kTossBalls));
+  }
+  const int beat = std::max(std::max(next_beat_, next_add_beat_), 0);
+  absl::StatusOr<JuggleSchedule> switched = schedule_.SwitchAt(beat, next);
+  if (!switched.ok()) return switched.status();
+  if (switched->max_balls() > kTossBalls) {
+    return absl::InvalidArgumentError(absl::StrCat("the passage to ", next.ToString(),
+                                                   " needs more balls than the model has"));
+  }
+  schedule_ = *std::move(switched);
+  return beat;
+}
+
 int TossJuggler::DwellSteps() const {
   const config::TossConfig& t = spec_->toss();
   return static_cast<int>(std::lround(t.dwell_ratio() * t.hand_period_s() / spec_->dt()));

@@ -134,6 +134,10 @@ class TossJuggler {
   const TossWorld& world() const { return world_; }
   TossWorld* mutable_world() { return &world_; }
   const JuggleSchedule& schedule() const { return schedule_; }
+  // Passes into `next` from the first beat not yet prepared for (balls brought in ahead
+  // included): JuggleSchedule::SwitchAt. Returns that beat. INVALID_ARGUMENT (nothing changed)
+  // for more balls than the model has, or SwitchAt's errors; FAILED_PRECONDITION once over.
+  absl::StatusOr<int> SwitchPattern(const Siteswap& next);
   // An exact copy: it steps bit for bit as this runtime would (snapshots of the loop env).
   std::unique_ptr<TossJuggler> Clone() const;
 

@@ -138,6 +138,10 @@ void TossWorld::SetTargets(Hand hand, const std::array<double, kTossJoints>& tar
   target_[static_cast<int>(hand)] = targets;
 }
 
+double TossWorld::wind() const {
+  return wind_override_.has_value() ? *wind_override_ : spec_->toss().wind_force();
+}
+
 void TossWorld::Step() {
   const double kp = spec_->toss().kp(), h = spec_->dt();
   mju_zero(data_->qfrc_applied, model_->nv);
@@ -151,7 +155,7 @@ void TossWorld::Step() {
           kp * (target - data_->qpos[arm.qpos[j]] - h * data_->qvel[arm.dof[j]]);
     }
   }
-  const double wind = spec_->toss().wind_force();
+  const double wind = this->wind();
   for (int b = 0; b < kTossBalls; ++b) {
     const TossBallJoints& j = spec_->ball(b);
     if (balls_[b].mode == BallMode::kFree) {

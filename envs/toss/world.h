@@ -11,6 +11,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 
 #include <mujoco/mujoco.h>
 
@@ -87,6 +88,11 @@ class TossWorld {
   // envs/toss/base_controller.h).
   void SetTargets(Hand hand, const std::array<double, kTossJoints>& targets);
 
+  // Wind on free balls from now on (N along x), instead of the config's wind_force (the live
+  // page's wind).
+  void set_wind(double newtons) { wind_override_ = newtons; }
+  double wind() const;
+
   // One 10 ms step: PD torques, held balls' weight on the palms, wind on free balls, mj_step,
   // then held balls follow their palms and parked balls are put back. Sets diverged() on a
   // MuJoCo warning or a non-finite state.
@@ -126,6 +132,7 @@ class TossWorld {
   const mjModel* model_;
   MjDataPtr data_;
   std::array<BallState, kTossBalls> balls_{};
+  std::optional<double> wind_override_;
   std::array<std::array<double, kTossJoints>, 2> target_{};      // world joint angles
   std::array<std::array<double, kTossJoints>, 2> prev_speed_{};  // ω before the last Step
   // Positions before the last Step (a ball placed since then: its placed position).

@@ -1,7 +1,7 @@
 // `juggle bench play`: what streaming the live page costs the simulation (docs/play.md, issue
 // 46's "at most 5 %"). One PlaySession stepping a config's env with the zero action, unpaced,
-// alternates phases without a viewer and with one viewer draining the stream as a browser
-// does; prints control steps per wall second in each, their ratio, and the session's own
+// (the toss family: the two-arm runtime juggling 3 with its base controllers) alternates
+// phases without a viewer and with one viewer draining the stream as a browser does; prints control steps per wall second in each, their ratio, and the session's own
 // account (time building and publishing frames over time stepping). The last line is key=value
 // pairs.
 #include <atomic>
@@ -17,6 +17,7 @@
 #include "play/env_world.h"
 #include "play/frame_hub.h"
 #include "play/play_session.h"
+#include "play/siteswap_world.h"
 
 namespace juggle {
 
@@ -25,8 +26,18 @@ absl::Status RunPlayBench(const PlayBenchOptions& options) {
   if (!config.ok()) return config.status();
   absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*config);
   if (!spec.ok()) return spec.status();
-  auto world = std::make_unique<play::EnvWorld>(
-      *spec, std::make_unique<ZeroController>((*spec)->act_dim()), nullptr, /*run_seed=*/1000);
+  // The world `juggle play` plays: the toss family's two-arm runtime (pattern 3), or the env
+  // with the zero action.
+  std::unique_ptr<play::PlayWorld> world;
+  if ((*spec)->family() == "toss") {
+    absl::StatusOr<std::unique_ptr<play::SiteswapWorld>> toss =
+        play::SiteswapWorld::Create(*spec, "3", /*run_seed=*/1);
+    if (!toss.ok()) return toss.status();
+    world = *std::move(toss);
+  } else {
+    world = std::make_unique<play::EnvWorld>(
+        *spec, std::make_unique<ZeroController>((*spec)->act_dim()), nullptr, /*run_seed=*/1000);
+  }
   play::FrameHub hub(2, 8);
   play::SessionOptions session_options;
   session_options.unpaced = true;
@@ -34,7 +45,7 @@ absl::Status RunPlayBench(const PlayBenchOptions& options) {
   session_options.max_frame_rate = options.frame_rate;
   play::PlaySession session(std::move(world), &hub, session_options);
   session.Start();
-  std::printf("bench play: %s, zero action, unpaced, %d frames/s at most, %d phase pairs of "
+  std::printf("bench play: %s, zero action or toss base, unpaced, %d frames/s at most, %d phase pairs of "
               "%.1f s\n",
               options.config.c_str(), options.frame_rate, options.repeats,
               options.phase_seconds);

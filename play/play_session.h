@@ -37,12 +37,12 @@ struct SessionOptions {
   bool unpaced = false;
 };
 
-// Time spent by the simulation thread (ns), for the stream's share of it.
+// What the simulation thread spent, for the stream's share of it (CPU time of the thread).
 struct SessionTimes {
   int64_t steps = 0;
   int64_t frames = 0;
-  double step_seconds = 0;    // in PlayWorld::Step (the controller and the physics)
-  double frame_seconds = 0;   // building and publishing frames
+  double step_seconds = 0;    // CPU s in PlayWorld::Step (the controller and the physics)
+  double frame_seconds = 0;   // CPU s building and publishing frames
   double sim_seconds = 0;     // simulated time stepped
   double wall_seconds = 0;    // since Start
   // frame_seconds / step_seconds: what streaming costs the simulation.
@@ -68,7 +68,8 @@ class PlaySession {
   // The latest frame's JSON (for a viewer that just joined), or "" before the first.
   std::string LatestFrame() const;
   SessionTimes times() const;
-  // Simulated seconds per wall second over the last ~2 s.
+  // Simulated seconds per wall second over the last ~2 s of stepping (pauses and restarts
+  // start a new window; until it spans 0.5 s, the last window's value).
   double achieved_speed() const;
   int64_t episodes() const { return episodes_.load(); }
 
@@ -83,6 +84,8 @@ class PlaySession {
   void PublishFrame(bool status_changed);
   std::string StatusJson();
   void Restart(uint64_t seed);
+  // Starts a new window for achieved_speed (keeping the last one's value until it fills).
+  void ForgetSpeed();
 
   std::unique_ptr<PlayWorld> world_;
   FrameHub* hub_;
@@ -98,6 +101,7 @@ class PlaySession {
   std::string latest_frame_;
   SessionTimes times_;
   std::deque<std::pair<double, double>> speed_samples_;  // (wall s, sim s)
+  double achieved_ = 0;  // the last full window's speed
 
   // Simulation-thread state.
   double speed_ = 1;

@@ -224,6 +224,7 @@
     state.lastFrame = frame;
     state.status = frame.status;
     applyFrame(frame);
+    state.dirty = true;
     $('status').textContent = describe(frame.status);
     $('juggles').textContent = String(frame.status.juggles || 0);
     $('pause').textContent = frame.status.paused ? 'Resume' : 'Pause';
@@ -395,21 +396,30 @@
   // ---- Start.
   fetch(withToken('/api/scene')).then((r) => r.json()).then((scene) => {
     state.scene = scene;
-    state.world = JuggleScene.create($('view'), scene);
+    // A little further and higher than the replay's: the ball flies up to 2 m.
+    state.world = JuggleScene.create($('view'), scene, { targetZ: 1.05, offset: [1.9, -3.4, 0.45] });
     // Nothing is drawn until the first frame places the bodies.
     for (const b of state.world.bodies) b.visible = false;
     buildChoices(scene.options);
     buildGraph(scene.options);
     wireControls();
     connect();
+    // Drawn only when something changed (a frame, the camera, the window): a slow controller
+    // streams a few frames a second, and the browser shares the machine's cores with it.
     let placed = false;
+    state.dirty = true;
+    state.world.controls.addEventListener('change', () => { state.dirty = true; });
+    window.addEventListener('resize', () => { state.dirty = true; });
     function tick() {
       if (!placed && state.lastFrame) {
         for (const b of state.world.bodies) b.visible = true;
         state.world.placeCamera();
         placed = true;
       }
-      state.world.draw(state.follow);
+      if (state.dirty) {
+        state.dirty = false;
+        state.world.draw(state.follow);
+      }
       requestAnimationFrame(tick);
     }
     requestAnimationFrame(tick);

@@ -2,7 +2,7 @@
 // (web/replay.js) and the live page (web/play.js): MuJoCo's z-up world drawn from a model's
 // geoms (export/replay.cc: ReplayScene), one group per moving body, a checker ground, lights,
 // and a camera that orbits (OrbitControls) and can follow the character's root.
-//   const view = JuggleScene.create(element, {bodies, geoms, follow});
+//   const view = JuggleScene.create(element, {bodies, geoms, follow}, {targetZ, offset});
 //   view.bodies[b].position / .quaternion   set per frame, then view.draw(follow)
 window.JuggleScene = (function () {
   'use strict';
@@ -72,7 +72,11 @@ window.JuggleScene = (function () {
     return object;
   }
 
-  function create(view, data) {
+  // `camera`: the height the camera looks at (m) and its offset from there (default: 0.8 m,
+  // front-right 3.2 m away).
+  function create(view, data, camera_options) {
+    const targetZ = (camera_options && camera_options.targetZ) || 0.8;
+    const offset = (camera_options && camera_options.offset) || [1.5, -2.7, 0.55];
     const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
     renderer.setPixelRatio(window.devicePixelRatio || 1);
     view.appendChild(renderer.domElement);
@@ -104,16 +108,16 @@ window.JuggleScene = (function () {
                            rgba: [1, 1, 1, 1], name: 'ground' }, ground));
     }
 
-    // Camera: front-right of the character, 3.2 m away, orbiting its root.
+    // Camera: front-right of the character, orbiting its root.
     const controls = new THREE.OrbitControls(camera, renderer.domElement);
     controls.enableDamping = false;
     function rootTarget(out) {
       const root = bodies[data.follow] || bodies[0];
-      return out.set(root.position.x, root.position.y, 0.8);
+      return out.set(root.position.x, root.position.y, targetZ);
     }
     function placeCamera() {
       rootTarget(controls.target);
-      camera.position.copy(controls.target).add(new THREE.Vector3(1.5, -2.7, 0.55));
+      camera.position.copy(controls.target).add(new THREE.Vector3(offset[0], offset[1], offset[2]));
       controls.update();
     }
     function resize() {

@@ -3,6 +3,7 @@
 #include <sys/socket.h>
 
 #include <atomic>
+#include <memory>
 #include <chrono>
 #include <thread>
 
@@ -143,11 +144,18 @@ void HttpServer::Stop() {
   impl_->thread.join();
 }
 
-absl::StatusOr<HttpResult> HttpFetch(int port, const std::string& path) {
-  httplib::Client client("127.0.0.1", port);
-  client.set_connection_timeout(5);
-  client.set_read_timeout(5);
-  httplib::Result result = client.Get(path);
+namespace {
+
+// A client of 127.0.0.1:port with the helpers' 5 s timeouts.
+std::unique_ptr<httplib::Client> LocalClient(int port) {
+  auto client = std::make_unique<httplib::Client>("127.0.0.1", port);
+  client->set_connection_timeout(5);
+  client->set_read_timeout(5);
+  return client;
+}
+
+// The answer of a request to 127.0.0.1:port, or UNAVAILABLE when none came.
+absl::StatusOr<HttpResult> ToResult(httplib::Result result, int port) {
   if (!result) {
     return absl::UnavailableError(absl::StrCat("cannot connect to 127.0.0.1:", port, ": ",
                                                httplib::to_string(result.error())));
@@ -157,36 +165,29 @@ absl::StatusOr<HttpResult> HttpFetch(int port, const std::string& path) {
   out.content_type = result->get_header_value("Content-Type");
   out.body = std::move(result->body);
   return out;
+}
+
+}  // namespace
+
+absl::StatusOr<HttpResult> HttpFetch(int port, const std::string& path) {
+  return ToResult(LocalClient(port)->Get(path), port);
 }
 
 absl::StatusOr<HttpResult> HttpPost(int port, const std::string& path, const std::string& body,
                                     const std::string& content_type,
                                     const std::string& authorization) {
-  httplib::Client client("127.0.0.1", port);
-  client.set_connection_timeout(5);
-  client.set_read_timeout(5);
   httplib::Headers headers;
   if (!authorization.empty()) headers.emplace("Authorization", authorization);
-  httplib::Result result = client.Post(path.c_str(), headers, body, content_type.c_str());
-  if (!result) {
-    return absl::UnavailableError(absl::StrCat("cannot connect to 127.0.0.1:", port, ": ",
-                                               httplib::to_string(result.error())));
-  }
-  HttpResult out;
-  out.status = result->status;
-  out.content_type = result->get_header_value("Content-Type");
-  out.body = std::move(result->body);
-  return out;
+  return ToResult(LocalClient(port)->Post(path.c_str(), headers, body, content_type.c_str()),
+                  port);
 }
 
 absl::Status HttpStream(int port, const std::string& path,
                         const std::function<bool(const std::string& data)>& on_data) {
-  httplib::Client client("127.0.0.1", port);
-  client.set_connection_timeout(5);
-  client.set_read_timeout(5);
+  std::unique_ptr<httplib::Client> client = LocalClient(port);
   int status = 0;
   std::string error_body;
-  httplib::Result result = client.Get(
+  httplib::Result result = client->Get(
       path.c_str(),
       [&status](const httplib::Response& response) {
         status = response.status;

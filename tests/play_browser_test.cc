@@ -6,13 +6,12 @@
 // an upward poke changes the ball's vertical speed by impulse over mass in the next frames;
 // a refused command shows its message on the page. Also `juggle play`'s own errors (a bad
 // --bind, every interface without a token). Skips only when chromium is not installed.
-#include <fstream>
 #include <regex>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "common/file_io.h"
 #include "common/testing/temp_dir.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
@@ -25,12 +24,7 @@ namespace {
 using ::testing::HasSubstr;
 using testing::ChildProcess;
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+std::string ReadText(const std::string& path) { return ReadFile(path).value_or(""); }
 
 // Waits up to `seconds` for `pattern` in the file at `path`; returns its first group or "".
 std::string WaitFor(const std::string& path, const std::regex& pattern, double seconds) {

@@ -4,8 +4,10 @@
 // here: frames arrive at 20 or more per wall second; a skill choice reaches the server and the
 // graph switches at the next allowed transition (right foot, then the header it was steered to);
 // an upward poke changes the ball's vertical speed by impulse over mass in the next frames;
-// a refused command shows its message on the page. Also `juggle play`'s own errors (a bad
-// --bind, every interface without a token). Skips only when chromium is not installed.
+// a refused command shows its message on the page. The toss page likewise: a siteswap chosen by
+// its button and juggled on, the wind slider, a typed invalid siteswap refused. Also `juggle
+// play`'s own errors (a bad --bind, every interface without a token). Skips only when chromium
+// is not installed.
 #include <regex>
 #include <string>
 #include <thread>
@@ -103,6 +105,41 @@ TEST_F(PlayBrowserTest, ThePagesSelfTestSeesFramesASkillSwitchAPokeAndARefusal) 
   play.Kill(SIGINT);
   EXPECT_EQ(play.Wait(30), 0) << ReadText(play_log);
   EXPECT_THAT(ReadText(play_log), HasSubstr("stream_share="));
+}
+
+// The toss family: the page's buttons choose 531 mid-run (juggled on through the passage),
+// its slider sets the wind, and a typed invalid siteswap is refused on the page.
+TEST_F(PlayBrowserTest, TheTossPageChoosesASiteswapSetsTheWindAndShowsARefusal) {
+  const std::string chromium = testing::FindProgram("chromium");
+  if (chromium.empty()) GTEST_SKIP() << "chromium is not installed (apt-get install chromium)";
+  const std::string play_log = dir_ + "/toss_play.log";
+  ChildProcess play({"play", "--config=configs/toss_base.textproto", "--port=0", "--seconds=120"},
+                    play_log);
+  const std::string port = WaitFor(play_log, std::regex("url=http://127.0.0.1:([0-9]+)/"), 60);
+  ASSERT_FALSE(port.empty()) << ReadText(play_log);
+  const std::string browser_log = dir_ + "/toss_chromium.log";
+  ChildProcess browser(chromium,
+                       {"--headless", "--no-sandbox", "--use-gl=swiftshader",
+                        "--enable-unsafe-swiftshader", "--no-first-run",
+                        "--user-data-dir=" + dir_ + "/toss_profile", "--window-size=1000,700",
+                        "--enable-logging=stderr", "--v=0",
+                        "http://127.0.0.1:" + port + "/#selftest=1&pattern=531"},
+                       browser_log);
+  const std::string report_text =
+      WaitFor(browser_log, std::regex("juggle play selftest: (\\{.*\\})\""), 90);
+  browser.Kill(SIGKILL);
+  ASSERT_FALSE(report_text.empty()) << ReadText(browser_log);
+  const nlohmann::json report = nlohmann::json::parse(report_text, nullptr, false);
+  ASSERT_FALSE(report.is_discarded()) << report_text;
+  ASSERT_FALSE(report.contains("error")) << report_text;
+  EXPECT_GE(report["fps"].get<double>(), 20) << report_text;
+  EXPECT_TRUE(report["pattern_acknowledged"].get<bool>()) << report_text;
+  EXPECT_EQ(report["schedule_after"], "3>531") << report_text;
+  EXPECT_EQ(report["outcome"], "") << report_text;  // no drop through the passage
+  EXPECT_GT(report["throws_after_choice"].get<int>(), 10) << report_text;
+  EXPECT_TRUE(report["wind_set"].get<bool>()) << report_text;
+  EXPECT_THAT(report["refusal"]["text"].get<std::string>(), HasSubstr("543"));
+  EXPECT_TRUE(report["refusal"]["error"].get<bool>());
 }
 
 TEST_F(PlayBrowserTest, PlayRefusesABadBindAndEveryInterfaceWithoutAToken) {

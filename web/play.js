@@ -322,6 +322,27 @@
     }
     return false;
   }
+  // Toss: a pattern chosen by its button and juggled on, the wind set by its slider, and a
+  // typed invalid siteswap refused on the page.
+  async function siteswapSelftest(report) {
+    const pattern = hash.get('pattern') || '531';
+    $(`skill-${pattern}`).click();
+    report.pattern_acknowledged = await until(() => state.status.pattern === pattern, 3000);
+    report.schedule = state.status.schedule;
+    const throws0 = state.status.throws;
+    await sleep(4000);
+    report.throws_after_choice = state.status.throws - throws0;
+    report.outcome = state.status.outcome || '';
+    report.schedule_after = state.status.schedule;
+    $('wind').value = '0.3';
+    $('wind').dispatchEvent(new Event('change'));
+    report.wind_set = await until(() => Math.abs((state.status.wind || 0) - 0.3) < 1e-9, 3000);
+    $('siteswap').value = '543';
+    $('siteswap-go').click();
+    await until(() => $('message').className === 'error', 3000);
+    report.refusal = { text: $('message').textContent, error: $('message').className === 'error' };
+  }
+
   async function selftest() {
     const report = {};
     const fail = (e) => console.log(`juggle play selftest: ${JSON.stringify({ error: String(e), report })}`);
@@ -331,6 +352,11 @@
       const f0 = state.frames, t0 = performance.now();
       await sleep(3000);
       report.fps = (state.frames - f0) / ((performance.now() - t0) / 1000);
+      if (state.scene.options.kind === 'siteswap') {
+        await siteswapSelftest(report);
+        console.log(`juggle play selftest: ${JSON.stringify(report)}`);
+        return;
+      }
       // 2. A skill choice: chosen at a fresh start, then the node sequence.
       if (hash.has('skill')) {
         // Paused around the choice, so that the start's first steps are the same every run.

@@ -83,11 +83,18 @@ TEST_F(PlayBrowserTest, ThePagesSelfTestSeesFramesASkillSwitchAPokeAndARefusal) 
   EXPECT_TRUE(report["skill_acknowledged"].get<bool>()) << report_text;
   EXPECT_EQ(report["start_node"], "right_foot_down") << report_text;
   EXPECT_TRUE(report["skill_reached"].get<bool>()) << report_text;
-  const std::vector<std::string> nodes = report["nodes"];
+  // The nodes seen from the resume on (the first frames may already be past the start node when
+  // the machine is busy), after the start node the page reported while paused.
+  std::vector<std::string> nodes = report["nodes"];
+  if (nodes.empty() || nodes.front() != report["start_node"]) {
+    nodes.insert(nodes.begin(), report["start_node"].get<std::string>());
+  }
+  // The next allowed transition took the choice. (A busy browser may hand the page its frames
+  // in bursts and the self-test stop watching a node or two later: only the start is checked.)
   ASSERT_GE(nodes.size(), 3u) << report_text;
-  EXPECT_EQ(nodes[0], "right_foot_down");
-  EXPECT_EQ(nodes[1], "right_foot_up");
-  EXPECT_EQ(nodes[2], "head_down");  // the next allowed transition took the choice
+  EXPECT_EQ(std::vector<std::string>(nodes.begin(), nodes.begin() + 3),
+            std::vector<std::string>({"right_foot_down", "right_foot_up", "head_down"}))
+      << report_text;
 
   // The ball's vertical speed from frames before the pause and after the resume, with the
   // fall between them put back: the jump is the impulse over the ball's mass.

@@ -33,6 +33,7 @@ const std::vector<CommandInfo>& Commands() {
       {"wind", CommandKind::kWind, {"newtons"}},
       {"claim", CommandKind::kClaim, {}},
       {"release", CommandKind::kRelease, {}},
+      {"step", CommandKind::kStep, {"steps"}},
   };
   return *commands;
 }
@@ -167,6 +168,15 @@ absl::StatusOr<PlayCommand> ParsePlayCommand(const std::string& text,
       c.newtons = *n;
       break;
     }
+    case CommandKind::kStep:
+      if (object.contains("steps")) {
+        const Json& n = object["steps"];
+        if (!n.is_number_unsigned() || n.get<uint64_t>() < 1 || n.get<uint64_t>() > 100) {
+          return Refuse("step: \"steps\" must be an integer in [1, 100]");
+        }
+        c.steps = static_cast<int>(n.get<uint64_t>());
+      }
+      break;
     default:
       break;
   }

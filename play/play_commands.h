@@ -6,6 +6,7 @@
 //   {"cmd": "pattern", "siteswap": "531"}        toss: the next siteswap
 //   {"cmd": "wind", "newtons": 0.5}              toss: wind on the balls in flight
 //   {"cmd": "pause"} {"cmd": "resume"} {"cmd": "speed", "factor": 0.25}
+//   {"cmd": "step"} {"cmd": "step", "steps": 5}  while paused: control steps, one at a time
 //   {"cmd": "restart"} (a new start) {"cmd": "restart", "seed": 7}
 //   {"cmd": "claim"} {"cmd": "release"}          take or give up control (one controller)
 // Every field is typed and bounded here; what depends on the world (a node the graph has, an
@@ -32,6 +33,7 @@ enum class CommandKind {
   kWind,
   kClaim,
   kRelease,
+  kStep,
 };
 
 struct PlayCommand {
@@ -42,6 +44,7 @@ struct PlayCommand {
   std::array<double, 3> impulse{};        // kPoke: N·s, world axes
   std::string name;                       // kSkill: node; kPattern: siteswap
   double newtons = 0;                     // kWind
+  int steps = 1;                          // kStep: 1..100
 };
 
 struct CommandLimits {

@@ -41,6 +41,8 @@ TEST(PlayCommandsTest, ParsesEveryCommandWithItsFields) {
   EXPECT_FALSE(ParsePlayCommand(R"({"cmd":"restart"})")->has_seed);
   EXPECT_EQ(ParsePlayCommand(R"({"cmd":"pattern","siteswap":"531"})")->name, "531");
   EXPECT_DOUBLE_EQ(ParsePlayCommand(R"({"cmd":"wind","newtons":-0.5})")->newtons, -0.5);
+  EXPECT_EQ(ParsePlayCommand(R"({"cmd":"step","steps":5})")->steps, 5);
+  EXPECT_EQ(ParsePlayCommand(R"({"cmd":"step"})")->steps, 1);
   for (const char* name : {"pause", "resume", "claim", "release"}) {
     absl::StatusOr<PlayCommand> c = ParsePlayCommand(std::string(R"({"cmd":")") + name + "\"}");
     ASSERT_TRUE(c.ok()) << name;
@@ -74,6 +76,8 @@ TEST(PlayCommandsTest, RefusesMistypedMissingNonFiniteAndOutOfRangeValues) {
   EXPECT_THAT(Refusal(R"({"cmd":"speed","factor":0})"), HasSubstr("[0.05, 4]"));
   EXPECT_THAT(Refusal(R"({"cmd":"wind","newtons":3})"), HasSubstr("[-2, 2]"));
   EXPECT_THAT(Refusal(R"({"cmd":"restart","seed":-1})"), HasSubstr("integer"));
+  EXPECT_THAT(Refusal(R"({"cmd":"step","steps":0})"), HasSubstr("[1, 100]"));
+  EXPECT_THAT(Refusal(R"({"cmd":"step","steps":101})"), HasSubstr("[1, 100]"));
   EXPECT_THAT(Refusal(R"({"cmd":"restart","seed":1.5})"), HasSubstr("integer"));
   EXPECT_THAT(Refusal(R"({"cmd":"skill","node":7})"), HasSubstr("must be a string"));
   EXPECT_THAT(Refusal(R"({"cmd":"skill","node":""})"), HasSubstr("1 to 64"));

@@ -159,6 +159,17 @@ absl::StatusOr<std::string> PlaySession::Apply(const PlayCommand& c) {
     case CommandKind::kWind:
       if (absl::Status s = world_->SetWind(c.newtons); !s.ok()) return s;
       return absl::StrFormat("wind %.2f N", c.newtons);
+    case CommandKind::kStep: {
+      if (!paused_) return absl::FailedPreconditionError("step: pause first");
+      if (ended_) return absl::FailedPreconditionError("the episode is over: restart");
+      for (int i = 0; i < c.steps && !ended_; ++i) {
+        ended_ = !world_->Step();
+        sim_time_ += world_->control_dt();
+        total_sim_ += world_->control_dt();
+        if (ended_) ended_at_ = 0;  // restarts as soon as it is resumed
+      }
+      return absl::StrFormat("stepped to %.2f s", sim_time_);
+    }
     case CommandKind::kClaim:
     case CommandKind::kRelease:
       break;

@@ -100,6 +100,7 @@ TEST_F(PlayBrowserTest, ThePagesSelfTestSeesFramesASkillSwitchAPokeAndARefusal) 
   // fall between them put back: the jump is the impulse over the ball's mass.
   const nlohmann::json& poke = report["poke"];
   EXPECT_THAT(report["poke_message"].get<std::string>(), HasSubstr("poked the ball: 0.40 N·s"));
+  EXPECT_LT(poke["t_after"].get<double>(), 0.42) << report_text;  // before the foot's contact
   const double jump = poke["vz_after"].get<double>() - poke["vz_before"].get<double>() +
                       9.81 * (poke["t_after"].get<double>() - poke["t_before"].get<double>());
   EXPECT_NEAR(jump, poke["strength"].get<double>() / poke["ball_mass"].get<double>(), 0.1)

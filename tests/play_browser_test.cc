@@ -47,7 +47,25 @@ class PlayBrowserTest : public ::testing::Test {
     if (!HasFailure()) std::system(("rm -rf " + dir_).c_str());
     else std::fprintf(stderr, "files kept in %s\n", dir_.c_str());
   }
-  std::string dir_;
+  // Opens the live page on 127.0.0.1:`port` at `fragment` in headless Chromium and returns the
+  // JSON its self-test logs ("" if none within 90 s; browser_log_ holds what Chromium logged).
+  std::string PageSelfTest(const std::string& chromium, const std::string& port,
+                           const std::string& fragment, const std::string& name) {
+    browser_log_ = dir_ + "/" + name + "_chromium.log";
+    ChildProcess browser(chromium,
+                         {"--headless", "--no-sandbox", "--use-gl=swiftshader",
+                          "--enable-unsafe-swiftshader", "--disable-background-networking",
+                          "--disable-component-update", "--no-first-run",
+                          "--user-data-dir=" + dir_ + "/" + name + "_profile",
+                          "--window-size=1000,700", "--enable-logging=stderr", "--v=0",
+                          "http://127.0.0.1:" + port + "/#" + fragment},
+                         browser_log_);
+    const std::string report =
+        WaitFor(browser_log_, std::regex("juggle play selftest: (\\{.*\\})\""), 90);
+    browser.Kill(SIGKILL);
+    return report;
+  }
+  std::string dir_, browser_log_;
 };
 
 TEST_F(PlayBrowserTest, ThePagesSelfTestSeesFramesASkillSwitchAPokeAndARefusal) {
@@ -60,20 +78,9 @@ TEST_F(PlayBrowserTest, ThePagesSelfTestSeesFramesASkillSwitchAPokeAndARefusal) 
   const std::string port = WaitFor(play_log, std::regex("url=http://127.0.0.1:([0-9]+)/"), 60);
   ASSERT_FALSE(port.empty()) << ReadText(play_log);
   // Start 6 begins at right_foot_down; steered to the header, its first kick goes to the head.
-  const std::string url =
-      "http://127.0.0.1:" + port + "/#selftest=1&skill=head_down&seed=6";
-  const std::string browser_log = dir_ + "/chromium.log";
-  ChildProcess browser(chromium,
-                       {"--headless", "--no-sandbox", "--use-gl=swiftshader",
-                        "--enable-unsafe-swiftshader", "--disable-background-networking",
-                        "--disable-component-update", "--no-first-run",
-                        "--user-data-dir=" + dir_ + "/profile", "--window-size=1000,700",
-                        "--enable-logging=stderr", "--v=0", url},
-                       browser_log);
   const std::string report_text =
-      WaitFor(browser_log, std::regex("juggle play selftest: (\\{.*\\})\""), 90);
-  browser.Kill(SIGKILL);
-  ASSERT_FALSE(report_text.empty()) << ReadText(browser_log);
+      PageSelfTest(chromium, port, "selftest=1&skill=head_down&seed=6", "soccer");
+  ASSERT_FALSE(report_text.empty()) << ReadText(browser_log_);
   const nlohmann::json report = nlohmann::json::parse(report_text, nullptr, false);
   ASSERT_FALSE(report.is_discarded()) << report_text;
   ASSERT_FALSE(report.contains("error")) << report_text;
@@ -125,18 +132,8 @@ TEST_F(PlayBrowserTest, TheTossPageChoosesASiteswapSetsTheWindAndShowsARefusal) 
                     play_log);
   const std::string port = WaitFor(play_log, std::regex("url=http://127.0.0.1:([0-9]+)/"), 60);
   ASSERT_FALSE(port.empty()) << ReadText(play_log);
-  const std::string browser_log = dir_ + "/toss_chromium.log";
-  ChildProcess browser(chromium,
-                       {"--headless", "--no-sandbox", "--use-gl=swiftshader",
-                        "--enable-unsafe-swiftshader", "--no-first-run",
-                        "--user-data-dir=" + dir_ + "/toss_profile", "--window-size=1000,700",
-                        "--enable-logging=stderr", "--v=0",
-                        "http://127.0.0.1:" + port + "/#selftest=1&pattern=531"},
-                       browser_log);
-  const std::string report_text =
-      WaitFor(browser_log, std::regex("juggle play selftest: (\\{.*\\})\""), 90);
-  browser.Kill(SIGKILL);
-  ASSERT_FALSE(report_text.empty()) << ReadText(browser_log);
+  const std::string report_text = PageSelfTest(chromium, port, "selftest=1&pattern=531", "toss");
+  ASSERT_FALSE(report_text.empty()) << ReadText(browser_log_);
   const nlohmann::json report = nlohmann::json::parse(report_text, nullptr, false);
   ASSERT_FALSE(report.is_discarded()) << report_text;
   ASSERT_FALSE(report.contains("error")) << report_text;

@@ -1,6 +1,8 @@
-// `juggle bench sim|planner|moe|ingest|broadcast|local|dashboard`: the benchmarks of bench/ (docs/performance.md).
+// `juggle bench sim|planner|physics|moe|ingest|broadcast|local|dashboard`: the benchmarks of bench/ (docs/performance.md).
 #include "app/commands.h"
+#include "app/policy_source.h"
 #include "bench/benchmarks.h"
+#include "common/eigen_policy.h"
 
 namespace juggle {
 
@@ -30,6 +32,18 @@ CommandBody AddBenchCommand(CLI::App* cmd) {
       ->check(Between(1, 100))->capture_default_str();
   pl->add_option("--planner-set", plan->planner_set,
                  "planner settings over the config's, text format (e.g. 'samples: 8 iterations: 2')");
+  pl->add_option("--proposal", plan->proposal_path,
+                 "a policy (checkpoint, run directory or .jglpolicy) as every plan's prior: the same "
+                 "episode is also planned with it, and the two compared");
+
+  auto physics = std::make_shared<PhysicsBenchOptions>();
+  CLI::App* ph = cmd->add_subcommand("physics", "mj_step's stages and the model's solver options "
+                                                "as variants: speed and the physics they change");
+  ph->add_option("--config", physics->config, "run config (its model)")->capture_default_str();
+  ph->add_option("--states", physics->states, "control steps of a zero-action env replayed")
+      ->check(Between(1, 1000000))->capture_default_str();
+  ph->add_option("--repeats", physics->repeats, "rounds over the states, each variant in turn on every chunk of 50 (times summed)")
+      ->check(Between(1, 100))->capture_default_str();
 
   CLI::App* m = cmd->add_subcommand("moe", "layer-wise vs weight-blended MoE, PPO update and "
                                              "Eigen inference speed");
@@ -114,7 +128,14 @@ CommandBody AddBenchCommand(CLI::App* cmd) {
     absl::Status status;
     if (p->parsed()) status = RunPlayBench(*play);
     if (s->parsed()) status = RunSimBench(*sim);
+    if (pl->parsed() && !plan->proposal_path.empty()) {
+      absl::StatusOr<PolicySource> proposal = LoadPolicySource(plan->proposal_path, plan->config);
+      if (!proposal.ok()) return Fail(proposal.status());
+      plan->proposal = proposal->policy;
+      plan->proposal_path = proposal->path;
+    }
     if (pl->parsed()) status = RunPlannerBench(*plan);
+    if (ph->parsed()) status = RunPhysicsBench(*physics);
     if (m->parsed()) status = RunMoeBench(*moe);
     if (i->parsed()) status = RunIngestBench(*ingest);
     if (k->parsed()) status = RunSoakBench(*soak);

@@ -5,11 +5,14 @@
 #define JUGGLE_BENCH_BENCHMARKS_H_
 
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "absl/status/status.h"
 
 namespace juggle {
+
+class EigenPolicy;  // common/eigen_policy.h
 
 struct SimBenchOptions {
   std::string config = "configs/right_foot.textproto";
@@ -25,9 +28,22 @@ struct PlannerBenchOptions {
   int replans = 40;   // re-plans of the planner's own episode per measurement
   int repeats = 2;    // alternating repeats (best is reported)
   std::string planner_set;  // text-format PlannerConfig fields laid over the config's
+  // A policy as every plan's prior (planner.policy_prior; may be null): then the same episode
+  // is also planned with it, interleaved with the plain planner, and the two are compared.
+  std::shared_ptr<const EigenPolicy> proposal;
+  std::string proposal_path;  // for the report
 };
-// The planner's rollouts (1 and 2 threads) and snapshot restores vs bare mj_step.
+// The planner's rollouts (1 and 2 threads) and snapshot restores vs bare mj_step; with a
+// proposal, the planner with and without it.
 absl::Status RunPlannerBench(const PlannerBenchOptions& options);
+
+struct PhysicsBenchOptions {
+  std::string config = "configs/right_foot_planner.textproto";
+  int states = 2000;  // control steps of a zero-action env replayed
+  int repeats = 3;    // rounds over the states (times summed)
+};
+// mj_step's stages and the model's solver options as variants: substeps/s and physics drift.
+absl::Status RunPhysicsBench(const PhysicsBenchOptions& options);
 
 struct MoeBenchOptions {
   int reps = 3;             // repetitions per measurement (best is reported)

@@ -2,8 +2,10 @@
 // states the env visits (the physics alone), the planner driving its own episode on 1 and 2
 // threads (restore, plan actions, the env's step, scoring and the search itself, counted in
 // physics substeps of the rollouts, and wall seconds per simulated second), and the snapshot
-// restore alone. Prints ratios; the last line is key=value pairs
-// (rollout_over_mjstep=, threads2_over_threads1=, restore_share=, ...).
+// restore alone; with --proposal, the same episode planned on top of a policy too, interleaved.
+// Prints ratios; the key=value line: rollout_over_mjstep=, threads2_over_threads1=,
+// restore_share=, ... and with a proposal proposal_substeps_over_plain_t2= (the forward pass's
+// price per rollout step) and proposal_wall_s_per_sim_s_t2=.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -14,11 +16,9 @@
 #include "bench/physics_reference.h"
 #include "envs/registry.h"
 #include "envs/soccer_juggle/env.h"
-#include "planner/planner_controller.h"
-#include "planner/planning_pools.h"
-#include "planner/rollout_pool.h"
-#include "planner/receding_horizon.h"
-#include "planner/tasks.h"
+#include "common/eigen_policy.h"
+#include "planner/planner_config.h"
+#include "planner/planner_set.h"
 
 namespace juggle {
 namespace {
@@ -36,53 +36,76 @@ struct SearchRate {
   double substeps_per_s = 0;      // physics substeps of the rollouts per wall second
   double seconds_per_replan = 0;
   double wall_s_per_sim_s = 0;    // what `juggle eval` reports for the planner
+  double rollout_steps_per_sim_s = 0;  // the planner's budget (independent of the machine)
   int64_t rescues = 0;
   int64_t replans = 0;
 };
 
-// The planner driving its own episode (the start of stream (11, 0, 0); a new one if it ends)
-// for `replans` × replan_every control steps on `threads` threads: what an evaluation spends, warm starts and
-// rescues included. The planner's results do not depend on its threads, so every call visits
-// the same states. `snapshots` (may be null) receives the state every 4th control step.
+// The planner driving its own episode (the start of stream (11, 0, 0); the next env of the
+// stream if it ends) for `replans` × replan_every control steps on `threads` threads, through
+// the evaluation's PlannerSet (a proposal, its trust search, the twin pools): what an
+// evaluation spends, warm starts and rescues included. The planner's results do not depend on
+// its threads, so every call with the same `proposal` visits the same states. `snapshots` (may
+// be null) receives the state every 4th control step.
 absl::StatusOr<SearchRate> PlannerEpisodeRate(std::shared_ptr<const JuggleSpec> spec,
-                              const config::PlannerConfig& config, int replans, int threads,
-                              std::vector<std::unique_ptr<EnvSnapshot>>* snapshots) {
-  absl::StatusOr<planner::PlanningPools> pools = planner::MakePlanningPools(spec, config, threads);
-  if (!pools.ok()) return pools.status();
-  RolloutPool& pool = *pools->search;
-  JuggleEnv env(spec, Rng::ForStream(11, 0, 0));
+                                              LoadedConfig config, int replans, int threads,
+                                              std::shared_ptr<const EigenPolicy> proposal,
+                                              std::vector<std::unique_ptr<EnvSnapshot>>* snapshots) {
+  config::PlannerConfig& planner_config = *config.run.mutable_planner();
+  planner_config.set_threads(threads);
+  // The plain planner has no prior at all; the proposal's keeps the config's trust setting.
+  planner_config.set_policy_prior(proposal != nullptr);
+  if (proposal == nullptr) planner_config.set_search_prior_trust(false);
+  absl::StatusOr<std::unique_ptr<planner::PlannerSet>> set =
+      planner::PlannerSet::Create(spec, config, /*stream_base=*/0);
+  if (!set.ok()) return set.status();
+  if (proposal != nullptr) {
+    if (absl::Status s = (*set)->SetProposal(proposal); !s.ok()) return s;
+  }
+  // Every env of the episode stays alive: the set knows its planners by the env's address.
+  std::vector<std::unique_ptr<JuggleEnv>> envs;
   AdaptiveWalk walk(&spec->graph());
-  env.Reset(walk);
-  absl::StatusOr<std::shared_ptr<const planner::PlanningTask>> task =
-      planner::MakePlanningTask(spec, config);
-  if (!task.ok()) return task.status();
-  auto planner = std::make_unique<planner::RecedingHorizonPlanner>(*task, config, &pool, 0,
-                                                                   nullptr, pools->exact.get());
-  planner::PlannerTotals done;  // of the episodes that ended
+  auto next_env = [&] {
+    envs.push_back(std::make_unique<JuggleEnv>(spec, Rng::ForStream(11, 0, envs.size())));
+    envs.back()->Reset(walk);
+    return envs.back().get();
+  };
+  JuggleEnv* env = next_env();
   int64_t control_steps = 0;
   float action[kNumActions];
   const auto start = Clock::now();
-  const int64_t steps_to_run = int64_t(replans) * config.replan_every();
+  const int64_t steps_to_run = int64_t(replans) * planner_config.replan_every();
   while (control_steps < steps_to_run) {
-    if (snapshots != nullptr && control_steps % 4 == 0) snapshots->push_back(env.Snapshot());
-    if (absl::Status s = planner->Act(env, action); !s.ok()) return s;
+    if (snapshots != nullptr && control_steps % 4 == 0) snapshots->push_back(env->Snapshot());
+    if (absl::Status s = (*set)->For(*env).Act(*env, action); !s.ok()) return s;
     ++control_steps;
-    if (env.Step(action, walk).outcome != Outcome::kRunning) {
-      done.replans += planner->totals().replans;
-      done.rollout_steps += planner->totals().rollout_steps;
-      done.rescues += planner->totals().rescues;
-      env.Reset(walk);
-      planner = std::make_unique<planner::RecedingHorizonPlanner>(
-          *task, config, &pool, control_steps, nullptr, pools->exact.get());
-    }
+    if (env->Step(action, walk).outcome != Outcome::kRunning) env = next_env();
   }
   const double seconds = Seconds(start);
-  const int64_t steps = done.rollout_steps + planner->totals().rollout_steps;
-  const int64_t made = done.replans + planner->totals().replans;
-  return SearchRate{double(steps) * spec->env().substeps() / seconds,
-                    seconds / std::max<int64_t>(made, 1),
-                    seconds / (control_steps * spec->control_dt()),
-                    done.rescues + planner->totals().rescues, made};
+  const planner::PlannerTotals totals = (*set)->totals();
+  const double sim_s = control_steps * spec->control_dt();
+  return SearchRate{double(totals.rollout_steps) * spec->env().substeps() / seconds,
+                    seconds / std::max<int64_t>(totals.replans, 1), seconds / sim_s,
+                    totals.rollout_steps / sim_s, totals.rescues, totals.replans};
+}
+
+// One planner setting measured on 1 and 2 threads, the best of the repeats.
+struct SettingRates {
+  SearchRate one, two;
+  void Keep(const SearchRate& a, const SearchRate& b) {
+    if (a.substeps_per_s > one.substeps_per_s) one = a;
+    if (b.substeps_per_s > two.substeps_per_s) two = b;
+  }
+};
+
+void PrintSetting(const char* name, const SettingRates& r, double mj) {
+  std::printf("%s, 1 thread: %.0f substeps/s (%.3f of bare mj_step), %.3f s per re-plan\n", name,
+              r.one.substeps_per_s, r.one.substeps_per_s / mj, r.one.seconds_per_replan);
+  std::printf("%s, 2 threads: %.0f substeps/s, %.3f s per re-plan = %.1f wall s per simulated s "
+              "(%.0f rollout steps per simulated s; %ld rescues in %ld re-plans)\n",
+              name, r.two.substeps_per_s, r.two.seconds_per_replan, r.two.wall_s_per_sim_s,
+              r.two.rollout_steps_per_sim_s, static_cast<long>(r.two.rescues),
+              static_cast<long>(r.two.replans));
 }
 
 }  // namespace
@@ -101,46 +124,72 @@ absl::Status RunPlannerBench(const PlannerBenchOptions& o) {
   std::printf("planner: %d samples x %d iterations, horizon %d steps; the planner's own episode "
               "for %d re-plans per measurement\n",
               planner.samples(), planner.iterations(), planner.horizon_steps(), o.replans);
+  if (o.proposal != nullptr) {
+    std::printf("and the same with the proposal %s as every plan's prior\n",
+                o.proposal_path.c_str());
+  }
   double mj = 0, restore_s = 1e9;
-  SearchRate one, two;
+  SettingRates plain, proposed;
   std::vector<std::unique_ptr<EnvSnapshot>> visited;
   JuggleEnv env(*spec, Rng(0));
+  auto measure = [&](std::shared_ptr<const EigenPolicy> policy, SettingRates* rates,
+                     std::vector<std::unique_ptr<EnvSnapshot>>* snapshots) -> absl::Status {
+    absl::StatusOr<SearchRate> a =
+        PlannerEpisodeRate(*spec, *config, o.replans, 1, policy, snapshots);
+    if (!a.ok()) return a.status();
+    absl::StatusOr<SearchRate> b = PlannerEpisodeRate(*spec, *config, o.replans, 2, policy, nullptr);
+    if (!b.ok()) return b.status();
+    rates->Keep(*a, *b);
+    return absl::OkStatus();
+  };
   for (int r = 0; r < o.repeats; ++r) {  // interleaved, best of each
     mj = std::max(mj, BareMjStepRate(**spec, states));
-    absl::StatusOr<SearchRate> a =
-        PlannerEpisodeRate(*spec, planner, o.replans, 1, visited.empty() ? &visited : nullptr);
-    if (!a.ok()) return a.status();
-    absl::StatusOr<SearchRate> b = PlannerEpisodeRate(*spec, planner, o.replans, 2, nullptr);
-    if (!b.ok()) return b.status();
-    if (a->substeps_per_s > one.substeps_per_s) one = *a;
-    if (b->substeps_per_s > two.substeps_per_s) two = *b;
+    if (absl::Status s = measure(nullptr, &plain, visited.empty() ? &visited : nullptr); !s.ok()) {
+      return s;
+    }
+    if (o.proposal != nullptr) {
+      if (absl::Status s = measure(o.proposal, &proposed, nullptr); !s.ok()) return s;
+    }
     const auto start = Clock::now();
     constexpr int kRestores = 2000;
     for (int i = 0; i < kRestores; ++i) (void)env.Restore(*visited[i % visited.size()]);
     restore_s = std::min(restore_s, Seconds(start) / kRestores);
     std::printf("repeat %d: mj_step/s %.0f  rollout substeps/s 1 thread %.0f  2 threads %.0f  "
-                "restore %.1f us\n",
-                r + 1, mj, one.substeps_per_s, two.substeps_per_s, restore_s * 1e6);
+                "restore %.1f us",
+                r + 1, mj, plain.one.substeps_per_s, plain.two.substeps_per_s, restore_s * 1e6);
+    if (o.proposal != nullptr) {
+      std::printf("  with the proposal: 1 thread %.0f  2 threads %.0f",
+                  proposed.one.substeps_per_s, proposed.two.substeps_per_s);
+    }
+    std::printf("\n");
     std::fflush(stdout);
   }
+  const SearchRate& one = plain.one;
+  const SearchRate& two = plain.two;
   // A rollout restores once per candidate: its share of a rollout's time.
   const double steps_per_rollout = planner.horizon_steps();
   const double rollout_s = steps_per_rollout * (*spec)->env().substeps() / one.substeps_per_s;
   std::printf("bare mj_step: %.0f substeps/s per core\n", mj);
-  std::printf("planner rollouts, 1 thread: %.0f substeps/s (%.3f of bare mj_step), %.3f s per "
-              "re-plan\n", one.substeps_per_s, one.substeps_per_s / mj, one.seconds_per_replan);
-  std::printf("planner rollouts, 2 threads: %.0f substeps/s, %.3f s per re-plan = %.1f wall s "
-              "per simulated s (%ld rescues in %ld re-plans)\n",
-              two.substeps_per_s, two.seconds_per_replan, two.wall_s_per_sim_s,
-              static_cast<long>(two.rescues), static_cast<long>(two.replans));
+  PrintSetting("planner rollouts", plain, mj);
+  if (o.proposal != nullptr) PrintSetting("with the proposal", proposed, mj);
   std::printf("mjstep_per_s=%.0f rollout_substeps_per_s_t1=%.0f rollout_substeps_per_s_t2=%.0f "
               "rollout_over_mjstep=%.3f threads2_over_threads1=%.3f restore_us=%.1f "
               "restore_share=%.4f replan_s_t2=%.3f wall_s_per_sim_s_t1=%.2f "
-              "wall_s_per_sim_s_t2=%.2f rescues=%ld\n",
+              "wall_s_per_sim_s_t2=%.2f rollout_steps_per_sim_s=%.0f rescues=%ld",
               mj, one.substeps_per_s, two.substeps_per_s, one.substeps_per_s / mj,
               two.substeps_per_s / one.substeps_per_s, restore_s * 1e6,
               restore_s / (rollout_s + restore_s), two.seconds_per_replan, one.wall_s_per_sim_s,
-              two.wall_s_per_sim_s, static_cast<long>(two.rescues));
+              two.wall_s_per_sim_s, two.rollout_steps_per_sim_s, static_cast<long>(two.rescues));
+  if (o.proposal != nullptr) {
+    // The proposal's own price is each rollout step's forward pass (substeps/s); its gain is
+    // the search it saves (rollout steps per simulated s); wall time per simulated s is both.
+    std::printf(" proposal_substeps_over_plain_t2=%.3f proposal_rollout_steps_per_sim_s=%.0f "
+                "proposal_wall_s_per_sim_s_t2=%.2f proposal_rescues=%ld",
+                proposed.two.substeps_per_s / two.substeps_per_s,
+                proposed.two.rollout_steps_per_sim_s, proposed.two.wall_s_per_sim_s,
+                static_cast<long>(proposed.two.rescues));
+  }
+  std::printf("\n");
   return absl::OkStatus();
 }
 

@@ -10,6 +10,9 @@ second on 2 cores at STEPS_PER_WALL_S rollout steps per wall second (measured al
 dashed line marks real time (1.0 wall-s per simulated second).
 
   scripts/analysis/plot_realtime_curve.py OUT.svg STEPS_PER_WALL_S TITLE LABEL=DIR ...
+
+A setting may also be LABEL=@STEPS,MEAN,MEDIAN: a point taken from a recorded table row
+(docs/performance.md) whose run folder is gone; it is taken to hold the same starts.
 """
 import math
 import os
@@ -31,12 +34,28 @@ def load(label, folder):
             "median": percentile(s["juggles"], 0.5)}
 
 
-def main(out, steps_per_wall_s, title, settings):
-    points = [load(*setting.split("=", 1)) for setting in settings]
-    for p in points[1:]:
-        if p["episodes"] != points[0]["episodes"]:
-            sys.exit(f"{p['label']} holds episodes {p['episodes']}, {points[0]['label']} "
-                     f"{points[0]['episodes']}: the points must share their starts")
+def recorded(label, numbers):
+    try:
+        steps, mean, median = (float(v) for v in numbers.split(","))
+    except ValueError:
+        sys.exit(f"{label}=@{numbers}: a recorded point is @STEPS,MEAN,MEDIAN")
+    return {"label": label, "episodes": None, "steps": steps, "mean": mean, "median": median}
+
+
+def point(setting):
+    label, source = setting.split("=", 1)
+    return recorded(label, source[1:]) if source.startswith("@") else load(label, source)
+
+
+def main(out, steps_per_wall_s, title, settings, starts):
+    points = [point(setting) for setting in settings]
+    folders = [p for p in points if p["episodes"] is not None]
+    for p in folders[1:]:
+        if p["episodes"] != folders[0]["episodes"]:
+            sys.exit(f"{p['label']} holds episodes {p['episodes']}, {folders[0]['label']} "
+                     f"{folders[0]['episodes']}: the points must share their starts")
+    if folders:
+        starts = len(folders[0]["episodes"])
     left, right, top, height = 70, 620, 60, 300
     lo_x = math.log10(min(min(p["steps"] for p in points), steps_per_wall_s) / 1.5)
     hi_x = math.log10(max(p["steps"] for p in points) * 1.5)
@@ -91,7 +110,7 @@ def main(out, steps_per_wall_s, title, settings):
     svg.append(f'<text x="{(left + right) / 2}" y="{top + height + 36}" font-size="11" '
                f'text-anchor="middle" font-family="sans-serif">rollout control steps per '
                f'simulated s (log); filled: mean juggles, hollow: median; '
-               f'{len(points[0]["episodes"])} starts</text>')
+               f'{starts} starts</text>')
     write_svg(out, svg, x_labels, top + height + 16)
     for p in points:
         print(f"{p['label']}: rollout_steps_per_sim_s={p['steps']:.0f} "
@@ -102,4 +121,4 @@ def main(out, steps_per_wall_s, title, settings):
 if __name__ == "__main__":
     if len(sys.argv) < 5:
         sys.exit(__doc__)
-    main(sys.argv[1], float(sys.argv[2]), sys.argv[3], sys.argv[4:])
+    main(sys.argv[1], float(sys.argv[2]), sys.argv[3], sys.argv[4:], starts=6)

@@ -4,7 +4,8 @@
 Setting "cheap": episodes 0 and 1, 10 s each, 50,000 rollout steps each (5,000 per simulated s),
 juggles 4 and 8. Setting "dear": the same episodes, 20,000 steps per simulated s, juggles 10 and
 12. At 10,000 rollout steps per wall-s they sit at 0.5 and 2.0 wall-s per simulated s.
-A setting holding other episodes is refused.
+A setting holding other episodes is refused. A recorded point ("old=@40000,3,2.5", a table row
+whose folder is gone) is plotted at its numbers; a malformed one is refused.
 """
 import json
 import os
@@ -54,6 +55,19 @@ def main():
                                  capture_output=True, text=True)
         assert refused.returncode != 0
         assert 'must share their starts' in refused.stderr, refused.stderr
+        recorded = subprocess.run([sys.executable, SCRIPT, out, '10000', 'title',
+                                   f'cheap={cheap}', 'old=@40000,3,2.5'],
+                                  capture_output=True, text=True)
+        assert recorded.returncode == 0, recorded.stderr
+        assert recorded.stdout.splitlines()[1] == (
+            'old: rollout_steps_per_sim_s=40000 wall_s_per_sim_s_2cores=4.00 mean=3.00 '
+            'median=2.5'), recorded.stdout
+        assert '>2: old<' in open(out).read()
+        malformed = subprocess.run([sys.executable, SCRIPT, out, '10000', 'title',
+                                    f'cheap={cheap}', 'old=@40000,3'],
+                                   capture_output=True, text=True)
+        assert malformed.returncode != 0
+        assert '@STEPS,MEAN,MEDIAN' in malformed.stderr, malformed.stderr
     print('ok')
 
 

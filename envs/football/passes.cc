@@ -21,6 +21,24 @@ absl::Status Range(const char* min_name, double min, const char* max_name, doubl
   return absl::OkStatus();
 }
 
+// A pass of `kind` arriving at `target` (x, y; at height target_z) along the horizontal
+// heading, started `distance` m back along it at height start_z with horizontal speed `speed`.
+Pass Toward(PassKind kind, const double target[2], double heading_rad, double distance,
+            double speed, double start_z, double target_z) {
+  const double cx = std::cos(heading_rad), cy = std::sin(heading_rad);
+  Pass p;
+  p.kind = kind;
+  p.start[0] = target[0] - distance * cx;
+  p.start[1] = target[1] - distance * cy;
+  p.start[2] = start_z;
+  p.velocity[0] = speed * cx;
+  p.velocity[1] = speed * cy;
+  p.target[0] = target[0];
+  p.target[1] = target[1];
+  p.target[2] = target_z;
+  return p;
+}
+
 }  // namespace
 
 absl::Status ValidatePassRanges(const PassRanges& r) {
@@ -61,22 +79,11 @@ Pass LobPassLandingAt(const double landing[2], double heading_rad, double speed,
   const double horizontal = speed * std::cos(angle_deg * kDeg);
   // Up from the launch height and down to the landing height (the ball resting on the turf).
   const double flight = SecondsToFall(vz, launch_height - ball_radius, g);
-  const double range = horizontal * flight;
-  const double cx = std::cos(heading_rad), cy = std::sin(heading_rad);
-  Pass p;
-  p.kind = PassKind::kLob;
-  p.start[0] = landing[0] - range * cx;
-  p.start[1] = landing[1] - range * cy;
-  p.start[2] = launch_height;
-  p.velocity[0] = horizontal * cx;
-  p.velocity[1] = horizontal * cy;
+  Pass p = Toward(PassKind::kLob, landing, heading_rad, horizontal * flight, horizontal,
+                  launch_height, ball_radius);
   p.velocity[2] = vz;
-  p.target[0] = landing[0];
-  p.target[1] = landing[1];
-  p.target[2] = ball_radius;
   p.arrival_s = flight;
-  const double vz_landing = vz - g * flight;
-  p.arrival_speed = std::hypot(horizontal, vz_landing);
+  p.arrival_speed = std::hypot(horizontal, vz - g * flight);
   return p;
 }
 
@@ -84,17 +91,7 @@ Pass GroundPassArrivingAt(const double aim[2], double heading_rad, double arriva
                           double distance, double deceleration, double ball_radius) {
   // v0² = v² + 2·a·d; the roll lasts (v0 − v) / a.
   const double v0 = std::sqrt(arrival_speed * arrival_speed + 2 * deceleration * distance);
-  const double cx = std::cos(heading_rad), cy = std::sin(heading_rad);
-  Pass p;
-  p.kind = PassKind::kGround;
-  p.start[0] = aim[0] - distance * cx;
-  p.start[1] = aim[1] - distance * cy;
-  p.start[2] = ball_radius;
-  p.velocity[0] = v0 * cx;
-  p.velocity[1] = v0 * cy;
-  p.target[0] = aim[0];
-  p.target[1] = aim[1];
-  p.target[2] = ball_radius;
+  Pass p = Toward(PassKind::kGround, aim, heading_rad, distance, v0, ball_radius, ball_radius);
   p.arrival_s = deceleration > 0 ? (v0 - arrival_speed) / deceleration : distance / v0;
   p.arrival_speed = arrival_speed;
   return p;

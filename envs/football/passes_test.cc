@@ -6,12 +6,9 @@
 #include <cmath>
 #include <vector>
 
-#include <mujoco/mujoco.h>
-
-#include "envs/mujoco_model.h"
-#include "envs/testing/test_configs.h"
+#include "envs/football/pitch.h"
+#include "envs/football/testing/pitch_fixture.h"
 #include "gmock/gmock.h"
-#include "gtest/gtest.h"
 
 namespace juggle::football {
 namespace {
@@ -20,49 +17,20 @@ using ::testing::HasSubstr;
 
 constexpr double kOffsetY = 30;  // passes flown beside the character, out of its reach
 
-class PassFlightTest : public ::testing::Test {
+class PassFlightTest : public testing::PitchFixture {
  protected:
-  void SetUp() override {
-    absl::StatusOr<MjModelPtr> model =
-        LoadModelXml(testing::RepoPath("configs/models/football_pitch.xml"), "test");
-    ASSERT_TRUE(model.ok()) << model.status();
-    model_ = *std::move(model);
-    m_ = model_.get();
-    data_.reset(mj_makeData(m_));
-    d_ = data_.get();
-    const int body = mj_name2id(m_, mjOBJ_BODY, "ball");
-    qpos_ = m_->jnt_qposadr[m_->body_jntadr[body]];
-    dof_ = m_->jnt_dofadr[m_->body_jntadr[body]];
-    radius_ = m_->geom_size[3 * mj_name2id(m_, mjOBJ_GEOM, "ball")];
-    g_ = -m_->opt.gravity[2];
-  }
-
   // Starts `p` shifted by kOffsetY, the ball rolling without slipping if on the turf.
   void Launch(const Pass& p) {
-    mj_resetData(m_, d_);
-    double* q = d_->qpos + qpos_;
-    q[0] = p.start[0];
-    q[1] = p.start[1] + kOffsetY;
-    q[2] = p.start[2];
-    q[3] = 1;
-    q[4] = q[5] = q[6] = 0;
-    double* v = d_->qvel + dof_;
-    for (int i = 0; i < 3; ++i) v[i] = p.velocity[i];
+    PlaceBall(p.start[0], p.start[1] + kOffsetY, p.start[2]);
     if (p.kind == PassKind::kGround) {
-      v[3] = -p.velocity[1] / radius_;  // ω = ẑ × v / r
-      v[4] = p.velocity[0] / radius_;
+      Roll(p.velocity[0], p.velocity[1]);
+    } else {
+      for (int i = 0; i < 3; ++i) ball_vel()[i] = p.velocity[i];
     }
     mj_forward(m_, d_);
   }
-  const double* ball() const { return d_->qpos + qpos_; }
-  const double* ball_velocity() const { return d_->qvel + dof_; }
-
-  MjModelPtr model_;
-  MjDataPtr data_;
-  const mjModel* m_ = nullptr;
-  mjData* d_ = nullptr;
-  int qpos_ = 0, dof_ = 0;
-  double radius_ = 0, g_ = 0;
+  const double* ball() { return ball_pos(); }
+  const double* ball_velocity() { return ball_vel(); }
 };
 
 TEST_F(PassFlightTest, ALobLandsWhereItWasAskedWithinTheEulerIntegratorsError) {
@@ -103,11 +71,7 @@ TEST_F(PassFlightTest, ALobLandsWhereItWasAskedWithinTheEulerIntegratorsError) {
 }
 
 TEST_F(PassFlightTest, AGroundPassReachesItsAimPointAtItsSpeed) {
-  const int pair = mj_name2id(m_, mjOBJ_PAIR, "ball_on_turf");
-  const double mu_roll = m_->pair_friction[5 * pair + 3];
-  const int body = mj_name2id(m_, mjOBJ_BODY, "ball");
-  const double k = m_->body_inertia[3 * body] / (m_->body_mass[body] * radius_ * radius_);
-  const double deceleration = mu_roll * g_ / (radius_ * (1 + k));
+  const double deceleration = RollingDeceleration(m_, ball_);
   for (double arrival : {2.0, 4.0, 6.0}) {
     SCOPED_TRACE(arrival);
     const double aim[2] = {0.4, 0};

@@ -36,7 +36,9 @@ struct SearchRate {
   double substeps_per_s = 0;      // physics substeps of the rollouts per wall second
   double seconds_per_replan = 0;
   double wall_s_per_sim_s = 0;    // what `juggle eval` reports for the planner
-  double rollout_steps_per_sim_s = 0;  // the planner's budget (independent of the machine)
+  // The planner's budget, independent of the machine, in executed-model control steps (a
+  // planning model's steps count by their physics).
+  double rollout_steps_per_sim_s = 0;
   int64_t rescues = 0;
   int64_t replans = 0;
 };
@@ -84,9 +86,16 @@ absl::StatusOr<SearchRate> PlannerEpisodeRate(std::shared_ptr<const JuggleSpec> 
   const double seconds = Seconds(start);
   const planner::PlannerTotals totals = (*set)->totals();
   const double sim_s = control_steps * spec->control_dt();
-  return SearchRate{double(totals.rollout_steps) * spec->env().substeps() / seconds,
+  // Physics substeps the rollouts made: a planning model (planner.planning_model) takes
+  // timestep_factor times fewer per control step; its exact_within_m steps take the executed
+  // model's.
+  const int substeps = spec->env().substeps();
+  const double physics = double(totals.rollout_steps) *
+                             (substeps / planner_config.planning_model().timestep_factor()) +
+                         double(totals.exact_rollout_steps) * substeps;
+  return SearchRate{physics / seconds,
                     seconds / std::max<int64_t>(totals.replans, 1), seconds / sim_s,
-                    totals.rollout_steps / sim_s, totals.rescues, totals.replans};
+                    physics / substeps / sim_s, totals.rescues, totals.replans};
 }
 
 // One planner setting measured on 1 and 2 threads, the best of the repeats.

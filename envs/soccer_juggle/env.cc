@@ -71,25 +71,8 @@ void JuggleEnv::StartEpisode() {
 }
 
 void JuggleEnv::ApplyTorques(const double* feedforward) {
-  const double h = model_->opt.timestep;
-  const double* qpos = data_->qpos;
-  const double* qvel = data_->qvel;
-  double* tau = data_->qfrc_applied;
-  for (int j = 0; j < kNumJoints; ++j) {
-    const ActuatedJoint& joint = spec_->joint(j);
-    const int dof = joint.dof_adr;
-    if (joint.dofs == 3) {
-      // Stable PD: kp·(err − h·q̇); the damping kd·q̇ is the joint's implicit damping.
-      double err[3];
-      mju_subQuat(err, s_.reference.data() + joint.qpos_adr, qpos + joint.qpos_adr);
-      for (int d = 0; d < 3; ++d) {
-        tau[dof + d] = joint.kp * (err[d] - h * qvel[dof + d]) + feedforward[dof + d];
-      }
-    } else {
-      const double err = s_.reference[joint.qpos_adr] - qpos[joint.qpos_adr];
-      tau[dof] = joint.kp * (err - h * qvel[dof]) + feedforward[dof];
-    }
-  }
+  humanoid::StablePdTorques(spec_->joints(), s_.reference.data(), model_, data_.get(),
+                            feedforward, data_->qfrc_applied);
   const config::Vec3& force = spec_->env().ball_force();
   double* xfrc = data_->xfrc_applied + 6 * spec_->ball_body();
   xfrc[0] = force.x();

@@ -12,39 +12,13 @@
 
 namespace juggle::soccer_juggle {
 
-const char* const kJointNames[kNumJoints] = {
-    "chest", "neck", "right_shoulder", "right_elbow", "left_shoulder", "left_elbow",
-    "right_hip", "right_knee", "right_ankle", "left_hip", "left_knee", "left_ankle"};
-
 namespace {
-
-// The release's gains and feed-forward scales (the reference implementation's;
-// docs/environment.md, "Control").
-struct DefaultGains {
-  double kp, kd, scale;
-};
-DefaultGains DefaultGainsFor(JointId j) {
-  switch (j) {
-    case kChest: return {250, 25, 1.0};
-    case kNeck: return {50, 5, 0.5};
-    case kRightShoulder: case kRightElbow: case kLeftShoulder: case kLeftElbow:
-      return {50, 5, 0.5};
-    case kRightHip: case kRightKnee: case kLeftHip: case kLeftKnee: return {250, 25, 2.5};
-    case kRightAnkle: case kLeftAnkle: return {150, 15, 1.5};
-    default: return {0, 0, 0};
-  }
-}
 
 absl::Status Invalid(const SourceLocator& where, const FieldPath& path, const std::string& what) {
   return absl::InvalidArgumentError(absl::StrCat(where.Where(path), ": ", what));
 }
 
-int JointIdByName(const std::string& name) {
-  for (int j = 0; j < kNumJoints; ++j) {
-    if (name == kJointNames[j]) return j;
-  }
-  return -1;
-}
+using humanoid::JointIdByName;
 
 }  // namespace
 
@@ -155,28 +129,9 @@ absl::StatusOr<std::shared_ptr<const JuggleSpec>> JuggleSpec::Build(const Loaded
 absl::Status JuggleSpecBuilder::ResolveJoints(JuggleSpec* s) {
   mjModel* m = s->model_.get();
   const SourceLocator where = s->env_locator();
-  int expected_qpos = 7, expected_dof = 6;  // after the root free joint
-  for (int j = 0; j < kNumJoints; ++j) {
-    const int id = mj_name2id(m, mjOBJ_JOINT, kJointNames[j]);
-    if (id < 0) {
-      return Invalid(where, {{"model_file"}},
-                     absl::StrCat("the model has no joint '", kJointNames[j], "'"));
-    }
-    ActuatedJoint& joint = s->joints_[j];
-    joint.qpos_adr = m->jnt_qposadr[id];
-    joint.dof_adr = m->jnt_dofadr[id];
-    joint.dofs = m->jnt_type[id] == mjJNT_BALL ? 3 : 1;
-    if (joint.qpos_adr != expected_qpos || joint.dof_adr != expected_dof) {
-      return Invalid(where, {{"model_file"}},
-                     absl::StrCat("joint '", kJointNames[j], "' is out of the expected order"));
-    }
-    expected_qpos += joint.dofs == 3 ? 4 : 1;
-    expected_dof += joint.dofs;
-    const DefaultGains g = DefaultGainsFor(static_cast<JointId>(j));
-    joint.kp = g.kp;
-    joint.kd = g.kd;
-    joint.torque_scale = g.scale;
-  }
+  absl::StatusOr<humanoid::Joints> joints = humanoid::ResolveJoints(m);
+  if (!joints.ok()) return Invalid(where, {{"model_file"}}, std::string(joints.status().message()));
+  s->joints_ = *joints;
   const config::EnvConfig& env = s->env();
   for (int i = 0; i < env.joint_gains_size(); ++i) {
     const config::JointGains& override_gains = env.joint_gains(i);
@@ -191,11 +146,8 @@ absl::Status JuggleSpecBuilder::ResolveJoints(JuggleSpec* s) {
       s->joints_[j].torque_scale = override_gains.torque_scale();
     }
   }
-  // Stable PD: kd as joint damping, integrated implicitly by the Euler integrator. Written
-  // before any env exists; the model is read-only afterwards.
-  for (const ActuatedJoint& joint : s->joints_) {
-    for (int d = 0; d < joint.dofs; ++d) m->dof_damping[joint.dof_adr + d] = joint.kd;
-  }
+  // Written before any env exists; the model is read-only afterwards.
+  humanoid::WriteJointDamping(s->joints_, m);
   return absl::OkStatus();
 }
 

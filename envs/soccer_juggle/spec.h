@@ -17,38 +17,39 @@
 #include "common/control_graph.h"
 #include "envs/soccer_juggle/graph_cursor.h"
 #include "envs/env.h"
+#include "envs/humanoid/humanoid.h"
 #include "envs/planning_model.h"
 #include "envs/mujoco_model.h"
 
 namespace juggle::soccer_juggle {
 
-constexpr int kNumActions = 28;    // actuated DoF of the humanoid
+// The humanoid's joints, gains and pose type (envs/humanoid/humanoid.h), under their names here.
+using humanoid::ActuatedJoint;
+using humanoid::CharacterPose;
+using humanoid::JointId;
+using humanoid::kCharacterNq;
+using humanoid::kCharacterNv;
+using humanoid::kJointNames;
+using humanoid::kNumJoints;
+using humanoid::kChest;
+using humanoid::kNeck;
+using humanoid::kRightShoulder;
+using humanoid::kRightElbow;
+using humanoid::kLeftShoulder;
+using humanoid::kLeftElbow;
+using humanoid::kRightHip;
+using humanoid::kRightKnee;
+using humanoid::kRightAnkle;
+using humanoid::kLeftHip;
+using humanoid::kLeftKnee;
+using humanoid::kLeftAnkle;
+
+constexpr int kNumActions = humanoid::kNumActuatedDofs;  // actuated DoF of the humanoid
 constexpr int kObsBase = 88;       // observation floats before the three node one-hots
 
 // Observation size for a control graph with `num_nodes` nodes.
 constexpr int ObservationSize(int num_nodes) { return kObsBase + 3 * num_nodes; }
 constexpr int kBallErrorObs = 6;  // appended by env.ball_error_observation
-
-// The 12 actuated joints, in qpos order (reference generalized-coordinate order).
-enum JointId {
-  kChest = 0, kNeck, kRightShoulder, kRightElbow, kLeftShoulder, kLeftElbow,
-  kRightHip, kRightKnee, kRightAnkle, kLeftHip, kLeftKnee, kLeftAnkle, kNumJoints
-};
-extern const char* const kJointNames[kNumJoints];
-
-constexpr int kCharacterNq = 43;   // root 7 + 8 ball joints × 4 + 4 hinges
-constexpr int kCharacterNv = 34;   // root 6 + 8 × 3 + 4
-
-using CharacterPose = std::array<double, kCharacterNq>;
-
-struct ActuatedJoint {
-  int qpos_adr = 0;
-  int dof_adr = 0;
-  int dofs = 1;           // 3 for ball joints, 1 for hinges
-  double kp = 0;          // N·m/rad
-  double kd = 0;          // N·m·s/rad (set as joint damping: implicit in Euler)
-  double torque_scale = 1;
-};
 
 // Per-node data resolved against the model.
 struct NodeRuntime {
@@ -92,6 +93,7 @@ class JuggleSpec : public EnvSpec {
   const ControlGraph& graph() const override { return *config_.graph; }
   const GraphCursor& cursor() const { return cursor_; }
   const ActuatedJoint& joint(int j) const { return joints_[j]; }
+  const humanoid::Joints& joints() const { return joints_; }
   const NodeRuntime& node_runtime(int n) const { return nodes_[n]; }
   const CharacterPose& rest_pose() const { return rest_pose_; }
 
@@ -119,7 +121,7 @@ class JuggleSpec : public EnvSpec {
   LoadedConfig config_;
   MjModelPtr model_;
   GraphCursor cursor_;
-  std::array<ActuatedJoint, kNumJoints> joints_;
+  humanoid::Joints joints_;
   std::vector<NodeRuntime> nodes_;
   CharacterPose rest_pose_{};
   int root_body_ = -1, ball_body_ = -1, ball_geom_ = -1, ball_qpos_ = -1, ball_dof_ = -1;

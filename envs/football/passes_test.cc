@@ -29,8 +29,6 @@ class PassFlightTest : public testing::PitchFixture {
     }
     mj_forward(m_, d_);
   }
-  const double* ball() { return ball_pos(); }
-  const double* ball_velocity() { return ball_vel(); }
 };
 
 TEST_F(PassFlightTest, ALobLandsWhereItWasAskedWithinTheEulerIntegratorsError) {
@@ -48,11 +46,11 @@ TEST_F(PassFlightTest, ALobLandsWhereItWasAskedWithinTheEulerIntegratorsError) {
     double t = 0;
     bool landed = false;
     for (int i = 0; i < 4000 && !landed; ++i) {
-      for (int k = 0; k < 3; ++k) before[k] = ball()[k];
+      for (int k = 0; k < 3; ++k) before[k] = ball_pos()[k];
       mj_step(m_, d_);
       t += m_->opt.timestep;
-      for (int k = 0; k < 3; ++k) after[k] = ball()[k];
-      landed = ball_velocity()[2] < 0 && after[2] <= radius_;
+      for (int k = 0; k < 3; ++k) after[k] = ball_pos()[k];
+      landed = ball_vel()[2] < 0 && after[2] <= radius_;
     }
     ASSERT_TRUE(landed);
     const double f = (before[2] - radius_) / (before[2] - after[2]);
@@ -79,8 +77,8 @@ TEST_F(PassFlightTest, AGroundPassReachesItsAimPointAtItsSpeed) {
     EXPECT_NEAR(p.start[0], 12.4, 1e-12);
     Launch(p);
     double speed = 0;
-    for (int i = 0; i < 40000 && ball()[0] > aim[0]; ++i) mj_step(m_, d_);
-    speed = std::hypot(ball_velocity()[0], ball_velocity()[1]);
+    for (int i = 0; i < 40000 && ball_pos()[0] > aim[0]; ++i) mj_step(m_, d_);
+    speed = std::hypot(ball_vel()[0], ball_vel()[1]);
     // The deceleration that speed implies over the 12 m: the formula's, less what the first
     // second of a roll loses while MuJoCo's soft friction builds its slip (docs/football.md:
     // 0.79 instead of 0.90 m/s² then): within 8 %.
@@ -88,7 +86,7 @@ TEST_F(PassFlightTest, AGroundPassReachesItsAimPointAtItsSpeed) {
     const double implied = (v0 * v0 - speed * speed) / (2 * 12);
     EXPECT_NEAR(implied / deceleration, 1.0, 0.08) << "arrived at " << speed << " m/s";
     EXPECT_NEAR(speed, arrival, 0.25);
-    EXPECT_NEAR(ball()[1] - kOffsetY, 0, 1e-3);
+    EXPECT_NEAR(ball_pos()[1] - kOffsetY, 0, 1e-3);
   }
 }
 

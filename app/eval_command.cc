@@ -182,6 +182,14 @@ int Evaluate(EvalFlags f) {
       Summarize(report->episodes, (*spec)->control_dt(), (*spec)->outcome_names());
   std::string line = absl::StrCat("policy=", controller->name(), " seed=", f.seed,
                                   " max_seconds=", f.max_seconds, " ", SummaryLine(summary));
+  {
+    // The family's own summary (football: PhysicsFC's metrics, envs/football/metrics.h).
+    std::vector<std::vector<NamedValue>> metrics;
+    for (const EpisodeResult& e : report->episodes) metrics.push_back(e.metrics);
+    if (const std::string own = (*spec)->EvaluationLine(metrics); !own.empty()) {
+      absl::StrAppend(&line, " ", own);
+    }
+  }
   if (planner_controller != nullptr) {
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();

@@ -111,6 +111,13 @@ class EnvSpec : public std::enable_shared_from_this<EnvSpec> {
   virtual std::vector<AnnotationChannel> annotation_channels() const { return {}; }
   // A new env drawing from `rng`. REQUIRES: this spec is owned by a shared_ptr.
   virtual std::unique_ptr<Env> NewEnv(Rng rng) const = 0;
+  // The family's own summary of an evaluation, appended to `juggle eval`'s last line (e.g.
+  // football's "ksr=... kdd_deg=..."), from every episode's Env::AppendEpisodeMetrics in order.
+  // Default: empty (nothing appended).
+  virtual std::string EvaluationLine(
+      const std::vector<std::vector<NamedValue>>& episode_metrics) const {
+    return {};
+  }
   // Identifies the compiled model and the family's config (equal specs, equal fingerprints):
   // snapshots restore only into envs of a spec with the snapshot's fingerprint.
   uint64_t fingerprint() const { return fingerprint_; }

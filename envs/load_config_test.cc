@@ -23,7 +23,7 @@ TEST(LoadConfigTest, ConfigWithoutAFamilyNamesEveryFamily) {
   ASSERT_EQ(loaded.status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(loaded.status().message(),
             "c.textproto: the config sets no environment family; set exactly one of: "
-            "soccer_juggle, toss");
+            "soccer_juggle, toss, football");
 }
 
 TEST(LoadConfigTest, TwoFamiliesAreATextFormatErrorAtTheSecond) {

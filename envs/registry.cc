@@ -2,6 +2,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "common/status_macros.h"
+#include "envs/football/family.h"
 #include "envs/soccer_juggle/family.h"
 #include "envs/toss/family.h"
 
@@ -12,6 +13,7 @@ absl::Span<const EnvFamily* const> AllFamilies() {
   static const EnvFamily* const kFamilies[] = {
       &soccer_juggle::Family(),
       &toss::Family(),
+      &football::Family(),
   };
   return kFamilies;
 }

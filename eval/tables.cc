@@ -152,12 +152,14 @@ std::string NodeRowJson(const NodeRow& r) {
 
 std::string EpisodeJson(int episode, const EpisodeResult& e, double control_dt,
                         const std::vector<std::string>& outcome_names) {
-  return Line({{"table", "episode"},
-               {"episode", episode},
-               {"juggles", e.juggles},
-               {"seconds", e.steps * control_dt},
-               {"return", e.return_sum},
-               {"outcome", OutcomeName(outcome_names, e.outcome)}});
+  Json j = {{"table", "episode"},
+            {"episode", episode},
+            {"juggles", e.juggles},
+            {"seconds", e.steps * control_dt},
+            {"return", e.return_sum},
+            {"outcome", OutcomeName(outcome_names, e.outcome)}};
+  for (const NamedValue& m : e.metrics) j[m.name] = m.value;  // the family's, per attempt
+  return Line(j);
 }
 
 std::string ForceRowJson(const ForceSweepRow& r) {

@@ -76,7 +76,8 @@ absl::StatusOr<ForceSweepReport> RunForceSweep(
 // JSON objects (one line each, no trailing newline) for the JSON-lines outputs.
 std::string SummaryJson(const EvalSummary& summary);
 std::string NodeRowJson(const NodeRow& row);
-// One episode: its index (its env stream), juggles, simulated seconds, return and ending.
+// One episode: its index (its env stream), juggles, simulated seconds, return and ending, and
+// the family's metrics of it (Env::AppendEpisodeMetrics, by name: football's kick per attempt).
 std::string EpisodeJson(int episode, const EpisodeResult& e, double control_dt,
                         const std::vector<std::string>& outcome_names);
 std::string ForceRowJson(const ForceSweepRow& row);

@@ -3,6 +3,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "envs/soccer_juggle/spec.h"
+#include "planner/football/kick_task.h"
 #include "planner/soccer_juggle/task.h"
 #include "planner/toss/task.h"
 
@@ -21,12 +22,19 @@ std::shared_ptr<const PlanningTask> MakeTossTask(std::shared_ptr<const EnvSpec> 
       std::static_pointer_cast<const toss::TossSpec>(std::move(spec)), config);
 }
 
+std::shared_ptr<const PlanningTask> MakeFootballTask(std::shared_ptr<const EnvSpec> spec,
+                                                     const config::PlannerConfig& config) {
+  return std::make_shared<FootballKickTask>(
+      std::static_pointer_cast<const football::FootballSpec>(std::move(spec)), config);
+}
+
 }  // namespace
 
 const std::vector<PlanningTaskEntry>& PlanningTasks() {
   static const auto* const kTasks = new std::vector<PlanningTaskEntry>{
       {"soccer_juggle", &ValidateSoccerJuggleTask, &MakeSoccerJuggleTask},
       {"toss", &ValidateTossTask, &MakeTossTask},
+      {"football", &ValidateFootballTask, &MakeFootballTask},
   };
   return *kTasks;
 }

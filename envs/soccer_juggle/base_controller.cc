@@ -3,6 +3,8 @@
 #include <algorithm>
 
 #include "envs/ballistic.h"
+#include "envs/humanoid/reference_dynamics.h"
+#include "envs/humanoid/stance_balance.h"
 
 namespace juggle::soccer_juggle {
 
@@ -45,89 +47,33 @@ void BaseController::AddReferenceFeedforward(const CursorState& cursor,
                                              const CharacterPose& reference,
                                              const SwingAdjust& adjust, const mjData& data,
                                              double* feedforward) {
-  // Reference pose, velocity and acceleration by central differences over ± half a control
-  // step; the character is lifted out of contact and its root held still (qacc 0).
-  constexpr double kLift = 100;  // m
-  const int nq = model_->nq, nv = model_->nv;
+  // The reference ± half a control step (humanoid::ReferenceInverseDynamics).
   const double dt = 0.5 * spec_.control_dt();
   const double dphase = 0.5 * cursor.phase_speed;
-  mjData* d = id_data_.get();
-  mjMARKSTACK;
-  mjtNum* q_minus = mj_stackAlloc(d, nq);
-  mjtNum* q_plus = mj_stackAlloc(d, nq);
-  mjtNum* v_minus = mj_stackAlloc(d, nv);
-  mjtNum* v_plus = mj_stackAlloc(d, nv);
-  CharacterPose pose;
-  auto load = [&](const CharacterPose& p, mjtNum* qpos) {
-    mju_copy(qpos, data.qpos, nq);  // the ball stays where it is, far below the character
-    mju_copy(qpos, p.data(), kCharacterNq);
-    qpos[2] += kLift;
-  };
-  load(reference, d->qpos);
-  ComputeReferencePose(spec_, cursor.current, cursor.phase - dphase, &pose, adjust);
-  load(pose, q_minus);
-  ComputeReferencePose(spec_, cursor.current, cursor.phase + dphase, &pose, adjust);
-  load(pose, q_plus);
-  mj_differentiatePos(model_, v_minus, dt, q_minus, d->qpos);
-  mj_differentiatePos(model_, v_plus, dt, d->qpos, q_plus);
-  for (int i = 0; i < nv; ++i) {
-    d->qvel[i] = 0.5 * (v_minus[i] + v_plus[i]);
-    d->qacc[i] = (v_plus[i] - v_minus[i]) / dt;
-  }
-  mju_zero(d->qvel, 6);
-  mju_zero(d->qacc, 6);
-  mju_zero(d->qvel + spec_.ball_dof(), 6);
-  mju_zero(d->qacc + spec_.ball_dof(), 6);
-  mj_inverse(model_, d);
+  CharacterPose before, after;
+  ComputeReferencePose(spec_, cursor.current, cursor.phase - dphase, &before, adjust);
+  ComputeReferencePose(spec_, cursor.current, cursor.phase + dphase, &after, adjust);
+  double tau[kCharacterNv];
+  humanoid::ReferenceInverseDynamics(spec_.joints(), model_, data, before, reference, after, dt,
+                                     id_data_.get(), tau);
   const double gain = spec_.env().reference_feedforward();
-  const double h = model_->opt.timestep;
   for (int j = 0; j < kNumJoints; ++j) {
     const ActuatedJoint& joint = spec_.joint(j);
     for (int k = joint.dof_adr; k < joint.dof_adr + joint.dofs; ++k) {
-      // qfrc_inverse includes the damping drag kd·q̇; kp·h·q̇ is the stable PD's own drag.
-      feedforward[k] += gain * (d->qfrc_inverse[k] + joint.kp * h * d->qvel[k]);
+      feedforward[k] += gain * tau[k];
     }
   }
-  mjFREESTACK;
 }
 
 void BaseController::AddStanceBalance(const CursorState& cursor, mjData* data,
                                       double* feedforward) const {
-  const config::StanceBalance& b = spec_.env().stance_balance();
   const config::ReferencePose& ref = spec_.graph().node(cursor.current).spec.pose();
   if (!ref.has_leg_swing()) return;
   const bool kick_left = ref.leg_swing().side() == config::LEFT;
-  const ActuatedJoint& hip = spec_.joint(kick_left ? kRightHip : kLeftHip);
-  const ActuatedJoint& ankle = spec_.joint(kick_left ? kRightAnkle : kLeftAnkle);
-  const int foot = model_->dof_bodyid[ankle.dof_adr];
-  // Each term is clamped to the joint's feed-forward range, as a policy action would be.
-  auto add = [&](const ActuatedJoint& joint, const double tau[3]) {
-    const double limit = spec_.env().action_torque() * joint.torque_scale;
-    for (int i = 0; i < 3; ++i) {
-      feedforward[joint.dof_adr + i] += std::clamp(tau[i], -limit, limit);
-    }
-  };
-  double tau_ankle[3] = {0, 0, 0}, tau_hip[3] = {0, 0, 0};
-  if (b.com_kp() != 0 || b.com_kd() != 0) {
-    mj_subtreeVel(model_, data);  // COM velocity of the character (the root's subtree)
-    const int root = spec_.root_body();
-    const double* com = data->subtree_com + 3 * root;
-    const double* vel = data->subtree_linvel + 3 * root;
-    const double* pos = data->xpos + 3 * foot;
-    const double ex = com[0] - pos[0] - b.com_x(), ey = com[1] - pos[1] - b.com_y();
-    const double world[3] = {-(b.com_kp() * ey + b.com_kd() * vel[1]),
-                             b.com_kp() * ex + b.com_kd() * vel[0], 0};
-    mju_mulMatTVec(tau_ankle, data->xmat + 9 * foot, world, 3, 3);  // into the foot frame
-  }
-  if (b.pelvis_kp() != 0 || b.pelvis_kd() != 0 || b.yaw_kp() != 0 || b.yaw_kd() != 0) {
-    double tilt[3];
-    mju_subQuat(tilt, data->qpos + 3, kUprightQuat);
-    const double* w = data->qvel + 3;
-    for (int i : {0, 2}) tau_hip[i] = b.pelvis_kp() * tilt[i] + b.pelvis_kd() * w[i];
-    tau_hip[1] = b.yaw_kp() * tilt[1] + b.yaw_kd() * w[1];  // about the root's vertical (y)
-  }
-  add(ankle, tau_ankle);
-  add(hip, tau_hip);
+  humanoid::AddStanceBalance(spec_.joints(), spec_.env().stance_balance(),
+                             kick_left ? humanoid::Foot::kRight : humanoid::Foot::kLeft,
+                             spec_.root_body(), spec_.env().action_torque(), model_, data,
+                             feedforward);
 }
 
 }  // namespace juggle::soccer_juggle

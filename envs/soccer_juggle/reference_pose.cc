@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "envs/humanoid/pose.h"
+
 namespace juggle::soccer_juggle {
 
 const double kUprightQuat[4] = {M_SQRT1_2, M_SQRT1_2, 0, 0};
@@ -14,14 +16,7 @@ double RotationSin2(const double* a, const double* b) {
 
 void SetBallJointRotation(const JuggleSpec& spec, JointId j, const double rotvec[3],
                           CharacterPose* pose) {
-  double* q = pose->data() + spec.joint(j).qpos_adr;
-  double v[3] = {rotvec[0], rotvec[1], rotvec[2]};
-  const double angle = mju_normalize3(v);
-  if (angle < 1e-12) {
-    q[0] = 1; q[1] = q[2] = q[3] = 0;
-    return;
-  }
-  mju_axisAngle2Quat(q, v, angle);
+  humanoid::SetBallJointRotation(spec.joints(), j, rotvec, pose);
 }
 
 void SetBallJointAxisRotation(const JuggleSpec& spec, JointId j, int axis, double angle,
@@ -32,7 +27,7 @@ void SetBallJointAxisRotation(const JuggleSpec& spec, JointId j, int axis, doubl
 }
 
 void SetHinge(const JuggleSpec& spec, JointId j, double angle, CharacterPose* pose) {
-  (*pose)[spec.joint(j).qpos_adr] = angle;
+  humanoid::SetHinge(spec.joints(), j, angle, pose);
 }
 
 CharacterPose StandingPose(const JuggleSpec& spec) {

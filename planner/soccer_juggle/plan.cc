@@ -5,6 +5,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "envs/soccer_juggle/reference_pose.h"
+#include "planner/pose_action.h"
 
 namespace juggle::planner {
 
@@ -95,17 +96,15 @@ SearchSpace MakeSoccerSearchSpace(const SoccerPlanLayout& layout,
   return space;
 }
 
-namespace {
-
-// Value of body action `i` (an index into layout.body_actions) of the body spline `step` control steps after knot 0 (the last knot
-// held past the end).
-double SplineValue(const SoccerPlanLayout& layout, const double* theta, int step, int i) {
+double BodySplineValue(const SoccerPlanLayout& layout, const double* theta, int step, int i) {
   const int knots = layout.body_knots;
   const int k = std::clamp(step / layout.knot_steps, 0, knots - 1);
   if (k == knots - 1) return theta[layout.knot(k) + i];
   const double f = static_cast<double>(step - k * layout.knot_steps) / layout.knot_steps;
   return (1 - f) * theta[layout.knot(k) + i] + f * theta[layout.knot(k + 1) + i];
 }
+
+namespace {
 
 // Rotates ball joint `j` of `pose` by `angle` about its z axis (pitch in the y-up joint frames)
 // or moves hinge `j` by `angle`.
@@ -162,21 +161,7 @@ void AddKickAction(const JuggleEnv& env, const double* kick, double* out) {
   if (c.phase_speed <= 0) return;
   CharacterPose from, to;
   KickReferences(env, kick, spec.control_dt() / c.phase_speed, &from, &to);
-  const double unit = spec.env().action_torque();
-  for (int j = 0; j < kNumJoints; ++j) {
-    const ActuatedJoint& joint = spec.joint(j);
-    // A joint whose feed-forward scale is 0 ignores its actions: nothing to add (and kp / 0).
-    if (!(joint.torque_scale > 0)) continue;
-    const int a = joint.dof_adr - 6;
-    const double scale = joint.kp / (unit * joint.torque_scale);
-    if (joint.dofs == 3) {
-      double d[3];
-      mju_subQuat(d, to.data() + joint.qpos_adr, from.data() + joint.qpos_adr);
-      for (int k = 0; k < 3; ++k) out[a + k] += scale * d[k];
-    } else {
-      out[a] += scale * (to[joint.qpos_adr] - from[joint.qpos_adr]);
-    }
-  }
+  AddPoseChangeAction(spec.joints(), from, to, spec.env().action_torque(), out);
 }
 
 }  // namespace
@@ -191,7 +176,7 @@ void SoccerPlanAction(const JuggleEnv& env, const SoccerPlanLayout& layout, cons
   }
   if (layout.body_knots > 0) {
     for (int i = 0; i < layout.knot_size(); ++i) {
-      a[layout.body_actions[i]] += SplineValue(layout, theta, clock.step, i);
+      a[layout.body_actions[i]] += BodySplineValue(layout, theta, clock.step, i);
     }
   }
   for (int i = 0; i < kNumActions; ++i) action[i] = static_cast<float>(std::clamp(a[i], -1.0, 1.0));

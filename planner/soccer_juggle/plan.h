@@ -60,6 +60,10 @@ SearchSpace MakeSoccerSearchSpace(const SoccerPlanLayout& layout,
                                   const config::PlannerConfig& config,
                                   const config::KickVariables& kick);
 
+// Value of body action `i` (an index into layout.body_actions) of the body spline `step` control
+// steps after knot 0 (the last knot held past the end). REQUIRES: layout.body_knots > 0.
+double BodySplineValue(const SoccerPlanLayout& layout, const double* theta, int step, int i);
+
 // The grid knot at or before episode step `step` (its episode step).
 int KnotAtOrBefore(const SoccerPlanLayout& layout, int step);
 

@@ -1,0 +1,95 @@
+// One football environment (task KICK): the humanoid stands on the pitch with a ball at rest or
+// rolling slowly in front of its right foot and a target velocity for the ball; the PD tracks
+// the scripted kick (kick_motion.h) plus the action's feed-forward torques and, during the
+// kick, the stance balance over the left foot (envs/humanoid/stance_balance.h).
+//
+// Control step = `substeps` physics steps. Per substep: stable PD + feed-forward, mj_step, the
+// divergence check, the first touch of the ball by the character (the kicking foot, or another
+// body: the episode ends as wrong_touch). After each control step within 1/6 s of the touch the
+// ball's velocity is sampled for PhysicsFC's kick metrics (metrics.h); the episode ends
+// `settle_s` after the touch (kicked), at a fall, or at the step limit.
+// Thread-compatible: one thread at a time.
+#ifndef JUGGLE_ENVS_FOOTBALL_ENV_H_
+#define JUGGLE_ENVS_FOOTBALL_ENV_H_
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "envs/env.h"
+#include "envs/football/metrics.h"
+#include "envs/football/spec.h"
+
+namespace juggle::football {
+
+// PhysicsFC's kick measuring window after the touch (s).
+constexpr double kKickWindowS = 1.0 / 6.0;
+
+// The episode's own variables beside the physics. Copyable: a snapshot is this plus the
+// physics.
+struct FootballEnvState {
+  Rng rng{0};
+  int steps = 0;
+  CharacterPose reference{};       // the PD target of the last step
+  KickAttempt kick;                // target, touch and the velocity samples after it
+  double touch_time_s = -1;        // simulated time of the first touch (−1: none yet)
+  int touch_body = -1;             // the body that touched the ball first
+  double touch_foot_speed = 0;     // the kicking foot's speed at the touch (m/s)
+  bool window_done = false;        // 1/6 s has passed since the touch
+  KickScore score;                 // valid once window_done
+  bool fell = false;
+  std::array<float, kNumActions> previous_action{};
+};
+
+class FootballSnapshot final : public EnvSnapshot {
+ public:
+  std::string family() const override { return "football"; }
+  FootballEnvState state;
+};
+
+class FootballEnv : public juggle::Env {
+ public:
+  FootballEnv(std::shared_ptr<const FootballSpec> spec, Rng rng);
+  FootballEnv(const FootballEnv&) = delete;
+  FootballEnv& operator=(const FootballEnv&) = delete;
+
+  // Draws the ball's start and the kick's target (KickTargets) and stands the character.
+  void Reset(const AdaptiveWalk& walk) override;
+  StepResult Step(const float* action, const AdaptiveWalk& walk) override;
+  void WriteObservation(float* obs) const override;
+  int steps() const override { return s_.steps; }
+  // 1 once the kick's window has been measured as a success (metrics.h), else 0.
+  int completions() const override { return s_.window_done && s_.score.success ? 1 : 0; }
+  mjData* data() override { return data_.get(); }
+  const mjData* data() const override { return data_.get(); }
+  // kick_success (0/1), and for a success kick_direction_deviation_deg and
+  // kick_speed_deviation_mps; kick_target_speed_mps; kick_speed_mps (the mean measured speed);
+  // kick_foot_speed_mps (the kicking foot's speed at the touch), kick_touch_s (when); fell (0/1).
+  void AppendEpisodeMetrics(std::vector<NamedValue>* out) const override;
+  std::unique_ptr<EnvSnapshot> Snapshot() const override;
+  absl::Status Restore(const EnvSnapshot& snapshot) override;
+
+  const FootballSpec& spec() const { return *spec_; }
+  const FootballEnvState& state() const { return s_; }
+  // Simulated seconds since the episode's start.
+  double time_s() const { return s_.steps * spec_->control_dt(); }
+  // The ball's velocity the target asks for (m/s, world frame).
+  void TargetVelocity(double v[3]) const;
+
+ private:
+  // football.reference_feedforward: the kick's inverse dynamics at episode time `t`, clamped.
+  void AddReferenceFeedforward(double t, double* feedforward);
+  void NoteTouches();
+  bool Diverged() const;
+  bool Fallen() const;
+
+  std::shared_ptr<const FootballSpec> spec_;
+  const mjModel* model_;
+  MjDataPtr data_;
+  MjDataPtr id_data_;  // scratch of the reference feed-forward; null when it is off
+  FootballEnvState s_;
+};
+
+}  // namespace juggle::football
+
+#endif  // JUGGLE_ENVS_FOOTBALL_ENV_H_

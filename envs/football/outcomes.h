@@ -1,0 +1,18 @@
+// How a football episode can end besides the shared outcomes (common/outcome.h).
+#ifndef JUGGLE_ENVS_FOOTBALL_OUTCOMES_H_
+#define JUGGLE_ENVS_FOOTBALL_OUTCOMES_H_
+
+#include "common/outcome.h"
+
+namespace juggle::football {
+
+inline constexpr Outcome kFell = FamilyOutcome(0);        // root tilt or height beyond limits
+inline constexpr Outcome kKicked = FamilyOutcome(1);      // settle_s after the kicking foot's touch
+inline constexpr Outcome kWrongTouch = FamilyOutcome(2);  // another body touched the ball first
+
+// Names of the family outcomes above, in value order.
+inline constexpr const char* kOutcomeNames[] = {"fell", "kicked", "wrong_touch"};
+
+}  // namespace juggle::football
+
+#endif  // JUGGLE_ENVS_FOOTBALL_OUTCOMES_H_

@@ -1,0 +1,48 @@
+#include "envs/humanoid/stance_balance.h"
+
+#include <algorithm>
+
+namespace juggle::humanoid {
+namespace {
+
+// The upright-forward root orientation (w, x, y, z).
+constexpr double kUpright[4] = {M_SQRT1_2, M_SQRT1_2, 0, 0};
+
+}  // namespace
+
+void AddStanceBalance(const Joints& joints, const config::StanceBalance& b, Foot stance,
+                      int root_body, double action_torque, const mjModel* m, mjData* data,
+                      double* feedforward) {
+  const bool left = stance == Foot::kLeft;
+  const ActuatedJoint& hip = joints[left ? kLeftHip : kRightHip];
+  const ActuatedJoint& ankle = joints[left ? kLeftAnkle : kRightAnkle];
+  const int foot = m->dof_bodyid[ankle.dof_adr];
+  auto add = [&](const ActuatedJoint& joint, const double tau[3]) {
+    const double limit = action_torque * joint.torque_scale;
+    for (int i = 0; i < 3; ++i) {
+      feedforward[joint.dof_adr + i] += std::clamp(tau[i], -limit, limit);
+    }
+  };
+  double tau_ankle[3] = {0, 0, 0}, tau_hip[3] = {0, 0, 0};
+  if (b.com_kp() != 0 || b.com_kd() != 0) {
+    mj_subtreeVel(m, data);  // COM velocity of the character (the root's subtree)
+    const double* com = data->subtree_com + 3 * root_body;
+    const double* vel = data->subtree_linvel + 3 * root_body;
+    const double* pos = data->xpos + 3 * foot;
+    const double ex = com[0] - pos[0] - b.com_x(), ey = com[1] - pos[1] - b.com_y();
+    const double world[3] = {-(b.com_kp() * ey + b.com_kd() * vel[1]),
+                             b.com_kp() * ex + b.com_kd() * vel[0], 0};
+    mju_mulMatTVec(tau_ankle, data->xmat + 9 * foot, world, 3, 3);  // into the foot frame
+  }
+  if (b.pelvis_kp() != 0 || b.pelvis_kd() != 0 || b.yaw_kp() != 0 || b.yaw_kd() != 0) {
+    double tilt[3];
+    mju_subQuat(tilt, data->qpos + 3, kUpright);
+    const double* w = data->qvel + 3;
+    for (int i : {0, 2}) tau_hip[i] = b.pelvis_kp() * tilt[i] + b.pelvis_kd() * w[i];
+    tau_hip[1] = b.yaw_kp() * tilt[1] + b.yaw_kd() * w[1];  // about the root's vertical (y)
+  }
+  add(ankle, tau_ankle);
+  add(hip, tau_hip);
+}
+
+}  // namespace juggle::humanoid

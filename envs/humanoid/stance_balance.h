@@ -1,0 +1,28 @@
+// Stance balance of the humanoid standing on one foot (not in the release; docs/learning.md,
+// "The base controller with zero action"): feed-forward torques that keep the centre of mass
+// over the stance ankle (through that ankle) and the pelvis upright and heading forward
+// (through that hip). Used by soccer juggling's leg-swing nodes and football's kick. Pure
+// function over MuJoCo's model and data.
+#ifndef JUGGLE_ENVS_HUMANOID_STANCE_BALANCE_H_
+#define JUGGLE_ENVS_HUMANOID_STANCE_BALANCE_H_
+
+#include <mujoco/mujoco.h>
+
+#include "envs/humanoid/humanoid.h"
+#include "proto/envs/soccer_juggle.pb.h"
+
+namespace juggle::humanoid {
+
+enum class Foot { kLeft, kRight };
+
+// Adds `gains`' torques for standing on `stance` to `feedforward` ([kCharacterNv], N·m), each
+// term clamped to its joint's feed-forward range (action_torque × the joint's scale), as a
+// policy action would be. `root_body`: the character's root body. Updates `data`'s subtree
+// velocities (mj_subtreeVel) when the centre-of-mass gains are set.
+void AddStanceBalance(const Joints& joints, const config::StanceBalance& gains, Foot stance,
+                      int root_body, double action_torque, const mjModel* m, mjData* data,
+                      double* feedforward);
+
+}  // namespace juggle::humanoid
+
+#endif  // JUGGLE_ENVS_HUMANOID_STANCE_BALANCE_H_

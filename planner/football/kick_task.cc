@@ -1,0 +1,223 @@
+#include "planner/football/kick_task.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "envs/football/env.h"
+#include "envs/football/kick_motion.h"
+#include "envs/football/outcomes.h"
+#include "planner/pose_action.h"
+
+namespace juggle::planner {
+namespace {
+
+using football::FootballEnv;
+using football::KickAdjust;
+
+// Steps a cut window may run on (1/6 s at 50 Hz is 9 steps).
+constexpr int kRunOnSteps = 10;
+
+const FootballEnv& AsFootballEnv(const Env& env) { return static_cast<const FootballEnv&>(env); }
+
+double Norm3(const double* v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+// How far the kicking foot's box centre is from the ball's surface, less the box's half-length
+// (m; ≤ 0 roughly at a touch).
+double FootGap(const FootballEnv& env) {
+  const football::FootballSpec& spec = env.spec();
+  const mjData* d = env.data();
+  const double* foot = d->geom_xpos + 3 * spec.kick_foot_geom();
+  const double* ball = d->qpos + spec.ball().qpos;
+  const double diff[3] = {ball[0] - foot[0], ball[1] - foot[1], ball[2] - foot[2]};
+  return Norm3(diff) - spec.ball().radius - spec.model()->geom_size[3 * spec.kick_foot_geom()];
+}
+
+class KickScorer final : public RolloutScorer {
+ public:
+  KickScorer(const config::FootballPlanning& s, int horizon) : s_(s), horizon_(horizon) {}
+
+  void Begin(const Env& env) override {
+    const FootballEnv& e = AsFootballEnv(env);
+    window_done_at_begin_ = e.state().window_done;
+    touched_at_begin_ = e.state().touch_body >= 0;
+    closest_gap_ = FootGap(e);
+  }
+
+  void AfterStep(const Env& env, const float*, const StepResult& r) override {
+    const FootballEnv& e = AsFootballEnv(env);
+    ++steps_;
+    if (!touched_at_begin_) closest_gap_ = std::min(closest_gap_, FootGap(e));
+    if (r.outcome == football::kWrongTouch) {
+      miss_ = 2 * s_.miss();
+    } else if (r.outcome == football::kFell || r.outcome == Outcome::kDiverged) {
+      failure_ = s_.failure() * (2.0 - static_cast<double>(std::min(steps_, horizon_)) / horizon_);
+    }
+  }
+
+  double Finish(const Env& env) override {
+    const FootballEnv& e = AsFootballEnv(env);
+    const football::FootballEnvState& st = e.state();
+    if (!window_done_at_begin_ && st.kick.touched) {
+      // The window's samples so far (all of them once it is done).
+      const football::KickScore k = st.window_done
+                                        ? st.score
+                                        : football::ScoreKick(st.kick, football::kKickWindowS);
+      if (k.success) {
+        scored_ = true;
+        kdd_ = k.direction_deviation_deg;
+        ksd_ = k.speed_deviation_mps;
+        double speed = 0;
+        for (const football::BallVelocitySample& v : st.kick.after_touch) speed += Norm3(v.velocity);
+        speed_ = speed / std::max<size_t>(1, st.kick.after_touch.size());
+        direction_ = s_.direction() * std::pow(kdd_ / s_.direction_scale_deg(), 2);
+        speed_term_ = s_.speed() * std::pow(ksd_ / s_.speed_scale_mps(), 2);
+      }
+    }
+    if (!touched_at_begin_ && st.touch_body < 0 && miss_ == 0 && failure_ == 0) {
+      const football::KickTimes t = football::KickTimesOf(e.spec().football().motion(), {});
+      if (e.time_s() >= t.recover) miss_ = s_.miss() * (1 + std::max(0.0, closest_gap_) / 0.05);
+    }
+    const mjData* d = e.data();
+    const double upright[4] = {M_SQRT1_2, M_SQRT1_2, 0, 0};
+    const double dot = mju_dot(d->qpos + 3, upright, 4);
+    upright_ = s_.upright() * std::pow(std::max(0.0, 1 - dot * dot) / 0.01, 2);
+    return partial();
+  }
+
+  double partial() const override { return direction_ + speed_term_ + miss_ + failure_ + upright_; }
+
+  bool RunsOn(const Env& env) const override {
+    const football::FootballEnvState& st = AsFootballEnv(env).state();
+    return st.kick.touched && !st.window_done;
+  }
+
+  std::vector<double> first_outcome() const override {
+    if (!scored_) return {};
+    return {kdd_, ksd_, speed_};
+  }
+
+  std::vector<double> terms() const override {
+    return {direction_, speed_term_, miss_, failure_, upright_};
+  }
+
+ private:
+  const config::FootballPlanning& s_;
+  int horizon_;
+  int steps_ = 0;
+  bool window_done_at_begin_ = false, touched_at_begin_ = false, scored_ = false;
+  double closest_gap_ = std::numeric_limits<double>::infinity();
+  double kdd_ = 0, ksd_ = 0, speed_ = 0;
+  double direction_ = 0, speed_term_ = 0, miss_ = 0, failure_ = 0, upright_ = 0;
+};
+
+}  // namespace
+
+FootballKickTask::FootballKickTask(std::shared_ptr<const football::FootballSpec> spec,
+                                   const config::PlannerConfig& config)
+    : spec_(std::move(spec)),
+      settings_(config.football()),
+      layout_(MakeSoccerPlanLayout(config, settings_.kick())),
+      space_(MakeSoccerSearchSpace(layout_, config, settings_.kick())) {
+  rescue_space_ = space_;
+  for (int v = 0; v < rescue_space_.dim(); ++v) {
+    rescue_space_.sigma[v] = std::min(rescue_space_.sigma[v] * config.rescue().sigma_scale(),
+                                      rescue_space_.upper[v] - rescue_space_.lower[v]);
+  }
+}
+
+int FootballKickTask::max_run_on_steps() const { return kRunOnSteps; }
+
+int FootballKickTask::KnotAtOrBefore(int step) const {
+  return planner::KnotAtOrBefore(layout_, step);
+}
+
+std::vector<double> FootballKickTask::Shift(const std::vector<double>& theta, int grid_steps,
+                                            int) const {
+  // One kick per episode: its set stays; the body knots move with the grid.
+  const int knots = layout_.knot_steps > 0 ? grid_steps / layout_.knot_steps : 0;
+  return ShiftSoccerPlan(layout_, theta, knots, 0);
+}
+
+void FootballKickTask::Action(const Env& env, const double* theta, PlanClock clock,
+                              const double* prior, float* action) const {
+  const FootballEnv& e = AsFootballEnv(env);
+  double a[football::kNumActions] = {0};
+  if (prior != nullptr) std::copy_n(prior, football::kNumActions, a);
+  if (layout_.kick_sets > 0) {
+    const double* kick = theta + layout_.kick(0);
+    const KickAdjust adjust{kick[0], kick[1], kick[2], kick[3], kick[4]};
+    humanoid::CharacterPose from, to;
+    const double t = e.time_s();
+    football::KickReferencePose(*spec_, t, {}, &from);
+    football::KickReferencePose(*spec_, t, adjust, &to);
+    AddPoseChangeAction(spec_->joints(), from, to, spec_->football().action_torque(), a);
+  }
+  if (layout_.body_knots > 0) {
+    for (int i = 0; i < layout_.knot_size(); ++i) {
+      a[layout_.body_actions[i]] += BodySplineValue(layout_, theta, clock.step, i);
+    }
+  }
+  for (int i = 0; i < football::kNumActions; ++i) {
+    action[i] = static_cast<float>(std::clamp(a[i], -1.0, 1.0));
+  }
+}
+
+std::unique_ptr<RolloutScorer> FootballKickTask::NewScorer() const {
+  return std::make_unique<KickScorer>(settings_, layout_.horizon);
+}
+
+std::vector<std::string> FootballKickTask::term_names() const {
+  return {"direction", "speed", "miss", "failure", "upright"};
+}
+
+std::vector<std::string> FootballKickTask::outcome_names() const {
+  return {"kdd_deg", "ksd_mps", "speed_mps"};
+}
+
+const float* FootballKickTask::AppliedAction(const Env& env) const {
+  return AsFootballEnv(env).state().previous_action.data();
+}
+
+std::string FootballKickTask::DescribeDecision(const std::vector<double>& d,
+                                               const std::vector<double>& outcome) const {
+  std::string out;
+  if (d.size() == kKickVariables) {
+    absl::StrAppendFormat(&out, "  vars %+.0f ms %+.2f %+.2f %+.2f %+.2f", d[0] * 1000, d[1],
+                          d[2], d[3], d[4]);
+  }
+  if (outcome.size() == 3) {
+    absl::StrAppendFormat(&out, "  kick: kdd %.2f deg, ksd %.2f m/s, speed %.2f m/s", outcome[0],
+                          outcome[1], outcome[2]);
+  }
+  return out;
+}
+
+absl::Status ValidateFootballTask(const LoadedConfig& config) {
+  const config::PlannerConfig& p = config.run.planner();
+  auto where = [&](const char* field) { return config.root.Where({{"planner"}, {field}}); };
+  const int episode = config.run.football().max_episode_steps();
+  if (p.horizon_steps() > episode) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        where("horizon_steps"), ": a horizon of ", p.horizon_steps(),
+        " control steps is longer than the episode (football.max_episode_steps ", episode, ")"));
+  }
+  if (absl::StatusOr<std::vector<int>> a = BodyActionIndices(p.body_actions()); !a.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat(where("body_actions"), ": ", a.status().message()));
+  }
+  if (!p.football().kick().enabled()) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where({{"planner"}, {"football"}, {"kick"}, {"enabled"}}),
+        ": the kick task plans the kick variables; they cannot be off"));
+  }
+  if (p.football().kick().cycles() != 1) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where({{"planner"}, {"football"}, {"kick"}, {"cycles"}}),
+        ": one kick per episode: cycles must be 1"));
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace juggle::planner

@@ -1,0 +1,67 @@
+// Football's kick as a planning task (planner/planning_task.h; docs/football.md, "The kick by
+// search"; settings: PlannerConfig.football, proto/planner.proto). One episode of the KICK task
+// is one kick. A plan is soccer juggling's layout (planner/soccer_juggle/plan.h) with one kick
+// set — the scripted kick's timing, forward hip, abduction, knee and ankle (envs/football/
+// kick_motion.h), turned into the feed-forward torques that move the PD target so
+// (planner/pose_action.h) — and the whole-body knots of PlannerConfig.body_*. A rollout is scored
+// by PhysicsFC's kick deviations over the 1/6-s window after the touch, a miss, a fall and the
+// root's tilt at the horizon's end. Immutable; thread-safe.
+#ifndef JUGGLE_PLANNER_FOOTBALL_KICK_TASK_H_
+#define JUGGLE_PLANNER_FOOTBALL_KICK_TASK_H_
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "common/config_loader.h"
+#include "envs/football/spec.h"
+#include "planner/planning_task.h"
+#include "planner/soccer_juggle/plan.h"
+#include "proto/planner.pb.h"
+
+namespace juggle::planner {
+
+class FootballKickTask final : public PlanningTask {
+ public:
+  // REQUIRES: `config` passed ValidateFootballTask for a config of `spec`.
+  FootballKickTask(std::shared_ptr<const football::FootballSpec> spec,
+                   const config::PlannerConfig& config);
+
+  std::string family() const override { return "football"; }
+  const SearchSpace& space() const override { return space_; }
+  const SearchSpace& rescue_space() const override { return rescue_space_; }
+  int horizon() const override { return layout_.horizon; }
+  int max_run_on_steps() const override;
+  int KnotAtOrBefore(int step) const override;
+  std::vector<double> Shift(const std::vector<double>& theta, int grid_steps,
+                            int cycles) const override;
+  void Action(const Env& env, const double* theta, PlanClock clock, const double* prior,
+              float* action) const override;
+  std::unique_ptr<RolloutScorer> NewScorer() const override;
+  // direction, speed, miss, failure, upright.
+  std::vector<std::string> term_names() const override;
+  // The window's KDD (deg), KSD (m/s) and mean ball speed (m/s).
+  std::vector<std::string> outcome_names() const override;
+  const float* AppliedAction(const Env& env) const override;
+  int decision_size() const override { return kKickVariables; }
+  std::string DescribeDecision(const std::vector<double>& decision,
+                               const std::vector<double>& outcome) const override;
+
+  const SoccerPlanLayout& layout() const { return layout_; }
+
+ private:
+  std::shared_ptr<const football::FootballSpec> spec_;
+  config::FootballPlanning settings_;
+  SoccerPlanLayout layout_;
+  SearchSpace space_;
+  SearchSpace rescue_space_;
+};
+
+// OK, or INVALID_ARGUMENT "file:line:col: <field>: ..." for a football run the task cannot plan:
+// a horizon longer than the episode, body_actions that name no joint, kick variables off.
+absl::Status ValidateFootballTask(const LoadedConfig& config);
+
+}  // namespace juggle::planner
+
+#endif  // JUGGLE_PLANNER_FOOTBALL_KICK_TASK_H_

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/status_macros.h"
+#include "envs/divergence.h"
 #include "envs/football/kick_motion.h"
 #include "envs/football/outcomes.h"
 #include "envs/humanoid/reference_dynamics.h"
@@ -12,8 +13,6 @@
 namespace juggle::football {
 namespace {
 
-constexpr int kWatchedWarnings[] = {mjWARN_BADQACC, mjWARN_BADQPOS, mjWARN_BADQVEL,
-                                    mjWARN_CONTACTFULL, mjWARN_CNSTRFULL};
 constexpr double kUpright[4] = {M_SQRT1_2, M_SQRT1_2, 0, 0};
 constexpr double kDegree = M_PI / 180;
 
@@ -100,18 +99,7 @@ void FootballEnv::TargetVelocity(double v[3]) const {
   for (int c = 0; c < 3; ++c) v[c] = s_.kick.target_direction[c] / n * s_.kick.target_speed;
 }
 
-bool FootballEnv::Diverged() const {
-  for (int w : kWatchedWarnings) {
-    if (data_->warning[w].number > 0) return true;
-  }
-  for (int i = 0; i < model_->nq; ++i) {
-    if (!std::isfinite(data_->qpos[i])) return true;
-  }
-  for (int i = 0; i < model_->nv; ++i) {
-    if (!std::isfinite(data_->qvel[i])) return true;
-  }
-  return false;
-}
+bool FootballEnv::Diverged() const { return SimulationDiverged(model_, data_.get()); }
 
 bool FootballEnv::Fallen() const {
   const double dot = mju_dot(data_->qpos + 3, kUpright, 4);
@@ -182,7 +170,7 @@ StepResult FootballEnv::Step(const float* action, const AdaptiveWalk&) {
   for (int k = 0; k < f.substeps(); ++k) {
     humanoid::StablePdTorques(spec_->joints(), s_.reference.data(), model_, data_.get(),
                               feedforward, data_->qfrc_applied);
-    for (int w : kWatchedWarnings) data_->warning[w].number = 0;
+    ClearDivergenceWarnings(data_.get());
     mj_step(model_, data_.get());
     if (Diverged()) {
       result.outcome = Outcome::kDiverged;

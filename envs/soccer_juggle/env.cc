@@ -4,18 +4,11 @@
 #include <cmath>
 
 #include "common/status_macros.h"
+#include "envs/divergence.h"
 #include "envs/soccer_juggle/reference_pose.h"
 #include "envs/soccer_juggle/start_state.h"
 
 namespace juggle::soccer_juggle {
-
-namespace {
-
-// MuJoCo warnings that mean the simulation can no longer be trusted.
-constexpr int kWatchedWarnings[] = {mjWARN_BADQACC, mjWARN_BADQPOS, mjWARN_BADQVEL,
-                                    mjWARN_CONTACTFULL, mjWARN_CNSTRFULL};
-
-}  // namespace
 
 JuggleEnv::JuggleEnv(std::shared_ptr<const JuggleSpec> spec, Rng rng)
     : spec_(std::move(spec)), model_(spec_->model()), data_(mj_makeData(model_)), base_(*spec_) {
@@ -80,18 +73,7 @@ void JuggleEnv::ApplyTorques(const double* feedforward) {
   xfrc[2] = force.z();
 }
 
-bool JuggleEnv::Diverged() const {
-  for (int w : kWatchedWarnings) {
-    if (data_->warning[w].number > 0) return true;
-  }
-  for (int i = 0; i < model_->nq; ++i) {
-    if (!std::isfinite(data_->qpos[i])) return true;
-  }
-  for (int i = 0; i < model_->nv; ++i) {
-    if (!std::isfinite(data_->qvel[i])) return true;
-  }
-  return false;
-}
+bool JuggleEnv::Diverged() const { return SimulationDiverged(model_, data_.get()); }
 
 Outcome JuggleEnv::CheckBallContacts(double substep_phase) {
   const int ball_geom = spec_->ball_geom();
@@ -191,7 +173,7 @@ StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
   const int substeps = spec_->env().substeps();
   for (int k = 0; k < substeps && result.outcome == Outcome::kRunning; ++k) {
     ApplyTorques(feedforward);
-    for (int w : kWatchedWarnings) data_->warning[w].number = 0;
+    ClearDivergenceWarnings(data_.get());
     mj_step(model_, data_.get());
     if (Diverged()) {
       result.outcome = Outcome::kDiverged;

@@ -6,6 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "common/status_macros.h"
+#include "envs/humanoid/pose.h"
 #include "envs/mujoco_model.h"
 #include "envs/soccer_juggle/outcomes.h"
 #include "envs/soccer_juggle/reference_pose.h"
@@ -154,27 +155,12 @@ absl::Status JuggleSpecBuilder::ResolveJoints(JuggleSpec* s) {
 absl::Status JuggleSpecBuilder::ApplyRotation(const JuggleSpec& s, const config::JointRotation& r,
                                               const SourceLocator& where, const FieldPath& path,
                                               CharacterPose* pose) {
-  const int j = JointIdByName(r.joint());
-  if (j < 0) {
-    FieldPath p = path;
-    p.push_back({"joint"});
-    return Invalid(where, p, absl::StrCat("unknown joint '", r.joint(), "'"));
-  }
-  const int want = s.joint(j).dofs;
-  if (r.value_size() != want) {
-    FieldPath p = path;
-    p.push_back({"value"});
-    return Invalid(where, p,
-                   absl::StrCat("joint '", r.joint(), "' takes ", want, " value(s), got ",
-                                r.value_size()));
-  }
-  if (want == 3) {
-    const double v[3] = {r.value(0), r.value(1), r.value(2)};
-    SetBallJointRotation(s, static_cast<JointId>(j), v, pose);
-  } else {
-    SetHinge(s, static_cast<JointId>(j), r.value(0), pose);
-  }
-  return absl::OkStatus();
+  std::string field;
+  absl::Status status = humanoid::ApplyJointRotation(s.joints(), r, pose, &field);
+  if (status.ok()) return status;
+  FieldPath p = path;
+  p.push_back({field});
+  return Invalid(where, p, std::string(status.message()));
 }
 
 absl::Status JuggleSpecBuilder::ResolveRestPose(JuggleSpec* s) {

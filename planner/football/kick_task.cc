@@ -183,11 +183,7 @@ const float* FootballKickTask::AppliedAction(const Env& env) const {
 
 std::string FootballKickTask::DescribeDecision(const std::vector<double>& d,
                                                const std::vector<double>& outcome) const {
-  std::string out;
-  if (d.size() == kKickVariables) {
-    absl::StrAppendFormat(&out, "  vars %+.0f ms %+.2f %+.2f %+.2f %+.2f", d[0] * 1000, d[1],
-                          d[2], d[3], d[4]);
-  }
+  std::string out = FormatKickVariables(d);
   if (outcome.size() == 3) {
     absl::StrAppendFormat(&out, "  kick: kdd %.2f deg, ksd %.2f m/s, speed %.2f m/s", outcome[0],
                           outcome[1], outcome[2]);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "envs/soccer_juggle/reference_pose.h"
 #include "planner/pose_action.h"
 
@@ -180,6 +181,12 @@ void SoccerPlanAction(const JuggleEnv& env, const SoccerPlanLayout& layout, cons
     }
   }
   for (int i = 0; i < kNumActions; ++i) action[i] = static_cast<float>(std::clamp(a[i], -1.0, 1.0));
+}
+
+std::string FormatKickVariables(const std::vector<double>& d) {
+  if (d.size() != kKickVariables) return {};
+  return absl::StrFormat("  vars %+.0f ms %+.2f %+.2f %+.2f %+.2f", d[0] * 1000, d[1], d[2], d[3],
+                         d[4]);
 }
 
 int KnotAtOrBefore(const SoccerPlanLayout& layout, int step) {

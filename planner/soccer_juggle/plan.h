@@ -18,6 +18,7 @@
 #ifndef JUGGLE_PLANNER_SOCCER_JUGGLE_PLAN_H_
 #define JUGGLE_PLANNER_SOCCER_JUGGLE_PLAN_H_
 
+#include <string>
 #include <vector>
 
 #include "absl/status/statusor.h"
@@ -63,6 +64,10 @@ SearchSpace MakeSoccerSearchSpace(const SoccerPlanLayout& layout,
 // Value of body action `i` (an index into layout.body_actions) of the body spline `step` control
 // steps after knot 0 (the last knot held past the end). REQUIRES: layout.body_knots > 0.
 double BodySplineValue(const SoccerPlanLayout& layout, const double* theta, int step, int i);
+
+// "  vars +12 ms +0.10 -0.02 +0.00 +0.05" (timing in ms, then the four angles in rad) for a
+// decision of kKickVariables values; empty otherwise (--planner-trace lines).
+std::string FormatKickVariables(const std::vector<double>& decision);
 
 // The grid knot at or before episode step `step` (its episode step).
 int KnotAtOrBefore(const SoccerPlanLayout& layout, int step);

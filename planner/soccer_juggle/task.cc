@@ -149,11 +149,7 @@ int SoccerJuggleTask::decision_size() const {
 
 std::string SoccerJuggleTask::DescribeDecision(const std::vector<double>& d,
                                                const std::vector<double>& outcome) const {
-  std::string out;
-  if (d.size() == kKickVariables) {
-    absl::StrAppendFormat(&out, "  vars %+.0f ms %+.2f %+.2f %+.2f %+.2f", d[0] * 1000, d[1],
-                          d[2], d[3], d[4]);
-  }
+  std::string out = FormatKickVariables(d);
   const KickOutcome k = KickOutcomeOf(outcome);
   if (k.valid) {
     absl::StrAppendFormat(&out, "  kick: timing %+.0f ms, landing %+.3f %+.3f m, apex %+.3f m",

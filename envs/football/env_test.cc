@@ -57,12 +57,6 @@ class FootballEnvTest : public ::testing::Test {
   std::unique_ptr<AdaptiveWalk> walk_;
 };
 
-absl::StatusOr<LoadedConfig> Over(const std::string& name, const std::string& fields) {
-  return LoadRunConfig(WriteTemp(
-      name, absl::StrCat("base_config: \"", RepoPath(kShipped), "\"\nfootball {\n", fields,
-                         "\n}\n")));
-}
-
 TEST_F(FootballEnvTest, TheShippedKickConfigMakesAnEnvOfTheDocumentedSizes) {
   EXPECT_EQ(spec_->family(), "football");
   EXPECT_EQ(spec_->obs_dim(), kObservationSize);

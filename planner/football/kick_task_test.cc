@@ -68,7 +68,9 @@ class FootballKickTaskTest : public ::testing::Test {
     Kick k;
     std::vector<float> a(spec_->act_dim(), 0.0f);
     for (int step = 0; step < 1000 && k.end == Outcome::kRunning; ++step) {
-      if (planner != nullptr) EXPECT_TRUE(planner->Act(*env, a.data()).ok());
+      if (planner != nullptr) {
+        EXPECT_TRUE(planner->Act(*env, a.data()).ok());
+      }
       if (replay != nullptr) std::copy_n(replay->begin() + step * a.size(), a.size(), a.begin());
       k.actions.insert(k.actions.end(), a.begin(), a.end());
       k.end = env->Step(a.data(), *walk_).outcome;

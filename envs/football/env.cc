@@ -50,8 +50,6 @@ absl::Status FootballEnv::Restore(const EnvSnapshot& snapshot) {
 }
 
 void FootballEnv::Reset(const AdaptiveWalk&) {
-  const config::KickTargets& k = spec_->football().kick();
-  Rng& rng = s_.rng;
   s_.steps = 0;
   s_.touch_time_s = -1;
   s_.touch_body = -1;
@@ -62,6 +60,21 @@ void FootballEnv::Reset(const AdaptiveWalk&) {
   s_.previous_action.fill(0.0f);
   s_.kick.touched = false;
   s_.kick.after_touch.clear();
+  if (!spec_->trap()) {
+    ResetKick();
+    return;
+  }
+  s_.trap = DrawTrapEpisode(*spec_, s_.rng);
+  mj_resetData(model_, data_.get());
+  s_.reference = spec_->standing_pose();
+  mju_copy(data_->qpos, s_.reference.data(), humanoid::kCharacterNq);
+  PlaceTrapBall(*spec_, s_.trap, data_.get());
+  mj_forward(model_, data_.get());
+}
+
+void FootballEnv::ResetKick() {
+  const config::KickTargets& k = spec_->football().kick();
+  Rng& rng = s_.rng;
   // The target: speed, azimuth off +x, elevation.
   const double speed = rng.Uniform(k.speed_min_mps(), k.speed_max_mps());
   const double azimuth = rng.Uniform(-k.azimuth_max_deg(), k.azimuth_max_deg()) * kDegree;
@@ -147,7 +160,8 @@ void FootballEnv::NoteTouches() {
 StepResult FootballEnv::Step(const float* action, const AdaptiveWalk&) {
   const config::FootballConfig& f = spec_->football();
   const double t = time_s();
-  KickReferencePose(*spec_, t, {}, &s_.reference);
+  const bool trap = spec_->trap();
+  if (!trap) KickReferencePose(*spec_, t, {}, &s_.reference);
   double feedforward[humanoid::kCharacterNv] = {0};
   const double unit = f.action_torque();
   for (const humanoid::ActuatedJoint& joint : spec_->joints()) {
@@ -159,7 +173,10 @@ StepResult FootballEnv::Step(const float* action, const AdaptiveWalk&) {
   }
   if (id_data_ != nullptr) AddReferenceFeedforward(t, feedforward);
   const KickTimes kick = KickTimesOf(f.motion(), {});
-  if (f.has_stance_balance() && t >= kick.start && t < kick.end) {
+  const bool balance =
+      trap ? s_.trap.part == config::FOOT || s_.trap.part == config::LOWER_LEG
+           : t >= kick.start && t < kick.end;
+  if (f.has_stance_balance() && balance) {
     humanoid::AddStanceBalance(spec_->joints(), f.stance_balance(), humanoid::Foot::kLeft,
                                spec_->root_body(), unit, model_, data_.get(), feedforward);
   }
@@ -176,9 +193,17 @@ StepResult FootballEnv::Step(const float* action, const AdaptiveWalk&) {
       result.outcome = Outcome::kDiverged;
       break;
     }
-    NoteTouches();
+    if (trap) {
+      NoteTrapContacts(*spec_, data_.get(), &s_.trap);
+    } else {
+      NoteTouches();
+    }
   }
   ++s_.steps;
+  if (trap) {
+    AfterTrapStep(&result);
+    return result;
+  }
   if (result.outcome == Outcome::kRunning && s_.touch_body >= 0) {
     if (!touched_before && !s_.kick.touched) result.outcome = kWrongTouch;
     const double since = data_->time - s_.touch_time_s;
@@ -210,6 +235,60 @@ StepResult FootballEnv::Step(const float* action, const AdaptiveWalk&) {
   return result;
 }
 
+int FootballEnv::completions() const {
+  if (spec_->trap()) {
+    return s_.trap.settled && !s_.fell && ScoreTrap(s_.trap.attempt).success ? 1 : 0;
+  }
+  return s_.window_done && s_.score.success ? 1 : 0;
+}
+
+void FootballEnv::AfterTrapStep(StepResult* result) {
+  const config::FootballConfig& f = spec_->football();
+  TrapEpisode& e = s_.trap;
+  if (result->outcome == Outcome::kRunning) {
+    AfterTrapControlStep(*spec_, data_.get(), &e);
+    if (e.turf_before_touch && e.pass.kind == PassKind::kLob) {
+      result->outcome = kGroundFirst;
+    } else if (e.first_body >= 0 && e.first_body != spec_->trap_bodies().body[e.part]) {
+      result->outcome = kWrongPart;
+    } else if (e.settled) {
+      result->outcome = kTrapped;
+    }
+  }
+  if (result->outcome == Outcome::kRunning || result->outcome == kTrapped) {
+    if (Fallen()) {
+      s_.fell = true;
+      result->outcome = kFell;
+    }
+  }
+  if (result->outcome == Outcome::kRunning && s_.steps >= f.max_episode_steps()) {
+    result->outcome = Outcome::kTimeLimit;
+  }
+}
+
+void FootballEnv::AppendTrapMetrics(std::vector<NamedValue>* out) const {
+  const TrapEpisode& e = s_.trap;
+  const TrapScore score = ScoreTrap(e.attempt, kRelativeSpeedFrames);
+  const bool success = e.settled && !s_.fell && score.success;
+  out->push_back({"trap_success", success ? 1.0 : 0.0});
+  out->push_back({"trap_touch_before_ground",
+                  e.first_body >= 0 && (e.pass.kind == PassKind::kGround || !e.turf_before_touch)
+                      ? 1.0
+                      : 0.0});
+  if (success) out->push_back({"trap_handball", score.handball ? 1.0 : 0.0});
+  if (score.measured_speed) out->push_back({"trap_rbspt_mps", score.relative_speed});
+  out->push_back({"trap_part", static_cast<double>(e.part)});
+  out->push_back({"trap_lob", e.pass.kind == PassKind::kLob ? 1.0 : 0.0});
+  const double* v = e.pass.velocity;
+  const double g = -model_->opt.gravity[2];
+  const double vz = e.pass.kind == PassKind::kLob ? v[2] - g * e.pass.meet_s : 0;
+  out->push_back({"trap_meet_speed_mps", e.pass.kind == PassKind::kLob
+                                             ? std::sqrt(v[0] * v[0] + v[1] * v[1] + vz * vz)
+                                             : e.pass.arrival_speed});
+  if (e.settled) out->push_back({"trap_end_distance_m", e.end_distance_m});
+  out->push_back({"fell", s_.fell ? 1.0 : 0.0});
+}
+
 void FootballEnv::WriteObservation(float* obs) const {
   const double* qpos = data_->qpos;
   const double* qvel = data_->qvel;
@@ -237,17 +316,30 @@ void FootballEnv::WriteObservation(float* obs) const {
   for (int c = 0; c < 3; ++c) obs[i++] = ball[c] - qpos[c];
   for (int c = 0; c < 3; ++c) obs[i++] = ball_vel[c] / 10;
   for (int c = 0; c < 3; ++c) obs[i++] = ball_vel[3 + c] / 100;
-  double target[3];
-  TargetVelocity(target);
-  for (int c = 0; c < 3; ++c) obs[i++] = target[c] / 10;
-  obs[i++] = spec_->football().motion().start_s() - time_s();
-  obs[i++] = s_.touch_body >= 0 ? 1 : 0;
+  if (spec_->trap()) {
+    // The designated part (its TrapPart number / 4), the pass's kind, the time to the meeting.
+    obs[i++] = static_cast<float>(s_.trap.part) / 4;
+    obs[i++] = s_.trap.pass.kind == PassKind::kLob ? 1 : 0;
+    obs[i++] = 0;
+    obs[i++] = s_.trap.pass.meet_s - time_s();
+    obs[i++] = s_.trap.first_body >= 0 ? 1 : 0;
+  } else {
+    double target[3];
+    TargetVelocity(target);
+    for (int c = 0; c < 3; ++c) obs[i++] = target[c] / 10;
+    obs[i++] = spec_->football().motion().start_s() - time_s();
+    obs[i++] = s_.touch_body >= 0 ? 1 : 0;
+  }
   for (int k = 0; k < i; ++k) {
     if (!std::isfinite(obs[k])) obs[k] = 0;  // never hand a non-finite number to a policy
   }
 }
 
 void FootballEnv::AppendEpisodeMetrics(std::vector<NamedValue>* out) const {
+  if (spec_->trap()) {
+    AppendTrapMetrics(out);
+    return;
+  }
   const bool success = s_.window_done && s_.score.success;
   out->push_back({"kick_success", success ? 1.0 : 0.0});
   if (success) {

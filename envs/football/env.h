@@ -1,7 +1,11 @@
-// One football environment (task KICK): the humanoid stands on the pitch with a ball at rest or
+// One football environment. Task KICK: the humanoid stands on the pitch with a ball at rest or
 // rolling slowly in front of its right foot and a target velocity for the ball; the PD tracks
 // the scripted kick (kick_motion.h) plus the action's feed-forward torques and, during the
-// kick, the stance balance over the left foot (envs/humanoid/stance_balance.h).
+// kick, the stance balance over the left foot (envs/humanoid/stance_balance.h). Task TRAP: a
+// pass comes in (trap_episode.h) for a designated part; the PD holds the standing pose plus the
+// actions (with the stance balance throughout for the foot and the lower leg); the episode
+// ends settle_s after the first touch (trapped), at the turf first (ground_first), another part
+// first (wrong_part), a fall or the step limit.
 //
 // Control step = `substeps` physics steps. Per substep: stable PD + feed-forward, mj_step, the
 // divergence check, the first touch of the ball by the character (the kicking foot, or another
@@ -39,6 +43,7 @@ struct FootballEnvState {
   KickScore score;                 // valid once window_done
   bool fell = false;
   std::array<float, kNumActions> previous_action{};
+  TrapEpisode trap;                // TRAP only
 };
 
 class FootballSnapshot final : public EnvSnapshot {
@@ -58,11 +63,17 @@ class FootballEnv : public juggle::Env {
   StepResult Step(const float* action, const AdaptiveWalk& walk) override;
   void WriteObservation(float* obs) const override;
   int steps() const override { return s_.steps; }
-  // 1 once the kick's window has been measured as a success (metrics.h), else 0.
-  int completions() const override { return s_.window_done && s_.score.success ? 1 : 0; }
+  // 1 once the kick's window has been measured as a success, or the trap has settled as one
+  // (metrics.h), else 0.
+  int completions() const override;
   mjData* data() override { return data_.get(); }
   const mjData* data() const override { return data_.get(); }
-  // kick_success (0/1), and for a success kick_direction_deviation_deg and
+  // TRAP: trap_success (0/1: the designated part first, before the turf, the ball within reach
+  // settle_s later), trap_touch_before_ground (0/1: any part first, before the turf: seed 002's
+  // own success), trap_handball (a success the arms touched), trap_rbspt_mps (the relative speed
+  // over 5 frames after the first touch, once measured; RBSPT averages successes only), trap_part (config::TrapPart), trap_lob (0/1),
+  // trap_meet_speed_mps, trap_end_distance_m, fell.
+  // KICK: kick_success (0/1), and for a success kick_direction_deviation_deg and
   // kick_speed_deviation_mps; kick_target_speed_mps; kick_speed_mps (the mean measured speed);
   // kick_foot_speed_mps (the kicking foot's speed at the touch), kick_touch_s (when); fell (0/1).
   void AppendEpisodeMetrics(std::vector<NamedValue>* out) const override;
@@ -80,6 +91,10 @@ class FootballEnv : public juggle::Env {
   // football.reference_feedforward: the kick's inverse dynamics at episode time `t`, clamped.
   void AddReferenceFeedforward(double t, double* feedforward);
   void NoteTouches();
+  void ResetKick();
+  // After a control step of the TRAP task: its bookkeeping and outcome.
+  void AfterTrapStep(StepResult* result);
+  void AppendTrapMetrics(std::vector<NamedValue>* out) const;
   bool Diverged() const;
   bool Fallen() const;
 

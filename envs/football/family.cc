@@ -15,9 +15,10 @@ absl::Status ValidateFootball(const config::FootballConfig& f, const SourceLocat
   auto fail = [&](const FieldPath& path, const std::string& rule) {
     return absl::InvalidArgumentError(absl::StrCat(where.Where(path), ": ", rule));
   };
-  if (f.task() != config::KICK) {
-    return fail({{"task"}}, "set the task: KICK (the only football task built so far)");
+  if (f.task() != config::KICK && f.task() != config::TRAP) {
+    return fail({{"task"}}, "set the task: KICK or TRAP");
   }
+  if (f.task() == config::TRAP) return absl::OkStatus();  // the passes: FootballSpec (the model)
   const config::KickTargets& k = f.kick();
   if (k.speed_min_mps() > k.speed_max_mps()) {
     return fail({{"kick"}, {"speed_min_mps"}}, "must be <= kick.speed_max_mps");

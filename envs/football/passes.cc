@@ -84,6 +84,51 @@ Pass LobPassLandingAt(const double landing[2], double heading_rad, double speed,
   p.velocity[2] = vz;
   p.arrival_s = flight;
   p.arrival_speed = std::hypot(horizontal, vz - g * flight);
+  p.meet_s = flight;
+  return p;
+}
+
+absl::StatusOr<Pass> LobPassThrough(const double point[3], double heading_rad, double speed,
+                                    double angle_deg, double launch_height, double ball_radius,
+                                    double g) {
+  const double vz = speed * std::sin(angle_deg * kDeg);
+  const double horizontal = speed * std::cos(angle_deg * kDeg);
+  const double apex = launch_height + vz * vz / (2 * g);
+  if (apex < point[2] + 0.05) {
+    return absl::FailedPreconditionError(absl::StrCat(
+        "a lob at ", speed, " m/s and ", angle_deg, " deg peaks at ", apex,
+        " m, below the meeting point's ", point[2], " m (+0.05)"));
+  }
+  // Coming down: the vertical speed at the landing (centre at ball_radius), then at the point.
+  const double landing_vz = std::sqrt(vz * vz + 2 * g * (launch_height - ball_radius));
+  const double point_vz = std::sqrt(landing_vz * landing_vz - 2 * g * (point[2] - ball_radius));
+  const double before_landing = (landing_vz - point_vz) / g;
+  const double landing[2] = {point[0] + horizontal * before_landing * std::cos(heading_rad),
+                             point[1] + horizontal * before_landing * std::sin(heading_rad)};
+  Pass p = LobPassLandingAt(landing, heading_rad, speed, angle_deg, launch_height, ball_radius, g);
+  p.meet_s = p.arrival_s - before_landing;
+  return p;
+}
+
+Pass AdvancePass(const Pass& pass, double t, double g, double deceleration) {
+  Pass p = pass;
+  if (pass.kind == PassKind::kLob) {
+    for (int c = 0; c < 3; ++c) p.start[c] = pass.start[c] + pass.velocity[c] * t;
+    p.start[2] -= 0.5 * g * t * t;
+    p.velocity[2] = pass.velocity[2] - g * t;
+  } else {
+    const double v0 = std::hypot(pass.velocity[0], pass.velocity[1]);
+    if (v0 > 0) {
+      const double travelled = v0 * t - 0.5 * deceleration * t * t;
+      const double v = v0 - deceleration * t;
+      for (int c = 0; c < 2; ++c) {
+        p.start[c] = pass.start[c] + pass.velocity[c] / v0 * travelled;
+        p.velocity[c] = pass.velocity[c] / v0 * v;
+      }
+    }
+  }
+  p.arrival_s = pass.arrival_s - t;
+  p.meet_s = pass.meet_s - t;
   return p;
 }
 
@@ -94,6 +139,7 @@ Pass GroundPassArrivingAt(const double aim[2], double heading_rad, double arriva
   Pass p = Toward(PassKind::kGround, aim, heading_rad, distance, v0, ball_radius, ball_radius);
   p.arrival_s = deceleration > 0 ? (v0 - arrival_speed) / deceleration : distance / v0;
   p.arrival_speed = arrival_speed;
+  p.meet_s = p.arrival_s;
   return p;
 }
 

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "absl/status/status.h"
+#include "absl/status/statusor.h"
 #include "common/rng.h"
 
 namespace juggle::football {
@@ -45,6 +46,8 @@ struct Pass {
   double target[3] = {0, 0, 0};    // lob: the landing point; ground: the aim point
   double arrival_s = 0;            // when it lands (lob) or reaches the aim point (ground)
   double arrival_speed = 0;        // m/s at that moment
+  // When the ball's centre passes the pass's meeting point (LobPassThrough; else arrival_s).
+  double meet_s = 0;
 };
 
 // A lob launched at `speed` m/s, `angle_deg` above the horizontal, from `launch_height`, that
@@ -60,6 +63,18 @@ Pass LobPassLandingAt(const double landing[2], double heading_rad, double speed,
 // velocity only; envs set the spin).
 Pass GroundPassArrivingAt(const double aim[2], double heading_rad, double arrival_speed,
                           double distance, double deceleration, double ball_radius);
+
+// A lob launched as LobPassLandingAt's whose centre comes down through `point` (x, y, z; z at
+// least the ball radius) on its way to the landing beyond it. FAILED_PRECONDITION when the
+// flight's apex does not reach point[2] (with 0.05 m to spare).
+absl::StatusOr<Pass> LobPassThrough(const double point[3], double heading_rad, double speed,
+                                    double angle_deg, double launch_height, double ball_radius,
+                                    double g);
+
+// The pass `t` seconds after its start (0 <= t <= arrival_s): start and velocity moved along
+// the flight (a lob: free fall; a ground pass: the roll slowing at `deceleration`), the times
+// shortened by t.
+Pass AdvancePass(const Pass& pass, double t, double g, double deceleration);
 
 // One pass drawn from `ranges` (REQUIRES: ValidatePassRanges ok).
 Pass SamplePass(const PassRanges& ranges, double ball_radius, double g, double deceleration,

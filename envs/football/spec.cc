@@ -1,5 +1,6 @@
 #include "envs/football/spec.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
@@ -96,6 +97,17 @@ absl::StatusOr<std::shared_ptr<const FootballSpec>> FootballSpec::Build(const Lo
   mju_copy(d->qpos, pose.data(), humanoid::kCharacterNq);
   mj_kinematics(model, d.get());
   mju_copy3(spec->kick_foot_standing_, d->geom_xpos + 3 * spec->kick_foot_geom_);
+  absl::StatusOr<TrapBodies> trap = ResolveTrapBodies(model, pose.data(), f.trap(), where);
+  if (!trap.ok()) return trap.status();
+  spec->trap_bodies_ = *std::move(trap);
+  if (f.task() == config::TRAP) {
+    double highest = 0;
+    for (config::TrapPart p : LobParts(f.trap())) {
+      highest = std::max(highest, LobMeetingHeight(spec->trap_bodies_, p));
+    }
+    RETURN_IF_ERROR(ValidateTrapPasses(f.trap(), where, highest, spec->ball_.radius,
+                                       -model->opt.gravity[2]));
+  }
   spec->SetFingerprint(f.SerializeAsString());
   return std::shared_ptr<const FootballSpec>(std::move(spec));
 }
@@ -105,9 +117,18 @@ std::string FootballSpec::EvaluationLine(
   FootballMetrics metrics;
   for (const std::vector<NamedValue>& episode : episode_metrics) {
     KickScore kick;
-    bool attempted = false;
+    TrapScore trap;
+    bool attempted = false, trapped = false;
     for (const NamedValue& v : episode) {
-      if (v.name == "kick_success") {
+      if (v.name == "trap_success") {
+        trapped = true;
+        trap.success = v.value > 0.5;
+      } else if (v.name == "trap_handball") {
+        trap.handball = v.value > 0.5;
+      } else if (v.name == "trap_rbspt_mps") {
+        trap.relative_speed = v.value;
+        trap.measured_speed = true;
+      } else if (v.name == "kick_success") {
         attempted = true;
         kick.success = v.value > 0.5;
       } else if (v.name == "kick_direction_deviation_deg") {
@@ -117,6 +138,7 @@ std::string FootballSpec::EvaluationLine(
       }
     }
     if (attempted) metrics.Add(kick);
+    if (trapped) metrics.Add(trap);
   }
   return metrics.SummaryLine();
 }

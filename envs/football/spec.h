@@ -14,6 +14,7 @@
 #include "common/config_loader.h"
 #include "envs/env.h"
 #include "envs/football/pitch.h"
+#include "envs/football/trap_episode.h"
 #include "envs/humanoid/humanoid.h"
 #include "envs/mujoco_model.h"
 
@@ -45,7 +46,7 @@ class FootballSpec : public EnvSpec {
   const mjModel* model() const override { return model_.get(); }
   std::vector<std::string> outcome_names() const override;
   std::unique_ptr<Env> NewEnv(Rng rng) const override;
-  // PhysicsFC's metrics over the episodes' kick metrics (metrics.h): "ksr=... kdd_deg=...".
+  // PhysicsFC's metrics over the episodes' trap and kick metrics (metrics.h): "tsr=... ksr=...".
   std::string EvaluationLine(
       const std::vector<std::vector<NamedValue>>& episode_metrics) const override;
 
@@ -60,6 +61,9 @@ class FootballSpec : public EnvSpec {
   int kick_foot_body() const { return kick_foot_body_; }
   int kick_foot_geom() const { return kick_foot_geom_; }
   const double* kick_foot_standing() const { return kick_foot_standing_; }
+  // The TRAP task's parts and arms (trap_episode.h).
+  const TrapBodies& trap_bodies() const { return trap_bodies_; }
+  bool trap() const { return football().task() == config::TRAP; }
 
  private:
   FootballSpec(LoadedConfig config, MjModelPtr model);
@@ -73,6 +77,7 @@ class FootballSpec : public EnvSpec {
   CharacterPose standing_{};
   int root_body_ = -1, kick_foot_body_ = -1, kick_foot_geom_ = -1;
   double kick_foot_standing_[3] = {0, 0, 0};
+  TrapBodies trap_bodies_;
 };
 
 }  // namespace juggle::football

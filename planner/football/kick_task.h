@@ -58,8 +58,9 @@ class FootballKickTask final : public PlanningTask {
   SearchSpace rescue_space_;
 };
 
-// OK, or INVALID_ARGUMENT "file:line:col: <field>: ..." for a football run the task cannot plan:
-// a horizon longer than the episode, body_actions that name no joint, kick variables off.
+// OK, or INVALID_ARGUMENT "file:line:col: <field>: ..." for a football run the planner cannot
+// plan: a horizon longer than the episode; for KICK, body_actions that name no joint, kick
+// variables off (TRAP: trap_task.h).
 absl::Status ValidateFootballTask(const LoadedConfig& config);
 
 }  // namespace juggle::planner

@@ -1,0 +1,271 @@
+#include "planner/football/trap_task.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "absl/strings/str_format.h"
+#include "envs/football/env.h"
+#include "envs/football/outcomes.h"
+#include "envs/humanoid/pose.h"
+#include "planner/pose_action.h"
+
+namespace juggle::planner {
+namespace {
+
+using football::FootballEnv;
+using football::TrapEpisode;
+
+// Steps a horizon may run on to record the relative speed's frames after a touch.
+constexpr int kRunOnSteps = football::kRelativeSpeedFrames;
+// How far the ball's path is followed past the horizon (s) and how finely.
+constexpr double kPathSeconds = 1.0, kPathStep = 0.01;
+// The keep term's scale: reach × (metres beyond trap.reach_m at the trap's end / kKeepScale)².
+constexpr double kKeepScale = 0.5;
+
+const FootballEnv& AsFootballEnv(const Env& env) { return static_cast<const FootballEnv&>(env); }
+
+double Smoothstep(double u) {
+  u = std::clamp(u, 0.0, 1.0);
+  return u * u * (3 - 2 * u);
+}
+
+// The designated part's centre now.
+const double* PartCentre(const FootballEnv& e) {
+  return e.data()->geom_xpos + 3 * e.spec().trap_bodies().geom[e.state().trap.part];
+}
+
+double SurfaceGap(const FootballEnv& e, const double* ball) {
+  const double* part = PartCentre(e);
+  const double d[3] = {ball[0] - part[0], ball[1] - part[1], ball[2] - part[2]};
+  return mju_norm3(d) - e.spec().ball().radius - e.spec().trap_bodies().surface[e.state().trap.part];
+}
+
+// The ball's free path from its state in `e`: a step of `dt` seconds of flight above the turf,
+// or of roll (slowing) on it, ignoring everything else.
+struct FreeBall {
+  double p[3], v[3];
+  double g, r, roll;
+
+  explicit FreeBall(const FootballEnv& e) {
+    const football::FootballSpec& spec = e.spec();
+    mju_copy3(p, e.data()->qpos + spec.ball().qpos);
+    mju_copy3(v, e.data()->qvel + spec.ball().dof);
+    g = -spec.model()->opt.gravity[2];
+    r = spec.ball().radius;
+    roll = football::RollingDeceleration(spec.model(), spec.ball());
+  }
+
+  void Step(double dt) {
+    if (p[2] > r + 0.01 || v[2] > 0) {
+      for (int c = 0; c < 3; ++c) p[c] += v[c] * dt;
+      p[2] -= 0.5 * g * dt * dt;
+      v[2] -= g * dt;
+      if (p[2] < r) p[2] = r;
+      return;
+    }
+    const double speed = std::hypot(v[0], v[1]);
+    if (speed < 1e-3) return;
+    const double slower = std::max(0.0, speed - roll * dt) / speed;
+    for (int c = 0; c < 2; ++c) {
+      p[c] += v[c] * dt;
+      v[c] *= slower;
+    }
+    v[2] = 0;
+  }
+};
+
+// The part's closest approach to the ball's free path from now on, with the part where it is.
+double PathGap(const FootballEnv& e) {
+  FreeBall ball(e);
+  double best = SurfaceGap(e, ball.p);
+  for (double t = 0; t < kPathSeconds; t += kPathStep) {
+    ball.Step(kPathStep);
+    best = std::min(best, SurfaceGap(e, ball.p));
+  }
+  return best;
+}
+
+// How far the ball's free path takes it from the root, horizontally (m), by the trap's end
+// (settle_s after the first touch; REQUIRES a touch).
+double DistanceAtSettle(const FootballEnv& e) {
+  const TrapEpisode& t = e.state().trap;
+  FreeBall ball(e);
+  const double end = t.first_touch_s + e.spec().football().trap().settle_s();
+  for (double now = e.data()->time; now < end - 1e-9; now += kPathStep) {
+    ball.Step(std::min(kPathStep, end - now));
+  }
+  return std::hypot(ball.p[0] - e.data()->qpos[0], ball.p[1] - e.data()->qpos[1]);
+}
+
+class TrapScorer final : public RolloutScorer {
+ public:
+  TrapScorer(const config::FootballPlanning& s, int horizon) : s_(s), horizon_(horizon) {}
+
+  void Begin(const Env& env) override {
+    const TrapEpisode& t = AsFootballEnv(env).state().trap;
+    touched_at_begin_ = t.first_body >= 0;
+    arms_at_begin_ = t.arms_touched;
+    frames_at_begin_ = static_cast<int>(t.attempt.relative_speed_after_touch.size());
+  }
+
+  void AfterStep(const Env& env, const float*, const StepResult& r) override {
+    const FootballEnv& e = AsFootballEnv(env);
+    ++steps_;
+    if (!touched_at_begin_ && e.state().trap.first_body < 0) {
+      closest_gap_ = std::min(closest_gap_, SurfaceGap(e, e.data()->qpos + e.spec().ball().qpos));
+    }
+    if (r.outcome == football::kGroundFirst || r.outcome == football::kWrongPart) {
+      miss_ = s_.trap().miss() * (1 + std::max(0.0, closest_gap_) / s_.trap().reach_scale_m());
+    } else if (r.outcome == football::kFell || r.outcome == Outcome::kDiverged) {
+      failure_ = s_.failure() * (2.0 - static_cast<double>(std::min(steps_, horizon_)) / horizon_);
+    }
+  }
+
+  double Finish(const Env& env) override {
+    const FootballEnv& e = AsFootballEnv(env);
+    const TrapEpisode& t = e.state().trap;
+    const config::TrapPlanning& p = s_.trap();
+    if (t.first_body < 0 && miss_ == 0 && failure_ == 0) {
+      const double gap = std::max(0.0, std::min(closest_gap_, PathGap(e)));
+      reach_ = p.reach() * std::pow(gap / p.reach_scale_m(), 2);
+    }
+    const std::vector<double>& speeds = t.attempt.relative_speed_after_touch;
+    if (t.first_body >= 0 && t.first_body == e.spec().trap_bodies().body[t.part] &&
+        static_cast<int>(speeds.size()) > frames_at_begin_) {
+      double sum = 0;
+      for (double v : speeds) sum += v;
+      scored_ = true;
+      relative_ = sum / speeds.size();
+      relative_term_ = p.relative_speed() * std::pow(relative_ / p.relative_speed_scale_mps(), 2);
+      // Whether the ball will still be within reach when the trap ends.
+      const double beyond = (t.settled ? t.end_distance_m : DistanceAtSettle(e)) -
+                            e.spec().football().trap().reach_m();
+      if (beyond > 0) keep_ = p.reach() * std::pow(beyond / kKeepScale, 2);
+    }
+    if (t.arms_touched && !arms_at_begin_) handball_ = p.handball();
+    const mjData* d = e.data();
+    const double upright[4] = {M_SQRT1_2, M_SQRT1_2, 0, 0};
+    const double dot = mju_dot(d->qpos + 3, upright, 4);
+    upright_ = s_.upright() * std::pow(std::max(0.0, 1 - dot * dot) / 0.01, 2);
+    return partial();
+  }
+
+  double partial() const override {
+    return reach_ + relative_term_ + keep_ + miss_ + handball_ + failure_ + upright_;
+  }
+
+  bool RunsOn(const Env& env) const override {
+    const TrapEpisode& t = AsFootballEnv(env).state().trap;
+    return t.first_body >= 0 && !t.settled &&
+           static_cast<int>(t.attempt.relative_speed_after_touch.size()) <
+               football::kRelativeSpeedFrames;
+  }
+
+  std::vector<double> first_outcome() const override {
+    if (!scored_ || touched_at_begin_) return {};
+    return {relative_};
+  }
+
+  std::vector<double> terms() const override {
+    return {reach_, relative_term_, keep_, miss_, handball_, failure_, upright_};
+  }
+
+ private:
+  const config::FootballPlanning& s_;
+  int horizon_;
+  int steps_ = 0, frames_at_begin_ = 0;
+  bool touched_at_begin_ = false, arms_at_begin_ = false, scored_ = false;
+  double closest_gap_ = std::numeric_limits<double>::infinity();
+  double relative_ = 0;
+  double reach_ = 0, relative_term_ = 0, keep_ = 0, miss_ = 0, handball_ = 0, failure_ = 0;
+  double upright_ = 0;
+};
+
+}  // namespace
+
+void TrapReachPose(const football::FootballSpec& spec, const double* theta, double meet_s,
+                   double t, double ramp_s, humanoid::CharacterPose* pose) {
+  *pose = spec.standing_pose();
+  const double reached = meet_s + theta[0];
+  const double w = t <= reached ? Smoothstep((t - (reached - ramp_s)) / ramp_s)
+                                : 1 - theta[8] * Smoothstep((t - reached) / ramp_s);
+  if (w <= 0) return;
+  const humanoid::Joints& joints = spec.joints();
+  // Flexion about z and abduction about x (−x moves the right limb outward), as the kick's; the
+  // trunk's lean flexes both hips (with the feet on the turf it tilts the pelvis forward).
+  const double lean = w * theta[5];
+  const double right_hip[3] = {-w * theta[2], 0, w * theta[1] + lean};
+  humanoid::SetBallJointRotation(joints, humanoid::kRightHip, right_hip, pose);
+  const double left_hip[3] = {0, 0, lean};
+  humanoid::SetBallJointRotation(joints, humanoid::kLeftHip, left_hip, pose);
+  humanoid::SetHinge(joints, humanoid::kRightKnee, -w * theta[3], pose);
+  const double ankle[3] = {0, 0, w * theta[4]};
+  humanoid::SetBallJointRotation(joints, humanoid::kRightAnkle, ankle, pose);
+  const double chest[3] = {0, 0, w * theta[6]};
+  humanoid::SetBallJointRotation(joints, humanoid::kChest, chest, pose);
+  const double neck[3] = {0, 0, w * theta[7]};
+  humanoid::SetBallJointRotation(joints, humanoid::kNeck, neck, pose);
+}
+
+FootballTrapTask::FootballTrapTask(std::shared_ptr<const football::FootballSpec> spec,
+                                   const config::PlannerConfig& config)
+    : spec_(std::move(spec)), settings_(config.football()), horizon_(config.horizon_steps()) {
+  const config::TrapPlanning& p = settings_.trap();
+  space_.lower = {-p.timing_limit_s()};
+  space_.upper = {p.timing_limit_s()};
+  space_.sigma = {p.timing_sigma_s()};
+  for (int v = 1; v < kTrapVariables - 1; ++v) {
+    space_.lower.push_back(-p.angle_limit());
+    space_.upper.push_back(p.angle_limit());
+    space_.sigma.push_back(p.angle_sigma());
+  }
+  // The give: the share of the reach taken back after it (a cushion), in [0, 1].
+  space_.lower.push_back(0);
+  space_.upper.push_back(1);
+  space_.sigma.push_back(0.3);
+}
+
+int FootballTrapTask::max_run_on_steps() const { return kRunOnSteps; }
+
+void FootballTrapTask::Action(const Env& env, const double* theta, PlanClock, const double* prior,
+                              float* action) const {
+  const FootballEnv& e = AsFootballEnv(env);
+  double a[football::kNumActions] = {0};
+  if (prior != nullptr) std::copy_n(prior, football::kNumActions, a);
+  humanoid::CharacterPose to;
+  TrapReachPose(*spec_, theta, e.state().trap.pass.meet_s, e.time_s(), settings_.trap().ramp_s(),
+                &to);
+  AddPoseChangeAction(spec_->joints(), spec_->standing_pose(), to,
+                      spec_->football().action_torque(), a);
+  for (int i = 0; i < football::kNumActions; ++i) {
+    action[i] = static_cast<float>(std::clamp(a[i], -1.0, 1.0));
+  }
+}
+
+std::unique_ptr<RolloutScorer> FootballTrapTask::NewScorer() const {
+  return std::make_unique<TrapScorer>(settings_, horizon_);
+}
+
+std::vector<std::string> FootballTrapTask::term_names() const {
+  return {"reach", "relative_speed", "keep", "miss", "handball", "failure", "upright"};
+}
+
+std::vector<std::string> FootballTrapTask::outcome_names() const { return {"relative_mps"}; }
+
+const float* FootballTrapTask::AppliedAction(const Env& env) const {
+  return AsFootballEnv(env).state().previous_action.data();
+}
+
+std::string FootballTrapTask::DescribeDecision(const std::vector<double>& d,
+                                               const std::vector<double>& outcome) const {
+  if (d.size() != kTrapVariables) return "";
+  std::string out = absl::StrFormat(
+      "  reach %+.0f ms hip %+.2f abd %+.2f knee %+.2f ankle %+.2f lean %+.2f chest %+.2f neck %+.2f "
+      "give %.2f",
+      d[0] * 1000, d[1], d[2], d[3], d[4], d[5], d[6], d[7], d[8]);
+  if (outcome.size() == 1) absl::StrAppendFormat(&out, "  trap: relative %.2f m/s", outcome[0]);
+  return out;
+}
+
+}  // namespace juggle::planner

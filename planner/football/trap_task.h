@@ -1,0 +1,75 @@
+// Football's trap as a planning task (planner/planning_task.h; docs/football.md, "The trap by
+// search"; settings: FootballPlanning.trap, proto/planner.proto). One episode of the TRAP task
+// is one trap. A plan is one reach pose around the pass's meeting time — changes of the
+// standing pose's right hip (flexion, abduction), right knee (bend), right ankle (pitch), the
+// trunk's lean (both hips' flexion), chest and neck (pitch), reached with a smoothstep over
+// `ramp_s` that ends `timing` s after the meeting time, then partly taken back (the give, a
+// cushion) — turned into the feed-forward torques that make that change of the PD
+// target (planner/pose_action.h), so a plan is an action sequence a policy could produce. A
+// rollout is scored by the designated part's closest approach to the ball's path before the
+// touch, the ball's speed relative to the root after it (seed 002's RBSPT) and where its free
+// path leaves it at the trap's end against the reach, another part or the turf first, the arms, a fall and the root's tilt. Immutable; thread-safe.
+#ifndef JUGGLE_PLANNER_FOOTBALL_TRAP_TASK_H_
+#define JUGGLE_PLANNER_FOOTBALL_TRAP_TASK_H_
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/config_loader.h"
+#include "envs/football/spec.h"
+#include "planner/planning_task.h"
+#include "proto/planner.pb.h"
+
+namespace juggle::planner {
+
+// timing (s), right hip flexion, right hip abduction, right knee bend, right ankle pitch, trunk
+// lean (both hips' flexion), chest pitch, neck pitch (rad), give (the share of the changes taken
+// back after the reach, in [0, 1]: a cushion).
+constexpr int kTrapVariables = 9;
+
+// The reach pose of plan `theta` (kTrapVariables values) at episode time `t` for a pass that
+// meets its point at `meet_s`: the standing pose plus w × the changes, w rising as
+// smoothstep((t − (reach − ramp_s)) / ramp_s) up to reach = meet_s + timing, then falling as
+// 1 − give × smoothstep((t − reach) / ramp_s).
+void TrapReachPose(const football::FootballSpec& spec, const double* theta, double meet_s,
+                   double t, double ramp_s, humanoid::CharacterPose* pose);
+
+class FootballTrapTask final : public PlanningTask {
+ public:
+  // REQUIRES: `config` passed ValidateFootballTask for a TRAP config of `spec`.
+  FootballTrapTask(std::shared_ptr<const football::FootballSpec> spec,
+                   const config::PlannerConfig& config);
+
+  std::string family() const override { return "football"; }
+  const SearchSpace& space() const override { return space_; }
+  const SearchSpace& rescue_space() const override { return space_; }
+  int horizon() const override { return horizon_; }
+  int max_run_on_steps() const override;
+  std::vector<double> Shift(const std::vector<double>& theta, int grid_steps,
+                            int cycles) const override {
+    return theta;  // one reach per episode, on the episode's clock
+  }
+  void Action(const Env& env, const double* theta, PlanClock clock, const double* prior,
+              float* action) const override;
+  std::unique_ptr<RolloutScorer> NewScorer() const override;
+  // reach, relative_speed, keep (the ball's free path beyond trap.reach_m at the trap's end),
+  // miss, handball, failure, upright.
+  std::vector<std::string> term_names() const override;
+  // The designated part's touch: the mean relative speed over the frames recorded (m/s).
+  std::vector<std::string> outcome_names() const override;
+  const float* AppliedAction(const Env& env) const override;
+  int decision_size() const override { return kTrapVariables; }
+  std::string DescribeDecision(const std::vector<double>& decision,
+                               const std::vector<double>& outcome) const override;
+
+ private:
+  std::shared_ptr<const football::FootballSpec> spec_;
+  config::FootballPlanning settings_;
+  int horizon_;
+  SearchSpace space_;
+};
+
+}  // namespace juggle::planner
+
+#endif  // JUGGLE_PLANNER_FOOTBALL_TRAP_TASK_H_

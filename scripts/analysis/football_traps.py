@@ -1,0 +1,68 @@
+#!/usr/bin/env python3
+"""PhysicsFC's trap metrics from `juggle eval --json` lines of the football TRAP task, overall,
+for lobs and ground passes, and by designated part (docs/football.md, "The trap by search").
+
+    scripts/analysis/football_traps.py traps.jsonl
+
+Per group: attempts; TSR as issue 45 defines it (the designated part first, before the turf, the
+ball within reach afterwards: trap_success); seed 002's own TSR (any part first, before the
+turf: trap_touch_before_ground); HRTS (successes the arms touched / successes); RBSPT (mean
+relative speed over successes, m/s); the ball's speed at the meeting point; falls. Reads only
+"table": "episode" lines.
+"""
+import argparse
+import json
+import math
+import sys
+
+PARTS = {1: 'foot', 2: 'lower_leg', 3: 'torso', 4: 'head'}
+
+
+def load(path):
+    with open(path) as f:
+        rows = [json.loads(line) for line in f if line.strip()]
+    return [r for r in rows if r.get('table') == 'episode' and 'trap_success' in r]
+
+
+def summarize(rows):
+    ok = [r for r in rows if r['trap_success'] > 0.5]
+    mean = lambda xs: sum(xs) / len(xs) if xs else math.nan
+    return {
+        'n': len(rows),
+        'tsr': len(ok) / len(rows) if rows else math.nan,
+        'tsr_any': mean([r['trap_touch_before_ground'] for r in rows]),
+        'hrts': mean([r.get('trap_handball', 0) for r in ok]),
+        'rbspt': mean([r['trap_rbspt_mps'] for r in ok if 'trap_rbspt_mps' in r]),
+        'meet_speed': mean([r['trap_meet_speed_mps'] for r in rows]),
+        'falls': sum(1 for r in rows if r.get('fell', 0) > 0.5),
+    }
+
+
+def row(label, s):
+    return (f"{label:<12} {s['n']:>5} {s['tsr']:>6.3f} {s['tsr_any']:>8.3f} {s['hrts']:>6.3f} "
+            f"{s['rbspt']:>7.2f} {s['meet_speed']:>7.2f} {s['falls']:>5}")
+
+
+def main(argv):
+    p = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    p.add_argument('jsonl')
+    a = p.parse_args(argv)
+    rows = load(a.jsonl)
+    if not rows:
+        sys.exit(f'{a.jsonl}: no football trap episodes (run juggle eval --json on a TRAP config)')
+    print(f"{'passes':<12} {'n':>5} {'tsr':>6} {'tsr_any':>8} {'hrts':>6} {'rbspt':>7} "
+          f"{'meet':>7} {'falls':>5}")
+    print(row('all', summarize(rows)))
+    lobs = [r for r in rows if r['trap_lob'] > 0.5]
+    ground = [r for r in rows if r['trap_lob'] <= 0.5]
+    for label, group in (('lob', lobs), ('ground', ground)):
+        if group:
+            print(row(label, summarize(group)))
+    for part, name in PARTS.items():
+        group = [r for r in lobs if int(r['trap_part']) == part]
+        if group:
+            print(row(f'lob:{name}', summarize(group)))
+
+
+if __name__ == '__main__':
+    main(sys.argv[1:])

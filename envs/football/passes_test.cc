@@ -139,5 +139,38 @@ TEST(PassSamplingTest, BadRangesAreRefusedNamingTheField) {
   EXPECT_THAT(std::string(ValidatePassRanges(r).message()), HasSubstr("launch_height"));
 }
 
+TEST(PassThroughTest, ALobComesDownThroughItsPointAndAdvancingMovesAlongTheFlight) {
+  const double g = 9.81, r = 0.11;
+  const double point[3] = {0.4, -0.1, 1.3};
+  absl::StatusOr<Pass> p = LobPassThrough(point, M_PI + 0.2, 12, 50, 0.13, r, g);
+  ASSERT_TRUE(p.ok()) << p.status();
+  // The analytic flight at meet_s is at the point, coming down, before the landing.
+  const double t = p->meet_s;
+  EXPECT_NEAR(p->start[0] + p->velocity[0] * t, point[0], 1e-9);
+  EXPECT_NEAR(p->start[1] + p->velocity[1] * t, point[1], 1e-9);
+  EXPECT_NEAR(p->start[2] + p->velocity[2] * t - 0.5 * g * t * t, point[2], 1e-9);
+  EXPECT_LT(p->velocity[2] - g * t, 0);
+  EXPECT_LT(p->meet_s, p->arrival_s);
+  // Advanced to the meeting, the pass starts at the point; its times shrink by as much.
+  const Pass at = AdvancePass(*p, t, g, 0.9);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(at.start[c], point[c], 1e-9) << c;
+  EXPECT_NEAR(at.meet_s, 0, 1e-12);
+  EXPECT_NEAR(at.arrival_s, p->arrival_s - t, 1e-12);
+  // A point above the flight's apex is refused.
+  const double high[3] = {0.4, 0, 20};
+  EXPECT_EQ(LobPassThrough(high, M_PI, 12, 50, 0.13, r, g).status().code(),
+            absl::StatusCode::kFailedPrecondition);
+}
+
+TEST(PassThroughTest, AdvancingAGroundPassRollsItToItsAimAtItsArrivalSpeed) {
+  const double aim[2] = {0.4, 0.1};
+  const Pass p = GroundPassArrivingAt(aim, M_PI + 0.3, 3, 12, 0.9, 0.11);
+  const Pass at = AdvancePass(p, p.arrival_s, 9.81, 0.9);
+  EXPECT_NEAR(at.start[0], aim[0], 1e-9);
+  EXPECT_NEAR(at.start[1], aim[1], 1e-9);
+  EXPECT_NEAR(std::hypot(at.velocity[0], at.velocity[1]), 3, 1e-9);
+  EXPECT_NEAR(at.start[2], 0.11, 1e-12);
+}
+
 }  // namespace
 }  // namespace juggle::football

@@ -97,10 +97,10 @@ absl::StatusOr<std::shared_ptr<const FootballSpec>> FootballSpec::Build(const Lo
   mju_copy(d->qpos, pose.data(), humanoid::kCharacterNq);
   mj_kinematics(model, d.get());
   mju_copy3(spec->kick_foot_standing_, d->geom_xpos + 3 * spec->kick_foot_geom_);
-  absl::StatusOr<TrapBodies> trap = ResolveTrapBodies(model, pose.data(), f.trap(), where);
-  if (!trap.ok()) return trap.status();
-  spec->trap_bodies_ = *std::move(trap);
   if (f.task() == config::TRAP) {
+    absl::StatusOr<TrapBodies> trap = ResolveTrapBodies(model, pose.data(), f.trap(), where);
+    if (!trap.ok()) return trap.status();
+    spec->trap_bodies_ = *std::move(trap);
     double highest = 0;
     for (config::TrapPart p : LobParts(f.trap())) {
       highest = std::max(highest, LobMeetingHeight(spec->trap_bodies_, p));

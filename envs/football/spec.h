@@ -61,7 +61,7 @@ class FootballSpec : public EnvSpec {
   int kick_foot_body() const { return kick_foot_body_; }
   int kick_foot_geom() const { return kick_foot_geom_; }
   const double* kick_foot_standing() const { return kick_foot_standing_; }
-  // The TRAP task's parts and arms (trap_episode.h).
+  // The TRAP task's parts and arms (trap_episode.h; empty for KICK).
   const TrapBodies& trap_bodies() const { return trap_bodies_; }
   bool trap() const { return football().task() == config::TRAP; }
 

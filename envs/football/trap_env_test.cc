@@ -2,9 +2,12 @@
 // analytic flight that comes down through its meeting point (within the integrator's error) in
 // front of the designated part; ground passes go to the foot; snapshots restore bit for bit
 // through a touch; a ball dropped on the head is a touch by the head, a trap when the head is
-// the designated part and a wrong part otherwise, with the relative speed's frames recorded;
-// config errors name file, line and field.
+// the designated part and a wrong part otherwise, with the relative speed's frames recorded; a
+// lob on the turf first is ground_first; config errors (lobs too weak for the part, ranges out
+// of order, a part the model lacks) name file, line and field.
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -234,6 +237,35 @@ TEST_F(FootballTrapEnvTest, PassesThatCannotReachThePartAreRefusedNamingFileLine
   spec = CreateEnvSpec(*c);
   ASSERT_FALSE(spec.ok());
   EXPECT_THAT(std::string(spec.status().message()), StartsWith(Loc(path2, reversed, "meet_ahead_min_m")));
+}
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST_F(FootballTrapEnvTest, ADesignatedPartTheModelLacksIsRefusedNamingFileLineAndField) {
+  // The pitch with the head's geom renamed, in the test's temp folder.
+  std::string humanoid = ReadFile(RepoPath("configs/models/humanoid.xml"));
+  const size_t at = humanoid.find("name=\"head\"");
+  ASSERT_NE(at, std::string::npos);
+  humanoid.replace(at, 11, "name=\"noggin\"");
+  WriteTemp("humanoid.xml", humanoid);
+  WriteTemp("football_ball.xml", ReadFile(RepoPath("configs/models/football_ball.xml")));
+  const std::string pitch = WriteTemp("headless_pitch.xml",
+                                      ReadFile(RepoPath("configs/models/football_pitch.xml")));
+  const std::string text = absl::StrCat("base_config: \"", RepoPath(kShipped),
+                                        "\"\nfootball {\n  model_file: \"", pitch,
+                                        "\"\n  trap {\n    parts: TORSO\n    parts: HEAD\n  }\n}\n");
+  const std::string path = WriteTemp("football_trap_headless.textproto", text);
+  absl::StatusOr<LoadedConfig> c = LoadRunConfig(path);
+  ASSERT_TRUE(c.ok()) << c.status();
+  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*c);
+  ASSERT_FALSE(spec.ok());
+  EXPECT_THAT(std::string(spec.status().message()), StartsWith(Loc(path, text, "parts", 1)));
+  EXPECT_THAT(spec.status().message(), HasSubstr("no geom 'head'"));
 }
 
 }  // namespace

@@ -276,6 +276,7 @@ void FootballEnv::AppendTrapMetrics(std::vector<NamedValue>* out) const {
                       ? 1.0
                       : 0.0});
   if (success) out->push_back({"trap_handball", score.handball ? 1.0 : 0.0});
+  out->push_back({"trap_arms_touched", e.arms_touched ? 1.0 : 0.0});
   if (score.measured_speed) out->push_back({"trap_rbspt_mps", score.relative_speed});
   out->push_back({"trap_part", static_cast<double>(e.part)});
   out->push_back({"trap_lob", e.pass.kind == PassKind::kLob ? 1.0 : 0.0});

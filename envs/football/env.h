@@ -70,9 +70,10 @@ class FootballEnv : public juggle::Env {
   const mjData* data() const override { return data_.get(); }
   // TRAP: trap_success (0/1: the designated part first, before the turf, the ball within reach
   // settle_s later), trap_touch_before_ground (0/1: any part first, before the turf: seed 002's
-  // own success), trap_handball (a success the arms touched), trap_rbspt_mps (the relative speed
-  // over 5 frames after the first touch, once measured; RBSPT averages successes only), trap_part (config::TrapPart), trap_lob (0/1),
-  // trap_meet_speed_mps, trap_end_distance_m, fell.
+  // own success), trap_handball (a success the arms touched), trap_arms_touched (0/1, any
+  // attempt: HRTS under seed 002's own success), trap_rbspt_mps (the relative speed over 5
+  // frames after the first touch, once measured; RBSPT averages successes only), trap_part
+  // (config::TrapPart), trap_lob (0/1), trap_meet_speed_mps, trap_end_distance_m, fell.
   // KICK: kick_success (0/1), and for a success kick_direction_deviation_deg and
   // kick_speed_deviation_mps; kick_target_speed_mps; kick_speed_mps (the mean measured speed);
   // kick_foot_speed_mps (the kicking foot's speed at the touch), kick_touch_s (when); fell (0/1).

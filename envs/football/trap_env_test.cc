@@ -186,6 +186,7 @@ TEST_F(FootballTrapEnvTest, ABallDroppedOnTheHeadIsATrapForTheHeadAndAWrongPartF
   EXPECT_EQ(Metric(*env, "trap_success"), 1);
   EXPECT_EQ(Metric(*env, "trap_touch_before_ground"), 1);
   EXPECT_EQ(Metric(*env, "trap_handball"), 0);
+  EXPECT_EQ(Metric(*env, "trap_arms_touched"), 0);
   EXPECT_GT(Metric(*env, "trap_rbspt_mps"), 0);
   EXPECT_EQ(env->completions(), 1);
 

@@ -134,7 +134,8 @@ TrapEpisode DrawTrapEpisode(const FootballSpec& spec, Rng& rng) {
                                      t.ground_arrival_speed_max_mps());
   // Spin: a uniformly random axis (z and azimuth), a uniform magnitude.
   const double axis_z = rng.Uniform(-1, 1), axis_phi = rng.Uniform(0, 2 * M_PI);
-  const double spin = lob ? rng.Uniform(0, t.spin_max_radps()) : rng.Uniform(0, 0);
+  const double spin_draw = rng.Uniform(0, t.spin_max_radps());  // drawn for every pass
+  const double spin = lob ? spin_draw : 0;
   // The pass travels along −x turned by the incoming bearing; u points back toward its source.
   const double travel = M_PI + incoming * kDeg;
   const double u[2] = {-std::cos(travel), -std::sin(travel)};

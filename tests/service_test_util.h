@@ -10,10 +10,13 @@
 #include <unistd.h>
 #include <fcntl.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <fstream>
 #include <functional>
 #include <optional>
+#include <random>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -90,17 +93,26 @@ inline std::string FindProgram(const std::string& program) {
   return "";
 }
 
+// A loopback port nothing listens on now, drawn below the kernel's ephemeral range
+// (ip_local_port_range): a port the kernel hands out itself can be handed again to any client
+// socket before the server under test binds it (tests/deploy/lib.sh's free_port, same rule).
 inline int FreePort() {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  addr.sin_port = 0;
-  ::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr));
-  socklen_t len = sizeof(addr);
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
-  ::close(fd);
-  return ntohs(addr.sin_port);
+  int ephemeral_low = 32768;
+  if (std::ifstream range("/proc/sys/net/ipv4/ip_local_port_range"); range) range >> ephemeral_low;
+  std::random_device entropy;  // ports only; never seeds anything the tests compare
+  std::uniform_int_distribution<int> draw(10000, std::max(10001, ephemeral_low) - 1);
+  for (int attempt = 0; attempt < 200; ++attempt) {
+    const int port = draw(entropy);
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    addr.sin_port = htons(static_cast<uint16_t>(port));
+    const bool bound = ::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) == 0;
+    ::close(fd);
+    if (bound) return port;
+  }
+  std::abort();  // 200 busy ports in a row: the machine is not one a test can run on
 }
 
 // The value of an unlabelled metric (or a full `name{labels}` series) from /metrics; nullopt

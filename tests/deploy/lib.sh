@@ -33,9 +33,25 @@ metric_at_least() {
   local v; v=$(metric "$1" "$2"); [ -n "$v" ] && awk -v a="$v" -v b="$3" 'BEGIN { exit !(a >= b) }'
 }
 
-# free_port: a TCP port nothing listens on now.
+# free_port: a TCP port nothing listens on now, drawn below the kernel's ephemeral range
+# (ip_local_port_range): a port the kernel hands out itself (bind to 0) can be handed again to
+# any client socket (srun's, slurmd's) before the learner binds it — stop 55's CI failure.
 free_port() {
-  /usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'
+  /usr/bin/python3 - <<'PY'
+import random, socket
+low = int(open("/proc/sys/net/ipv4/ip_local_port_range").read().split()[0])
+for _ in range(200):
+    port = random.randrange(10000, max(low, 10001))
+    s = socket.socket()
+    try:
+        s.bind(("127.0.0.1", port)); print(port); break
+    except OSError:
+        pass
+    finally:
+        s.close()
+else:
+    raise SystemExit("free_port: no free port below %d" % low)
+PY
 }
 
 # make_secrets DIR NAME...: a token, a CA and a learner certificate for the DNS names / IPs

@@ -4,6 +4,7 @@
 #include "absl/strings/str_join.h"
 #include "envs/soccer_juggle/spec.h"
 #include "planner/football/kick_task.h"
+#include "planner/football/trap_kick_task.h"
 #include "planner/football/trap_task.h"
 #include "planner/soccer_juggle/task.h"
 #include "planner/toss/task.h"
@@ -26,6 +27,9 @@ std::shared_ptr<const PlanningTask> MakeTossTask(std::shared_ptr<const EnvSpec> 
 std::shared_ptr<const PlanningTask> MakeFootballTask(std::shared_ptr<const EnvSpec> spec,
                                                      const config::PlannerConfig& config) {
   auto football = std::static_pointer_cast<const football::FootballSpec>(std::move(spec));
+  if (football->trap_kick()) {
+    return std::make_shared<FootballTrapKickTask>(std::move(football), config);
+  }
   if (football->trap()) return std::make_shared<FootballTrapTask>(std::move(football), config);
   return std::make_shared<FootballKickTask>(std::move(football), config);
 }

@@ -7,6 +7,7 @@
 #include "envs/divergence.h"
 #include "envs/football/kick_motion.h"
 #include "envs/football/outcomes.h"
+#include "envs/football/trap_kick.h"
 #include "envs/humanoid/reference_dynamics.h"
 #include "envs/humanoid/stance_balance.h"
 
@@ -60,11 +61,15 @@ void FootballEnv::Reset(const AdaptiveWalk&) {
   s_.previous_action.fill(0.0f);
   s_.kick.touched = false;
   s_.kick.after_touch.clear();
+  s_.kick_origin_s = 0;
+  s_.touch_armed = true;
   if (!spec_->trap()) {
     ResetKick();
     return;
   }
   s_.trap = DrawTrapEpisode(*spec_, s_.rng);
+  s_.kick_origin_s = -1;  // TRAP never kicks; TRAP_KICK kicks after the switch
+  if (spec_->trap_kick()) DrawKickTarget();
   mj_resetData(model_, data_.get());
   s_.reference = spec_->standing_pose();
   mju_copy(data_->qpos, s_.reference.data(), humanoid::kCharacterNq);
@@ -72,10 +77,10 @@ void FootballEnv::Reset(const AdaptiveWalk&) {
   mj_forward(model_, data_.get());
 }
 
-void FootballEnv::ResetKick() {
+void FootballEnv::DrawKickTarget() {
   const config::KickTargets& k = spec_->football().kick();
   Rng& rng = s_.rng;
-  // The target: speed, azimuth off +x, elevation.
+  // Speed, azimuth off +x, elevation.
   const double speed = rng.Uniform(k.speed_min_mps(), k.speed_max_mps());
   const double azimuth = rng.Uniform(-k.azimuth_max_deg(), k.azimuth_max_deg()) * kDegree;
   const double elevation = rng.Uniform(k.elevation_min_deg(), k.elevation_max_deg()) * kDegree;
@@ -83,7 +88,12 @@ void FootballEnv::ResetKick() {
   s_.kick.target_direction[0] = std::cos(elevation) * std::cos(azimuth);
   s_.kick.target_direction[1] = std::cos(elevation) * std::sin(azimuth);
   s_.kick.target_direction[2] = std::sin(elevation);
+}
 
+void FootballEnv::ResetKick() {
+  DrawKickTarget();
+  const config::KickTargets& k = spec_->football().kick();
+  Rng& rng = s_.rng;
   mj_resetData(model_, data_.get());
   s_.reference = spec_->standing_pose();
   mju_copy(data_->qpos, s_.reference.data(), humanoid::kCharacterNq);
@@ -140,6 +150,10 @@ void FootballEnv::AddReferenceFeedforward(double t, double* feedforward) {
 
 void FootballEnv::NoteTouches() {
   if (s_.touch_body >= 0) return;
+  if (!s_.touch_armed) {
+    s_.touch_armed = !BallTouchesCharacter(*spec_, data_.get());
+    return;
+  }
   const int ball_geom = spec_->ball().geom;
   for (int i = 0; i < data_->ncon; ++i) {
     const mjContact& c = data_->contact[i];
@@ -159,8 +173,9 @@ void FootballEnv::NoteTouches() {
 
 StepResult FootballEnv::Step(const float* action, const AdaptiveWalk&) {
   const config::FootballConfig& f = spec_->football();
-  const double t = time_s();
-  const bool trap = spec_->trap();
+  // The trap's phase (TRAP, TRAP_KICK before the switch) or the kick's (on the kick's clock).
+  const bool trap = !kicking();
+  const double t = trap ? time_s() : kick_time_s();
   if (!trap) KickReferencePose(*spec_, t, {}, &s_.reference);
   double feedforward[humanoid::kCharacterNv] = {0};
   const double unit = f.action_torque();
@@ -171,14 +186,20 @@ StepResult FootballEnv::Step(const float* action, const AdaptiveWalk&) {
           std::clamp(static_cast<double>(action[joint.dof_adr + d - 6]), -1.0, 1.0);
     }
   }
-  if (id_data_ != nullptr) AddReferenceFeedforward(t, feedforward);
+  if (id_data_ != nullptr && !trap) AddReferenceFeedforward(t, feedforward);
   const KickTimes kick = KickTimesOf(f.motion(), {});
-  const bool balance =
-      trap ? s_.trap.part == config::FOOT || s_.trap.part == config::LOWER_LEG
-           : t >= kick.start && t < kick.end;
-  if (f.has_stance_balance() && balance) {
+  // One stance (the left foot) for TRAP's traps with the right leg and during the kick;
+  // TRAP_KICK stands on both feet otherwise (it stands for seconds: the PD alone tips the
+  // character over after about 1.4 s).
+  const bool one_foot = trap ? f.task() == config::TRAP && (s_.trap.part == config::FOOT ||
+                                                            s_.trap.part == config::LOWER_LEG)
+                             : t >= kick.start && t < kick.end;
+  if (f.has_stance_balance() && one_foot) {
     humanoid::AddStanceBalance(spec_->joints(), f.stance_balance(), humanoid::Foot::kLeft,
                                spec_->root_body(), unit, model_, data_.get(), feedforward);
+  } else if (f.has_stance_balance() && spec_->trap_kick()) {
+    humanoid::AddDoubleStanceBalance(spec_->joints(), f.stance_balance(), spec_->root_body(), unit,
+                                     model_, data_.get(), feedforward);
   }
   for (int a = 0; a < kNumActions; ++a) s_.previous_action[a] = std::clamp(action[a], -1.0f, 1.0f);
 
@@ -201,9 +222,20 @@ StepResult FootballEnv::Step(const float* action, const AdaptiveWalk&) {
   }
   ++s_.steps;
   if (trap) {
-    AfterTrapStep(&result);
+    if (spec_->trap_kick()) {
+      AfterTrapKickTrapStep(&result);
+    } else {
+      AfterTrapStep(&result);
+    }
     return result;
   }
+  AfterKickStep(touched_before, &result);
+  return result;
+}
+
+void FootballEnv::AfterKickStep(bool touched_before, StepResult* out) {
+  const config::FootballConfig& f = spec_->football();
+  StepResult& result = *out;
   if (result.outcome == Outcome::kRunning && s_.touch_body >= 0) {
     if (!touched_before && !s_.kick.touched) result.outcome = kWrongTouch;
     const double since = data_->time - s_.touch_time_s;
@@ -232,10 +264,10 @@ StepResult FootballEnv::Step(const float* action, const AdaptiveWalk&) {
   if (result.outcome == Outcome::kRunning && s_.steps >= f.max_episode_steps()) {
     result.outcome = Outcome::kTimeLimit;
   }
-  return result;
 }
 
 int FootballEnv::completions() const {
+  if (spec_->trap_kick()) return kicking() && s_.window_done && s_.score.success && !s_.fell;
   if (spec_->trap()) {
     return s_.trap.settled && !s_.fell && ScoreTrap(s_.trap.attempt).success ? 1 : 0;
   }
@@ -266,10 +298,39 @@ void FootballEnv::AfterTrapStep(StepResult* result) {
   }
 }
 
+void FootballEnv::AfterTrapKickTrapStep(StepResult* result) {
+  const config::FootballConfig& f = spec_->football();
+  TrapEpisode& e = s_.trap;
+  if (result->outcome == Outcome::kRunning) {
+    AfterTrapControlStep(*spec_, data_.get(), &e);
+    if (e.turf_before_touch && e.pass.kind == PassKind::kLob) {
+      result->outcome = kGroundFirst;
+    } else if (e.first_body >= 0 && e.first_body != spec_->trap_bodies().body[e.part]) {
+      result->outcome = kWrongPart;
+    } else if (e.first_body >= 0 && BallKickable(*spec_, data_.get())) {
+      s_.kick_origin_s = time_s();  // the kick's clock starts; its touches count from here
+      s_.touch_armed = !BallTouchesCharacter(*spec_, data_.get());
+      if (!e.settled) EndTrap(*spec_, data_.get(), &e);  // the ball is controlled: in the zone
+    } else if (e.first_body >= 0 &&
+               data_->time - e.first_touch_s >= f.trap_kick().wait_s() - 1e-9) {
+      result->outcome = kOutOfReach;
+    }
+  }
+  if (result->outcome == Outcome::kRunning && Fallen()) {
+    s_.fell = true;
+    result->outcome = kFell;
+  }
+  if (result->outcome == Outcome::kRunning && s_.steps >= f.max_episode_steps()) {
+    result->outcome = Outcome::kTimeLimit;
+  }
+}
+
 void FootballEnv::AppendTrapMetrics(std::vector<NamedValue>* out) const {
   const TrapEpisode& e = s_.trap;
   const TrapScore score = ScoreTrap(e.attempt, kRelativeSpeedFrames);
-  const bool success = e.settled && !s_.fell && score.success;
+  // TRAP_KICK: a fall after the switch is the kick's, not the trap's.
+  const bool fell_trapping = s_.fell && !(spec_->trap_kick() && kicking());
+  const bool success = e.settled && !fell_trapping && score.success;
   out->push_back({"trap_success", success ? 1.0 : 0.0});
   out->push_back({"trap_touch_before_ground",
                   e.first_body >= 0 && (e.pass.kind == PassKind::kGround || !e.turf_before_touch)
@@ -287,7 +348,6 @@ void FootballEnv::AppendTrapMetrics(std::vector<NamedValue>* out) const {
                                              ? std::sqrt(v[0] * v[0] + v[1] * v[1] + vz * vz)
                                              : e.pass.arrival_speed});
   if (e.settled) out->push_back({"trap_end_distance_m", e.end_distance_m});
-  out->push_back({"fell", s_.fell ? 1.0 : 0.0});
 }
 
 void FootballEnv::WriteObservation(float* obs) const {
@@ -317,7 +377,7 @@ void FootballEnv::WriteObservation(float* obs) const {
   for (int c = 0; c < 3; ++c) obs[i++] = ball[c] - qpos[c];
   for (int c = 0; c < 3; ++c) obs[i++] = ball_vel[c] / 10;
   for (int c = 0; c < 3; ++c) obs[i++] = ball_vel[3 + c] / 100;
-  if (spec_->trap()) {
+  if (!kicking()) {
     // The designated part (its TrapPart number / 4), the pass's kind, the time to the meeting.
     obs[i++] = static_cast<float>(s_.trap.part) / 4;
     obs[i++] = s_.trap.pass.kind == PassKind::kLob ? 1 : 0;
@@ -328,7 +388,7 @@ void FootballEnv::WriteObservation(float* obs) const {
     double target[3];
     TargetVelocity(target);
     for (int c = 0; c < 3; ++c) obs[i++] = target[c] / 10;
-    obs[i++] = spec_->football().motion().start_s() - time_s();
+    obs[i++] = spec_->football().motion().start_s() - kick_time_s();
     obs[i++] = s_.touch_body >= 0 ? 1 : 0;
   }
   for (int k = 0; k < i; ++k) {
@@ -337,10 +397,17 @@ void FootballEnv::WriteObservation(float* obs) const {
 }
 
 void FootballEnv::AppendEpisodeMetrics(std::vector<NamedValue>* out) const {
-  if (spec_->trap()) {
-    AppendTrapMetrics(out);
-    return;
+  if (spec_->trap()) AppendTrapMetrics(out);
+  if (spec_->trap_kick()) {
+    out->push_back({"trap_kick_switched", kicking() ? 1.0 : 0.0});
+    if (kicking()) out->push_back({"trap_kick_switch_s", s_.kick_origin_s});
+    out->push_back({"trap_kick_success", static_cast<double>(completions())});
   }
+  if (kicking()) AppendKickMetrics(out);
+  out->push_back({"fell", s_.fell ? 1.0 : 0.0});
+}
+
+void FootballEnv::AppendKickMetrics(std::vector<NamedValue>* out) const {
   const bool success = s_.window_done && s_.score.success;
   out->push_back({"kick_success", success ? 1.0 : 0.0});
   if (success) {
@@ -355,7 +422,6 @@ void FootballEnv::AppendEpisodeMetrics(std::vector<NamedValue>* out) const {
     out->push_back({"kick_foot_speed_mps", s_.touch_foot_speed});
     out->push_back({"kick_touch_s", s_.touch_time_s});
   }
-  out->push_back({"fell", s_.fell ? 1.0 : 0.0});
 }
 
 }  // namespace juggle::football

@@ -5,7 +5,11 @@
 // pass comes in (trap_episode.h) for a designated part; the PD holds the standing pose plus the
 // actions (with the stance balance throughout for the foot and the lower leg); the episode
 // ends settle_s after the first touch (trapped), at the turf first (ground_first), another part
-// first (wrong_part), a fall or the step limit.
+// first (wrong_part), a fall or the step limit. Task TRAP_KICK (seed 002's state machine for the
+// two): the trap as TRAP (standing pose plus actions, no balance) until, after the designated
+// part's touch, the ball lies in the kick's zone (trap_kick.h); then the kick as KICK on a clock
+// that starts there (kick_time_s), at a target drawn at the reset; it ends as KICK does, or as
+// a failed trap, or out_of_reach.
 //
 // Control step = `substeps` physics steps. Per substep: stable PD + feed-forward, mj_step, the
 // divergence check, the first touch of the ball by the character (the kicking foot, or another
@@ -43,7 +47,13 @@ struct FootballEnvState {
   KickScore score;                 // valid once window_done
   bool fell = false;
   std::array<float, kNumActions> previous_action{};
-  TrapEpisode trap;                // TRAP only
+  TrapEpisode trap;                // TRAP, TRAP_KICK
+  // Episode time (s) at which the kick's clock starts: 0 for KICK; −1 for TRAP, and for
+  // TRAP_KICK until the switch from the trap.
+  double kick_origin_s = 0;
+  // The kick's first touch counts only once the ball has been free of the character since the
+  // switch (a trapped ball may rest against the foot; the back-swing frees it). KICK: true.
+  bool touch_armed = true;
 };
 
 class FootballSnapshot final : public EnvSnapshot {
@@ -77,6 +87,9 @@ class FootballEnv : public juggle::Env {
   // KICK: kick_success (0/1), and for a success kick_direction_deviation_deg and
   // kick_speed_deviation_mps; kick_target_speed_mps; kick_speed_mps (the mean measured speed);
   // kick_foot_speed_mps (the kicking foot's speed at the touch), kick_touch_s (when); fell (0/1).
+  // TRAP_KICK: TRAP's; trap_kick_switched (0/1: the ball came into the kick's zone) and
+  // trap_kick_switch_s (when); once switched, KICK's; trap_kick_success (0/1: switched, the
+  // kick a success, no fall).
   void AppendEpisodeMetrics(std::vector<NamedValue>* out) const override;
   std::unique_ptr<EnvSnapshot> Snapshot() const override;
   absl::Status Restore(const EnvSnapshot& snapshot) override;
@@ -85,6 +98,10 @@ class FootballEnv : public juggle::Env {
   const FootballEnvState& state() const { return s_; }
   // Simulated seconds since the episode's start.
   double time_s() const { return s_.steps * spec_->control_dt(); }
+  // Whether the kick is under way (KICK always; TRAP_KICK after the switch).
+  bool kicking() const { return s_.kick_origin_s >= 0; }
+  // Seconds on the kick's clock (the scripted kick's times, kick_motion.h). REQUIRES: kicking().
+  double kick_time_s() const { return time_s() - s_.kick_origin_s; }
   // The ball's velocity the target asks for (m/s, world frame).
   void TargetVelocity(double v[3]) const;
 
@@ -93,8 +110,16 @@ class FootballEnv : public juggle::Env {
   void AddReferenceFeedforward(double t, double* feedforward);
   void NoteTouches();
   void ResetKick();
+  // Draws the kick's target speed and direction (KickTargets).
+  void DrawKickTarget();
   // After a control step of the TRAP task: its bookkeeping and outcome.
   void AfterTrapStep(StepResult* result);
+  // After a control step of TRAP_KICK's trap phase: TRAP's bookkeeping, its failures, the
+  // switch to the kick and out_of_reach.
+  void AfterTrapKickTrapStep(StepResult* result);
+  // After a control step of the kick (KICK, or TRAP_KICK after the switch).
+  void AfterKickStep(bool touched_before, StepResult* result);
+  void AppendKickMetrics(std::vector<NamedValue>* out) const;
   void AppendTrapMetrics(std::vector<NamedValue>* out) const;
   bool Diverged() const;
   bool Fallen() const;

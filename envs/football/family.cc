@@ -15,10 +15,16 @@ absl::Status ValidateFootball(const config::FootballConfig& f, const SourceLocat
   auto fail = [&](const FieldPath& path, const std::string& rule) {
     return absl::InvalidArgumentError(absl::StrCat(where.Where(path), ": ", rule));
   };
-  if (f.task() != config::KICK && f.task() != config::TRAP) {
-    return fail({{"task"}}, "set the task: KICK or TRAP");
+  if (f.task() != config::KICK && f.task() != config::TRAP && f.task() != config::TRAP_KICK) {
+    return fail({{"task"}}, "set the task: KICK, TRAP or TRAP_KICK");
   }
   if (f.task() == config::TRAP) return absl::OkStatus();  // the passes: FootballSpec (the model)
+  if (f.task() == config::TRAP_KICK) {
+    const config::TrapThenKick& z = f.trap_kick();
+    if (z.zone_ahead_min_m() > z.zone_ahead_max_m()) {
+      return fail({{"trap_kick"}, {"zone_ahead_min_m"}}, "must be <= trap_kick.zone_ahead_max_m");
+    }
+  }
   const config::KickTargets& k = f.kick();
   if (k.speed_min_mps() > k.speed_max_mps()) {
     return fail({{"kick"}, {"speed_min_mps"}}, "must be <= kick.speed_max_mps");

@@ -74,9 +74,9 @@ void FootballMetrics::Add(const KickScore& kick) {
   speed_sum_ += kick.speed_deviation_mps;
 }
 
-void FootballMetrics::AddTrapThenKick(bool without_fall) {
+void FootballMetrics::AddTrapThenKick(bool success) {
   ++sequences_;
-  if (without_fall) ++sequences_without_fall_;
+  if (success) ++sequence_successes_;
 }
 
 double FootballMetrics::tsr() const { return Ratio(trap_successes_, traps_); }
@@ -85,7 +85,7 @@ double FootballMetrics::rbspt_mps() const { return Ratio(relative_speed_sum_, sp
 double FootballMetrics::ksr() const { return Ratio(kick_successes_, kicks_); }
 double FootballMetrics::kdd_deg() const { return Ratio(direction_sum_, kick_successes_); }
 double FootballMetrics::ksd_mps() const { return Ratio(speed_sum_, kick_successes_); }
-double FootballMetrics::trap_kick() const { return Ratio(sequences_without_fall_, sequences_); }
+double FootballMetrics::trap_kick() const { return Ratio(sequence_successes_, sequences_); }
 
 std::string FootballMetrics::SummaryLine() const {
   return absl::StrFormat(

@@ -62,8 +62,9 @@ class FootballMetrics {
  public:
   void Add(const TrapScore& trap);
   void Add(const KickScore& kick);
-  // One trap-then-kick sequence of the state machine: whether it ended without a fall.
-  void AddTrapThenKick(bool without_fall);
+  // One trap-then-kick sequence of the state machine: whether it succeeded (the designated
+  // part's trap brought the ball into the kick's zone, the kick succeeded, no fall).
+  void AddTrapThenKick(bool success);
 
   double tsr() const;        // successful traps / traps
   double hrts() const;       // handballs / successful traps
@@ -71,7 +72,7 @@ class FootballMetrics {
   double ksr() const;        // successful kicks / kicks
   double kdd_deg() const;    // mean over successful kicks
   double ksd_mps() const;
-  double trap_kick() const;  // sequences without a fall / sequences
+  double trap_kick() const;  // successful sequences / sequences
   int traps() const { return traps_; }
   int kicks() const { return kicks_; }
 
@@ -84,7 +85,7 @@ class FootballMetrics {
   double relative_speed_sum_ = 0;
   int kicks_ = 0, kick_successes_ = 0;
   double direction_sum_ = 0, speed_sum_ = 0;
-  int sequences_ = 0, sequences_without_fall_ = 0;
+  int sequences_ = 0, sequence_successes_ = 0;
 };
 
 }  // namespace juggle::football

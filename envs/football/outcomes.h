@@ -14,10 +14,13 @@ inline constexpr Outcome kWrongTouch = FamilyOutcome(2);  // another body touche
 inline constexpr Outcome kTrapped = FamilyOutcome(3);
 inline constexpr Outcome kGroundFirst = FamilyOutcome(4);
 inline constexpr Outcome kWrongPart = FamilyOutcome(5);
+// TRAP_KICK: the trapped ball did not come into the kick's zone within trap_kick.wait_s.
+inline constexpr Outcome kOutOfReach = FamilyOutcome(6);
 
 // Names of the family outcomes above, in value order.
-inline constexpr const char* kOutcomeNames[] = {"fell",    "kicked",       "wrong_touch",
-                                                "trapped", "ground_first", "wrong_part"};
+inline constexpr const char* kOutcomeNames[] = {"fell",       "kicked",       "wrong_touch",
+                                                "trapped",    "ground_first", "wrong_part",
+                                                "out_of_reach"};
 
 }  // namespace juggle::football
 

@@ -97,7 +97,7 @@ absl::StatusOr<std::shared_ptr<const FootballSpec>> FootballSpec::Build(const Lo
   mju_copy(d->qpos, pose.data(), humanoid::kCharacterNq);
   mj_kinematics(model, d.get());
   mju_copy3(spec->kick_foot_standing_, d->geom_xpos + 3 * spec->kick_foot_geom_);
-  if (f.task() == config::TRAP) {
+  if (f.task() == config::TRAP || f.task() == config::TRAP_KICK) {
     absl::StatusOr<TrapBodies> trap = ResolveTrapBodies(model, pose.data(), f.trap(), where);
     if (!trap.ok()) return trap.status();
     spec->trap_bodies_ = *std::move(trap);
@@ -128,6 +128,8 @@ std::string FootballSpec::EvaluationLine(
       } else if (v.name == "trap_rbspt_mps") {
         trap.relative_speed = v.value;
         trap.measured_speed = true;
+      } else if (v.name == "trap_kick_success") {
+        metrics.AddTrapThenKick(v.value > 0.5);
       } else if (v.name == "kick_success") {
         attempted = true;
         kick.success = v.value > 0.5;

@@ -61,9 +61,11 @@ class FootballSpec : public EnvSpec {
   int kick_foot_body() const { return kick_foot_body_; }
   int kick_foot_geom() const { return kick_foot_geom_; }
   const double* kick_foot_standing() const { return kick_foot_standing_; }
-  // The TRAP task's parts and arms (trap_episode.h; empty for KICK).
+  // The TRAP and TRAP_KICK tasks' parts and arms (trap_episode.h; empty for KICK).
   const TrapBodies& trap_bodies() const { return trap_bodies_; }
-  bool trap() const { return football().task() == config::TRAP; }
+  // An episode starts with a pass to trap (TRAP, TRAP_KICK); trap_kick(): a kick follows it.
+  bool trap() const { return football().task() != config::KICK; }
+  bool trap_kick() const { return football().task() == config::TRAP_KICK; }
 
  private:
   FootballSpec(LoadedConfig config, MjModelPtr model);

@@ -223,6 +223,10 @@ void AfterTrapControlStep(const FootballSpec& spec, const mjData* d, TrapEpisode
     speeds.push_back(mju_norm3(diff));
   }
   if (d->time - e->first_touch_s < spec.football().trap().settle_s() - 1e-9) return;
+  EndTrap(spec, d, e);
+}
+
+void EndTrap(const FootballSpec& spec, const mjData* d, TrapEpisode* e) {
   const double* ball = d->qpos + spec.ball().qpos;
   e->end_distance_m = std::hypot(ball[0] - d->qpos[0], ball[1] - d->qpos[1]);
   e->settled = true;

@@ -84,6 +84,10 @@ void NoteTrapContacts(const FootballSpec& spec, const mjData* d, TrapEpisode* ep
 // (settle_s after the touch), scored into `episode->attempt`.
 void AfterTrapControlStep(const FootballSpec& spec, const mjData* d, TrapEpisode* episode);
 
+// Ends the trap now (as AfterTrapControlStep does settle_s after the touch): the end distance
+// and the attempt's flags. TRAP_KICK ends it at the switch to the kick. REQUIRES: a touch.
+void EndTrap(const FootballSpec& spec, const mjData* d, TrapEpisode* episode);
+
 }  // namespace juggle::football
 
 #endif  // JUGGLE_ENVS_FOOTBALL_TRAP_EPISODE_H_

@@ -45,4 +45,26 @@ void AddStanceBalance(const Joints& joints, const config::StanceBalance& b, Foot
   add(hip, tau_hip);
 }
 
+void AddDoubleStanceBalance(const Joints& joints, const config::StanceBalance& gains,
+                            int root_body, double action_torque, const mjModel* m, mjData* data,
+                            double* feedforward) {
+  const double* left = data->xpos + 3 * m->dof_bodyid[joints[kLeftAnkle].dof_adr];
+  const double* right = data->xpos + 3 * m->dof_bodyid[joints[kRightAnkle].dof_adr];
+  for (Foot stance : {Foot::kLeft, Foot::kRight}) {
+    const double* own = stance == Foot::kLeft ? left : right;
+    const double* other = stance == Foot::kLeft ? right : left;
+    config::StanceBalance half = gains;
+    half.set_com_kp(gains.com_kp() / 2);
+    half.set_com_kd(gains.com_kd() / 2);
+    half.set_pelvis_kp(gains.pelvis_kp() / 2);
+    half.set_pelvis_kd(gains.pelvis_kd() / 2);
+    half.set_yaw_kp(gains.yaw_kp() / 2);
+    half.set_yaw_kd(gains.yaw_kd() / 2);
+    // The target from this ankle: to the midpoint, then the configured offset.
+    half.set_com_x(gains.com_x() + (other[0] - own[0]) / 2);
+    half.set_com_y(gains.com_y() + (other[1] - own[1]) / 2);
+    AddStanceBalance(joints, half, stance, root_body, action_torque, m, data, feedforward);
+  }
+}
+
 }  // namespace juggle::humanoid

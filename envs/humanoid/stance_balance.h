@@ -23,6 +23,13 @@ void AddStanceBalance(const Joints& joints, const config::StanceBalance& gains, 
                       int root_body, double action_torque, const mjModel* m, mjData* data,
                       double* feedforward);
 
+// Standing on both feet: the same torques with the centre of mass held (com_x, com_y) from the
+// midpoint of the two ankles, half of each gain through each ankle and each hip (so the total
+// equals one stance's). Used by football's TRAP_KICK while both feet are down.
+void AddDoubleStanceBalance(const Joints& joints, const config::StanceBalance& gains,
+                            int root_body, double action_torque, const mjModel* m, mjData* data,
+                            double* feedforward);
+
 }  // namespace juggle::humanoid
 
 #endif  // JUGGLE_ENVS_HUMANOID_STANCE_BALANCE_H_

@@ -78,7 +78,7 @@ class KickScorer final : public RolloutScorer {
     }
     if (!touched_at_begin_ && st.touch_body < 0 && miss_ == 0 && failure_ == 0) {
       const football::KickTimes t = football::KickTimesOf(e.spec().football().motion(), {});
-      if (e.time_s() >= t.recover) miss_ = s_.miss() * (1 + std::max(0.0, closest_gap_) / 0.05);
+      if (e.kick_time_s() >= t.recover) miss_ = s_.miss() * (1 + std::max(0.0, closest_gap_) / 0.05);
     }
     const mjData* d = e.data();
     const double upright[4] = {M_SQRT1_2, M_SQRT1_2, 0, 0};
@@ -150,7 +150,7 @@ void FootballKickTask::Action(const Env& env, const double* theta, PlanClock clo
     const double* kick = theta + layout_.kick(0);
     const KickAdjust adjust{kick[0], kick[1], kick[2], kick[3], kick[4]};
     humanoid::CharacterPose from, to;
-    const double t = e.time_s();
+    const double t = e.kick_time_s();
     football::KickReferencePose(*spec_, t, {}, &from);
     football::KickReferencePose(*spec_, t, adjust, &to);
     AddPoseChangeAction(spec_->joints(), from, to, spec_->football().action_torque(), a);
@@ -201,6 +201,7 @@ absl::Status ValidateFootballTask(const LoadedConfig& config) {
         " control steps is longer than the episode (football.max_episode_steps ", episode, ")"));
   }
   if (config.run.football().task() == config::TRAP) return absl::OkStatus();  // trap_task.h
+  // KICK and TRAP_KICK (trap_kick_task.h) plan the kick variables.
   if (absl::StatusOr<std::vector<int>> a = BodyActionIndices(p.body_actions()); !a.ok()) {
     return absl::InvalidArgumentError(absl::StrCat(where("body_actions"), ": ", a.status().message()));
   }

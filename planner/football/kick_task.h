@@ -5,7 +5,9 @@
 // kick_motion.h), turned into the feed-forward torques that move the PD target so
 // (planner/pose_action.h) — and the whole-body knots of PlannerConfig.body_*. A rollout is scored
 // by PhysicsFC's kick deviations over the 1/6-s window after the touch, a miss, a fall and the
-// root's tilt at the horizon's end. Immutable; thread-safe.
+// root's tilt at the horizon's end. The kick's times are on the env's kick clock
+// (FootballEnv::kick_time_s): TRAP_KICK's kick is this task after the switch (trap_kick_task.h).
+// Immutable; thread-safe.
 #ifndef JUGGLE_PLANNER_FOOTBALL_KICK_TASK_H_
 #define JUGGLE_PLANNER_FOOTBALL_KICK_TASK_H_
 
@@ -59,8 +61,8 @@ class FootballKickTask final : public PlanningTask {
 };
 
 // OK, or INVALID_ARGUMENT "file:line:col: <field>: ..." for a football run the planner cannot
-// plan: a horizon longer than the episode; for KICK, body_actions that name no joint, kick
-// variables off (TRAP: trap_task.h).
+// plan: a horizon longer than the episode; for KICK and TRAP_KICK, body_actions that name no
+// joint, kick variables off.
 absl::Status ValidateFootballTask(const LoadedConfig& config);
 
 }  // namespace juggle::planner

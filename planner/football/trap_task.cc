@@ -8,6 +8,7 @@
 #include "envs/football/env.h"
 #include "envs/football/outcomes.h"
 #include "envs/humanoid/pose.h"
+#include "planner/football/free_ball.h"
 #include "planner/pose_action.h"
 
 namespace juggle::planner {
@@ -40,40 +41,6 @@ double SurfaceGap(const FootballEnv& e, const double* ball) {
   const double d[3] = {ball[0] - part[0], ball[1] - part[1], ball[2] - part[2]};
   return mju_norm3(d) - e.spec().ball().radius - e.spec().trap_bodies().surface[e.state().trap.part];
 }
-
-// The ball's free path from its state in `e`: a step of `dt` seconds of flight above the turf,
-// or of roll (slowing) on it, ignoring everything else.
-struct FreeBall {
-  double p[3], v[3];
-  double g, r, roll;
-
-  explicit FreeBall(const FootballEnv& e) {
-    const football::FootballSpec& spec = e.spec();
-    mju_copy3(p, e.data()->qpos + spec.ball().qpos);
-    mju_copy3(v, e.data()->qvel + spec.ball().dof);
-    g = -spec.model()->opt.gravity[2];
-    r = spec.ball().radius;
-    roll = football::RollingDeceleration(spec.model(), spec.ball());
-  }
-
-  void Step(double dt) {
-    if (p[2] > r + 0.01 || v[2] > 0) {
-      for (int c = 0; c < 3; ++c) p[c] += v[c] * dt;
-      p[2] -= 0.5 * g * dt * dt;
-      v[2] -= g * dt;
-      if (p[2] < r) p[2] = r;
-      return;
-    }
-    const double speed = std::hypot(v[0], v[1]);
-    if (speed < 1e-3) return;
-    const double slower = std::max(0.0, speed - roll * dt) / speed;
-    for (int c = 0; c < 2; ++c) {
-      p[c] += v[c] * dt;
-      v[c] *= slower;
-    }
-    v[2] = 0;
-  }
-};
 
 // The part's closest approach to the ball's free path from now on, with the part where it is.
 double PathGap(const FootballEnv& e) {

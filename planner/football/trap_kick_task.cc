@@ -1,0 +1,196 @@
+#include "planner/football/trap_kick_task.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "absl/strings/str_cat.h"
+#include "envs/football/env.h"
+#include "envs/football/outcomes.h"
+#include "envs/football/trap_kick.h"
+#include "planner/football/free_ball.h"
+#include "planner/soccer_juggle/plan.h"
+
+namespace juggle::planner {
+namespace {
+
+using football::FootballEnv;
+
+// The zone term: reach × 4 × (√(1 + (distance / kZoneScale)²) − 1), quadratic near the zone and
+// linear far from it, so a ball the trap sends metres away costs less than a miss (a squared
+// distance of 5 m would outweigh it and the search would rather miss the ball).
+constexpr double kZoneScale = 0.5;
+// How finely the free path is followed (s), and for at most how long.
+constexpr double kPathStep = 0.01, kPathSeconds = 3.0;
+
+const FootballEnv& AsFootballEnv(const Env& env) { return static_cast<const FootballEnv&>(env); }
+
+SearchSpace Concat(const SearchSpace& a, const SearchSpace& b) {
+  SearchSpace out = a;
+  out.lower.insert(out.lower.end(), b.lower.begin(), b.lower.end());
+  out.upper.insert(out.upper.end(), b.upper.begin(), b.upper.end());
+  out.sigma.insert(out.sigma.end(), b.sigma.begin(), b.sigma.end());
+  return out;
+}
+
+// The trap's scorer until the env switches to the kick, the kick's from the state after the
+// switch; the zone and out_of_reach terms of its own.
+class TrapKickScorer final : public RolloutScorer {
+ public:
+  TrapKickScorer(const config::FootballPlanning& s, std::unique_ptr<RolloutScorer> trap,
+                 std::unique_ptr<RolloutScorer> kick)
+      : s_(s), trap_(std::move(trap)), kick_(std::move(kick)) {}
+
+  void Begin(const Env& env) override {
+    trap_->Begin(env);
+    if (AsFootballEnv(env).kicking()) BeginKick(env);
+  }
+
+  void AfterStep(const Env& env, const float* action, const StepResult& r) override {
+    if (kick_begun_) {
+      kick_->AfterStep(env, action, r);
+      return;
+    }
+    trap_->AfterStep(env, action, r);
+    if (r.outcome == football::kOutOfReach) out_of_reach_ = s_.trap().miss();
+    if (AsFootballEnv(env).kicking()) BeginKick(env);
+  }
+
+  double Finish(const Env& env) override {
+    const FootballEnv& e = AsFootballEnv(env);
+    trap_->Finish(env);
+    if (kick_begun_) kick_->Finish(env);
+    const football::TrapEpisode& t = e.state().trap;
+    if (!e.kicking() && out_of_reach_ == 0 && t.first_body >= 0 &&
+        t.first_body == e.spec().trap_bodies().body[t.part]) {
+      const double d = FreePathZoneDistance(env) / kZoneScale;
+      zone_ = s_.trap().reach() * 4 * (std::sqrt(1 + d * d) - 1);
+    }
+    return partial();
+  }
+
+  double partial() const override {
+    return trap_->partial() + zone_ + out_of_reach_ + (kick_begun_ ? kick_->partial() : 0);
+  }
+
+  bool RunsOn(const Env& env) const override {
+    return kick_begun_ ? kick_->RunsOn(env) : trap_->RunsOn(env);
+  }
+
+  std::vector<double> terms() const override {
+    std::vector<double> out = trap_->terms();
+    out.push_back(zone_);
+    out.push_back(out_of_reach_);
+    const std::vector<double> kick = kick_->terms();
+    for (double v : kick) out.push_back(kick_begun_ ? v : 0);
+    return out;
+  }
+
+ private:
+  void BeginKick(const Env& env) {
+    kick_->Begin(env);
+    kick_begun_ = true;
+  }
+
+  const config::FootballPlanning& s_;
+  std::unique_ptr<RolloutScorer> trap_, kick_;
+  bool kick_begun_ = false;
+  double zone_ = 0, out_of_reach_ = 0;
+};
+
+}  // namespace
+
+double FreePathZoneDistance(const Env& env) {
+  const FootballEnv& e = AsFootballEnv(env);
+  const football::FootballSpec& spec = e.spec();
+  const config::TrapThenKick& z = spec.football().trap_kick();
+  const football::TrapEpisode& t = e.state().trap;
+  const double deadline = t.first_touch_s >= 0 ? t.first_touch_s + z.wait_s()
+                                               : e.data()->time + kPathSeconds;
+  FreeBall ball(e);
+  double best = std::numeric_limits<double>::infinity();
+  for (double now = e.data()->time;; now += kPathStep) {
+    if (ball.on_turf()) {
+      const double speed = std::sqrt(ball.v[0] * ball.v[0] + ball.v[1] * ball.v[1]);
+      best = std::min(best, football::KickZoneDistance(spec, ball.p[0], ball.p[1]) +
+                                0.5 * std::max(0.0, speed - z.max_speed_mps()));
+    }
+    if (now >= deadline - 1e-9 || now - e.data()->time >= kPathSeconds) break;
+    ball.Step(kPathStep);
+  }
+  if (!std::isfinite(best)) {  // still in the air at the deadline: where it is
+    best = football::KickZoneDistance(spec, ball.p[0], ball.p[1]) + ball.p[2];
+  }
+  return best;
+}
+
+FootballTrapKickTask::FootballTrapKickTask(std::shared_ptr<const football::FootballSpec> spec,
+                                           const config::PlannerConfig& config)
+    : spec_(spec),
+      settings_(config.football()),
+      horizon_(config.horizon_steps()),
+      trap_(spec, config),
+      kick_(spec, config),
+      space_(Concat(trap_.space(), kick_.space())),
+      rescue_space_(Concat(trap_.rescue_space(), kick_.rescue_space())) {}
+
+int FootballTrapKickTask::max_run_on_steps() const {
+  return std::max(trap_.max_run_on_steps(), kick_.max_run_on_steps());
+}
+
+std::vector<double> FootballTrapKickTask::Shift(const std::vector<double>& theta, int grid_steps,
+                                                int cycles) const {
+  std::vector<double> trap(theta.begin(), theta.begin() + kTrapVariables);
+  std::vector<double> kick(theta.begin() + kTrapVariables, theta.end());
+  std::vector<double> out = trap_.Shift(trap, grid_steps, cycles);
+  const std::vector<double> shifted_kick = kick_.Shift(kick, grid_steps, cycles);
+  out.insert(out.end(), shifted_kick.begin(), shifted_kick.end());
+  return out;
+}
+
+void FootballTrapKickTask::Restrict(const Env& env, const std::vector<double>& shifted,
+                                    SearchSpace* space,
+                                    std::vector<std::vector<double>>* seeds) const {
+  if (!AsFootballEnv(env).kicking()) return;
+  // The trap is over: its reach is held.
+  for (int v = 0; v < kTrapVariables; ++v) {
+    space->lower[v] = space->upper[v] = shifted[v];
+    space->sigma[v] = 0;
+  }
+  for (std::vector<double>& seed : *seeds) std::copy_n(shifted.begin(), kTrapVariables, seed.begin());
+}
+
+void FootballTrapKickTask::Action(const Env& env, const double* theta, PlanClock clock,
+                                  const double* prior, float* action) const {
+  if (AsFootballEnv(env).kicking()) {
+    kick_.Action(env, theta + kTrapVariables, clock, prior, action);
+  } else {
+    trap_.Action(env, theta, clock, prior, action);
+  }
+}
+
+std::unique_ptr<RolloutScorer> FootballTrapKickTask::NewScorer() const {
+  return std::make_unique<TrapKickScorer>(settings_, trap_.NewScorer(), kick_.NewScorer());
+}
+
+std::vector<std::string> FootballTrapKickTask::term_names() const {
+  std::vector<std::string> names = trap_.term_names();
+  names.push_back("zone");
+  names.push_back("out_of_reach");
+  for (const std::string& name : kick_.term_names()) names.push_back("kick_" + name);
+  return names;
+}
+
+const float* FootballTrapKickTask::AppliedAction(const Env& env) const {
+  return AsFootballEnv(env).state().previous_action.data();
+}
+
+std::string FootballTrapKickTask::DescribeDecision(const std::vector<double>& d,
+                                                   const std::vector<double>& outcome) const {
+  if (static_cast<int>(d.size()) != dim()) return "";
+  const std::vector<double> trap(d.begin(), d.begin() + kTrapVariables);
+  const std::vector<double> kick(d.begin() + kTrapVariables, d.end());
+  return absl::StrCat(trap_.DescribeDecision(trap, {}), " |", kick_.DescribeDecision(kick, {}));
+}
+
+}  // namespace juggle::planner

@@ -2,7 +2,8 @@
 """scripts/analysis/football_traps.py on hand-made episode lines whose metrics are known: four
 traps (three lobs, one ground pass), one failed but touched first by another part, one a
 handball; TSR counts every attempt, seed 002's TSR any first touch before the turf, HRTS and
-RBSPT the successes only, lobs split by part."""
+RBSPT the successes only, lobs split by part; TRAP_KICK's lines add the sequences' table (the
+share switched to the kick, succeeded, out of reach; KDD and KSD over successful kicks)."""
 import json
 import os
 import subprocess
@@ -39,6 +40,34 @@ assert lines['lob'][1:] == ['3', '0.667', '1.000', '0.500', '3.00', '10.00', '1'
 assert lines['ground'][1:] == ['1', '1.000', '1.000', '0.000', '1.00', '4.00', '0'], lines['ground']
 assert lines['lob:head'][1:] == ['2', '0.500', '1.000', '1.000', '4.00', '11.00', '1'], lines['lob:head']
 assert lines['lob:foot'][1:3] == ['1', '1.000'], lines['lob:foot']
+assert not any(l.startswith('seq:') for l in lines), 'no sequence table for TRAP lines'
+
+# TRAP_KICK lines: two sequences reach the kick (one kicked well, one kick failed), one ends
+# out of reach.
+def sequence(part, lob, switched, ok, kdd=None, ksd=None, outcome='kicked'):
+    r = trap(part, lob, switched, True, rbspt=1.0)
+    r.update({'outcome': outcome, 'trap_kick_switched': 1.0 if switched else 0.0,
+              'trap_kick_success': 1.0 if ok else 0.0})
+    if switched:
+        r['kick_success'] = 1.0 if kdd is not None else 0.0
+    if kdd is not None:
+        r.update({'kick_direction_deviation_deg': kdd, 'kick_speed_deviation_mps': ksd})
+    return r
+
+
+seq = [sequence(1, False, True, True, kdd=4.0, ksd=2.0),
+       sequence(3, True, True, False, outcome='fell'),
+       sequence(3, True, False, False, outcome='out_of_reach')]
+with tempfile.NamedTemporaryFile('w', suffix='.jsonl', delete=False) as h:
+    for r in seq:
+        h.write(json.dumps(r) + '\n')
+out = subprocess.run([sys.executable, SCRIPT, h.name], capture_output=True, text=True,
+                     check=True).stdout.splitlines()
+seqs = {l.split()[0]: l.split() for l in out if l.startswith('seq:')}
+assert seqs['seq:all'][1:] == ['3', '0.667', '0.333', '0.333', '4.00', '2.00'], seqs['seq:all']
+assert seqs['seq:lob:torso'][1:5] == ['2', '0.500', '0.000', '0.500'], seqs['seq:lob:torso']
+assert seqs['seq:ground'][1:4] == ['1', '1.000', '1.000'], seqs['seq:ground']
+
 # No trap lines: a clear error.
 with tempfile.NamedTemporaryFile('w', suffix='.jsonl', delete=False) as g:
     g.write(json.dumps({'table': 'summary'}) + '\n')

@@ -307,6 +307,9 @@ void FootballEnv::AfterTrapKickTrapStep(StepResult* result) {
       result->outcome = kGroundFirst;
     } else if (e.first_body >= 0 && e.first_body != spec_->trap_bodies().body[e.part]) {
       result->outcome = kWrongPart;
+    } else if (Fallen()) {  // before the switch: a fall while trapping is the trap's
+      s_.fell = true;
+      result->outcome = kFell;
     } else if (e.first_body >= 0 && BallKickable(*spec_, data_.get())) {
       s_.kick_origin_s = time_s();  // the kick's clock starts; its touches count from here
       s_.touch_armed = !BallTouchesCharacter(*spec_, data_.get());
@@ -315,10 +318,6 @@ void FootballEnv::AfterTrapKickTrapStep(StepResult* result) {
                data_->time - e.first_touch_s >= f.trap_kick().wait_s() - 1e-9) {
       result->outcome = kOutOfReach;
     }
-  }
-  if (result->outcome == Outcome::kRunning && Fallen()) {
-    s_.fell = true;
-    result->outcome = kFell;
   }
   if (result->outcome == Outcome::kRunning && s_.steps >= f.max_episode_steps()) {
     result->outcome = Outcome::kTimeLimit;

@@ -6,10 +6,11 @@
 // actions (with the stance balance throughout for the foot and the lower leg); the episode
 // ends settle_s after the first touch (trapped), at the turf first (ground_first), another part
 // first (wrong_part), a fall or the step limit. Task TRAP_KICK (seed 002's state machine for the
-// two): the trap as TRAP (standing pose plus actions, no balance) until, after the designated
-// part's touch, the ball lies in the kick's zone (trap_kick.h); then the kick as KICK on a clock
-// that starts there (kick_time_s), at a target drawn at the reset; it ends as KICK does, or as
-// a failed trap, or out_of_reach.
+// two): the trap as TRAP (standing pose plus actions) until, after the designated part's touch,
+// the ball lies in the kick's zone (trap_kick.h); then the kick as KICK on a clock that starts
+// there (kick_time_s), at a target drawn at the reset; it ends as KICK does, or as a failed
+// trap, or out_of_reach. With the stance balance set it stands on both feet
+// (AddDoubleStanceBalance) but during the kick, which stands on the left.
 //
 // Control step = `substeps` physics steps. Per substep: stable PD + feed-forward, mj_step, the
 // divergence check, the first touch of the ball by the character (the kicking foot, or another
@@ -73,8 +74,8 @@ class FootballEnv : public juggle::Env {
   StepResult Step(const float* action, const AdaptiveWalk& walk) override;
   void WriteObservation(float* obs) const override;
   int steps() const override { return s_.steps; }
-  // 1 once the kick's window has been measured as a success, or the trap has settled as one
-  // (metrics.h), else 0.
+  // 1 once the kick's window has been measured as a success (KICK), the trap has settled as one
+  // (TRAP), or the sequence has succeeded (TRAP_KICK: trap_kick_success) (metrics.h), else 0.
   int completions() const override;
   mjData* data() override { return data_.get(); }
   const mjData* data() const override { return data_.get(); }

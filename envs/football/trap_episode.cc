@@ -194,6 +194,7 @@ void PlaceTrapBall(const FootballSpec& spec, const TrapEpisode& e, mjData* d) {
 }
 
 void NoteTrapContacts(const FootballSpec& spec, const mjData* d, TrapEpisode* e) {
+  if (e->settled) return;  // the trap is over (TRAP_KICK goes on to the kick)
   const mjModel* m = spec.model();
   const PitchBall& ball = spec.ball();
   for (int i = 0; i < d->ncon; ++i) {

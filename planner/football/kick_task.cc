@@ -37,7 +37,10 @@ double FootGap(const FootballEnv& env) {
 
 class KickScorer final : public RolloutScorer {
  public:
-  KickScorer(const config::FootballPlanning& s, int horizon) : s_(s), horizon_(horizon) {}
+  // `first_step`: the rollout's steps before Begin (a fall is weighed by when in the rollout it
+  // comes).
+  KickScorer(const config::FootballPlanning& s, int horizon, int first_step = 0)
+      : s_(s), horizon_(horizon), steps_(first_step) {}
 
   void Begin(const Env& env) override {
     const FootballEnv& e = AsFootballEnv(env);
@@ -167,6 +170,10 @@ void FootballKickTask::Action(const Env& env, const double* theta, PlanClock clo
 
 std::unique_ptr<RolloutScorer> FootballKickTask::NewScorer() const {
   return std::make_unique<KickScorer>(settings_, layout_.horizon);
+}
+
+std::unique_ptr<RolloutScorer> FootballKickTask::NewScorerFrom(int first_step) const {
+  return std::make_unique<KickScorer>(settings_, layout_.horizon, first_step);
 }
 
 std::vector<std::string> FootballKickTask::term_names() const {

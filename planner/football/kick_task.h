@@ -41,6 +41,8 @@ class FootballKickTask final : public PlanningTask {
   void Action(const Env& env, const double* theta, PlanClock clock, const double* prior,
               float* action) const override;
   std::unique_ptr<RolloutScorer> NewScorer() const override;
+  // A scorer that begins `first_step` steps into a rollout (TRAP_KICK's kick after the switch).
+  std::unique_ptr<RolloutScorer> NewScorerFrom(int first_step) const;
   // direction, speed, miss, failure, upright.
   std::vector<std::string> term_names() const override;
   // The window's KDD (deg), KSD (m/s) and mean ball speed (m/s).

@@ -33,33 +33,45 @@ SearchSpace Concat(const SearchSpace& a, const SearchSpace& b) {
   return out;
 }
 
-// The trap's scorer until the env switches to the kick, the kick's from the state after the
-// switch; the zone and out_of_reach terms of its own.
+// The trap's scorer until the env switches to the kick (finished at the switch's state), the
+// kick's from there; the zone and out_of_reach terms of its own.
 class TrapKickScorer final : public RolloutScorer {
  public:
   TrapKickScorer(const config::FootballPlanning& s, std::unique_ptr<RolloutScorer> trap,
-                 std::unique_ptr<RolloutScorer> kick)
-      : s_(s), trap_(std::move(trap)), kick_(std::move(kick)) {}
+                 const FootballKickTask& kick)
+      : s_(s), trap_(std::move(trap)), kick_task_(kick) {}
 
   void Begin(const Env& env) override {
-    trap_->Begin(env);
-    if (AsFootballEnv(env).kicking()) BeginKick(env);
+    if (AsFootballEnv(env).kicking()) {
+      BeginKick(env);  // the trap is over: it has nothing to score
+    } else {
+      trap_->Begin(env);
+      trap_running_ = true;
+    }
   }
 
   void AfterStep(const Env& env, const float* action, const StepResult& r) override {
-    if (kick_begun_) {
+    ++steps_;
+    if (kick_ != nullptr) {
       kick_->AfterStep(env, action, r);
       return;
     }
     trap_->AfterStep(env, action, r);
     if (r.outcome == football::kOutOfReach) out_of_reach_ = s_.trap().miss();
-    if (AsFootballEnv(env).kicking()) BeginKick(env);
+    if (AsFootballEnv(env).kicking()) {
+      trap_->Finish(env);  // the trap's terms at the switch
+      trap_running_ = false;
+      BeginKick(env);
+    }
   }
 
   double Finish(const Env& env) override {
     const FootballEnv& e = AsFootballEnv(env);
-    trap_->Finish(env);
-    if (kick_begun_) kick_->Finish(env);
+    if (trap_running_) {
+      trap_->Finish(env);
+      trap_running_ = false;
+    }
+    if (kick_ != nullptr) kick_->Finish(env);
     const football::TrapEpisode& t = e.state().trap;
     if (!e.kicking() && out_of_reach_ == 0 && t.first_body >= 0 &&
         t.first_body == e.spec().trap_bodies().body[t.part]) {
@@ -70,31 +82,38 @@ class TrapKickScorer final : public RolloutScorer {
   }
 
   double partial() const override {
-    return trap_->partial() + zone_ + out_of_reach_ + (kick_begun_ ? kick_->partial() : 0);
+    return trap_->partial() + zone_ + out_of_reach_ + (kick_ != nullptr ? kick_->partial() : 0);
   }
 
   bool RunsOn(const Env& env) const override {
-    return kick_begun_ ? kick_->RunsOn(env) : trap_->RunsOn(env);
+    return kick_ != nullptr ? kick_->RunsOn(env) : trap_->RunsOn(env);
   }
 
   std::vector<double> terms() const override {
     std::vector<double> out = trap_->terms();
     out.push_back(zone_);
     out.push_back(out_of_reach_);
-    const std::vector<double> kick = kick_->terms();
-    for (double v : kick) out.push_back(kick_begun_ ? v : 0);
+    if (kick_ != nullptr) {
+      const std::vector<double> kick = kick_->terms();
+      out.insert(out.end(), kick.begin(), kick.end());
+    } else {
+      out.resize(out.size() + kick_task_.term_names().size(), 0.0);
+    }
     return out;
   }
 
  private:
   void BeginKick(const Env& env) {
+    kick_ = kick_task_.NewScorerFrom(steps_);
     kick_->Begin(env);
-    kick_begun_ = true;
   }
 
   const config::FootballPlanning& s_;
-  std::unique_ptr<RolloutScorer> trap_, kick_;
-  bool kick_begun_ = false;
+  std::unique_ptr<RolloutScorer> trap_;
+  const FootballKickTask& kick_task_;
+  std::unique_ptr<RolloutScorer> kick_;  // from the switch on
+  bool trap_running_ = false;
+  int steps_ = 0;
   double zone_ = 0, out_of_reach_ = 0;
 };
 
@@ -134,6 +153,8 @@ FootballTrapKickTask::FootballTrapKickTask(std::shared_ptr<const football::Footb
       space_(Concat(trap_.space(), kick_.space())),
       rescue_space_(Concat(trap_.rescue_space(), kick_.rescue_space())) {}
 
+int FootballTrapKickTask::KnotAtOrBefore(int step) const { return kick_.KnotAtOrBefore(step); }
+
 int FootballTrapKickTask::max_run_on_steps() const {
   return std::max(trap_.max_run_on_steps(), kick_.max_run_on_steps());
 }
@@ -157,7 +178,9 @@ void FootballTrapKickTask::Restrict(const Env& env, const std::vector<double>& s
     space->lower[v] = space->upper[v] = shifted[v];
     space->sigma[v] = 0;
   }
-  for (std::vector<double>& seed : *seeds) std::copy_n(shifted.begin(), kTrapVariables, seed.begin());
+  for (std::vector<double>& seed : *seeds) {
+    std::copy_n(shifted.begin(), kTrapVariables, seed.begin());
+  }
 }
 
 void FootballTrapKickTask::Action(const Env& env, const double* theta, PlanClock clock,
@@ -170,7 +193,7 @@ void FootballTrapKickTask::Action(const Env& env, const double* theta, PlanClock
 }
 
 std::unique_ptr<RolloutScorer> FootballTrapKickTask::NewScorer() const {
-  return std::make_unique<TrapKickScorer>(settings_, trap_.NewScorer(), kick_.NewScorer());
+  return std::make_unique<TrapKickScorer>(settings_, trap_.NewScorer(), kick_);
 }
 
 std::vector<std::string> FootballTrapKickTask::term_names() const {

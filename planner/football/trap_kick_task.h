@@ -2,10 +2,10 @@
 // "Trap then kick"): the TRAP_KICK env's state machine planned whole. A plan is the trap's reach
 // pose (trap_task.h, kTrapVariables) followed by the kick's variables (kick_task.h); before the
 // env's switch to the kick the trap's part acts, after it the kick's. A rollout is scored by the
-// trap's terms until the switch, with a `zone` term for a trapped ball whose free path does not
-// come to rest in the kick's zone (envs/football/trap_kick.h) and `out_of_reach` when the env
-// says so, and by the kick's terms from the switch on (each named kick_*). After the switch the
-// trap's variables are held. Immutable; thread-safe.
+// trap's terms until the switch (at the switch's state), with a `zone` term for a trapped ball
+// whose free path does not come to rest in the kick's zone (envs/football/trap_kick.h) and
+// `out_of_reach` when the env says so, and by the kick's terms from the switch on (each named
+// kick_*). After the switch the trap's variables are held. Immutable; thread-safe.
 #ifndef JUGGLE_PLANNER_FOOTBALL_TRAP_KICK_TASK_H_
 #define JUGGLE_PLANNER_FOOTBALL_TRAP_KICK_TASK_H_
 
@@ -38,6 +38,8 @@ class FootballTrapKickTask final : public PlanningTask {
   const SearchSpace& rescue_space() const override { return rescue_space_; }
   int horizon() const override { return horizon_; }
   int max_run_on_steps() const override;
+  // The kick's decision grid (its body knots, when set).
+  int KnotAtOrBefore(int step) const override;
   std::vector<double> Shift(const std::vector<double>& theta, int grid_steps,
                             int cycles) const override;
   void Restrict(const Env& env, const std::vector<double>& shifted, SearchSpace* space,

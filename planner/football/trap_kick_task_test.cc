@@ -30,7 +30,7 @@ using ::juggle::testing::RepoPath;
 constexpr char kShipped[] = "configs/football_trap_kick.textproto";
 // A pass that standing still does not bring into the kick's zone (env seed Rng(kSeed); the
 // shipped settings were chosen on juggle eval's seed 1000000, other streams).
-constexpr uint64_t kSeed = 1000001;
+constexpr uint64_t kSeed = 1000017;
 
 class FootballTrapKickTaskTest : public testing::ShippedTaskTest {
  protected:
@@ -56,7 +56,7 @@ TEST_F(FootballTrapKickTaskTest, TrapsIntoTheZoneAndKicksWhereStandingStillDoesN
   EXPECT_EQ(replayed.end, planned.end);
 }
 
-TEST_F(FootballTrapKickTaskTest, TheSameSeedGivesTheSameSequenceOnAnyThreadCountAndAnotherSeedAnother) {
+TEST_F(FootballTrapKickTaskTest, SameSeedSameSequenceOnAnyThreadCountAnotherSeedAnother) {
   ExpectActionsDependOnlyOnTheSeed(kSeed);
 }
 

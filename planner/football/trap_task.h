@@ -37,7 +37,7 @@ void TrapReachPose(const football::FootballSpec& spec, const double* theta, doub
 
 class FootballTrapTask final : public PlanningTask {
  public:
-  // REQUIRES: `config` passed ValidateFootballTask for a TRAP config of `spec`.
+  // REQUIRES: `config` passed ValidateFootballTask for a TRAP (or TRAP_KICK) config of `spec`.
   FootballTrapTask(std::shared_ptr<const football::FootballSpec> spec,
                    const config::PlannerConfig& config);
 

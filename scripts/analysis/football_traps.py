@@ -7,8 +7,11 @@ for lobs and ground passes, and by designated part (docs/football.md, "The trap 
 Per group: attempts; TSR as issue 45 defines it (the designated part first, before the turf, the
 ball within reach afterwards: trap_success); seed 002's own TSR (any part first, before the
 turf: trap_touch_before_ground); HRTS (successes the arms touched / successes); RBSPT (mean
-relative speed over successes, m/s); the ball's speed at the meeting point; falls. Reads only
-"table": "episode" lines.
+relative speed over successes, m/s); the ball's speed at the meeting point; falls. For the
+TRAP_KICK task (lines with trap_kick_success) a second table, its groups named seq:<group>:
+the share of sequences that reached the kick (trap_kick_switched), that succeeded
+(trap_kick_success: the trap, the kick, no fall), that ended out_of_reach, and KDD (deg) and
+KSD (m/s) over the successful kicks. Reads only "table": "episode" lines.
 """
 import argparse
 import json
@@ -38,6 +41,24 @@ def summarize(rows):
     }
 
 
+def summarize_sequences(rows):
+    mean = lambda xs: sum(xs) / len(xs) if xs else math.nan
+    kicks = [r for r in rows if r.get('kick_success', 0) > 0.5]
+    return {
+        'n': len(rows),
+        'switched': mean([r['trap_kick_switched'] for r in rows]),
+        'trap_kick': mean([r['trap_kick_success'] for r in rows]),
+        'out_of_reach': mean([1.0 if r.get('outcome') == 'out_of_reach' else 0.0 for r in rows]),
+        'kdd': mean([r['kick_direction_deviation_deg'] for r in kicks]),
+        'ksd': mean([r['kick_speed_deviation_mps'] for r in kicks]),
+    }
+
+
+def sequence_row(label, s):
+    return (f"{label:<16} {s['n']:>5} {s['switched']:>8.3f} {s['trap_kick']:>9.3f} "
+            f"{s['out_of_reach']:>8.3f} {s['kdd']:>7.2f} {s['ksd']:>7.2f}")
+
+
 def row(label, s):
     return (f"{label:<12} {s['n']:>5} {s['tsr']:>6.3f} {s['tsr_any']:>8.3f} {s['hrts']:>6.3f} "
             f"{s['rbspt']:>7.2f} {s['meet_speed']:>7.2f} {s['falls']:>5}")
@@ -62,6 +83,20 @@ def main(argv):
         group = [r for r in lobs if int(r['trap_part']) == part]
         if group:
             print(row(f'lob:{name}', summarize(group)))
+    sequences = [r for r in rows if 'trap_kick_success' in r]
+    if not sequences:
+        return
+    print(f"\n{'sequences':<16} {'n':>5} {'switched':>8} {'trap_kick':>9} {'out_reach':>8} "
+          f"{'kdd':>7} {'ksd':>7}")
+    groups = [('seq:all', sequences),
+              ('seq:lob', [r for r in sequences if r['trap_lob'] > 0.5]),
+              ('seq:ground', [r for r in sequences if r['trap_lob'] <= 0.5])]
+    groups += [(f'seq:lob:{name}', [r for r in sequences
+                                   if r['trap_lob'] > 0.5 and int(r['trap_part']) == part])
+               for part, name in PARTS.items()]
+    for label, group in groups:
+        if group:
+            print(sequence_row(label, summarize_sequences(group)))
 
 
 if __name__ == '__main__':

@@ -19,6 +19,13 @@ constexpr double kDegree = M_PI / 180;
 
 double Norm3(const double* v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
+// How a trap has failed so far (a lob on the turf first, another part first), or kRunning.
+Outcome TrapFailure(const FootballSpec& spec, const TrapEpisode& e) {
+  if (e.turf_before_touch && e.pass.kind == PassKind::kLob) return kGroundFirst;
+  if (e.first_body >= 0 && e.first_body != spec.trap_bodies().body[e.part]) return kWrongPart;
+  return Outcome::kRunning;
+}
+
 }  // namespace
 
 FootballEnv::FootballEnv(std::shared_ptr<const FootballSpec> spec, Rng rng)
@@ -279,10 +286,8 @@ void FootballEnv::AfterTrapStep(StepResult* result) {
   TrapEpisode& e = s_.trap;
   if (result->outcome == Outcome::kRunning) {
     AfterTrapControlStep(*spec_, data_.get(), &e);
-    if (e.turf_before_touch && e.pass.kind == PassKind::kLob) {
-      result->outcome = kGroundFirst;
-    } else if (e.first_body >= 0 && e.first_body != spec_->trap_bodies().body[e.part]) {
-      result->outcome = kWrongPart;
+    if (const Outcome failed = TrapFailure(*spec_, e); failed != Outcome::kRunning) {
+      result->outcome = failed;
     } else if (e.settled) {
       result->outcome = kTrapped;
     }
@@ -303,10 +308,8 @@ void FootballEnv::AfterTrapKickTrapStep(StepResult* result) {
   TrapEpisode& e = s_.trap;
   if (result->outcome == Outcome::kRunning) {
     AfterTrapControlStep(*spec_, data_.get(), &e);
-    if (e.turf_before_touch && e.pass.kind == PassKind::kLob) {
-      result->outcome = kGroundFirst;
-    } else if (e.first_body >= 0 && e.first_body != spec_->trap_bodies().body[e.part]) {
-      result->outcome = kWrongPart;
+    if (const Outcome failed = TrapFailure(*spec_, e); failed != Outcome::kRunning) {
+      result->outcome = failed;
     } else if (Fallen()) {  // before the switch: a fall while trapping is the trap's
       s_.fell = true;
       result->outcome = kFell;

@@ -149,6 +149,24 @@ TEST(PlannerConfigTest, BodyActionsNameJointsAndAxesOfTheCharacter) {
   EXPECT_EQ(BodyActionIndices({})->size(), 28u);
 }
 
+TEST(PlannerConfigTest, OneKickSetForAGraphMixingKicksAndHeadersIsRefusedAtTheField) {
+  // configs/foot_and_head_planner.textproto with the kick sets of the right-foot planner.
+  const std::string text = absl::StrCat(
+      "base_config: \"", RepoPath("configs/foot_and_head_planner.textproto"),
+      "\"\nplanner { soccer_juggle { kick { cycles: 1 } } }\n");
+  LoadedConfig config;
+  ASSERT_TRUE(Load("one_set.textproto", text, &config).ok());
+  const absl::Status s = ValidatePlannerConfig(config);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()), HasSubstr("planner.soccer_juggle.kick.cycles"));
+  EXPECT_THAT(std::string(s.message()), HasSubstr("right_foot_up -> head_down"));
+
+  absl::StatusOr<LoadedConfig> shipped =
+      LoadRunConfig(RepoPath("configs/foot_and_head_planner.textproto"));
+  ASSERT_TRUE(shipped.ok()) << shipped.status();
+  EXPECT_TRUE(ValidatePlannerConfig(*shipped).ok()) << ValidatePlannerConfig(*shipped);
+}
+
 TEST(PlannerConfigTest, TheShippedPlannerConfigIsValid) {
   absl::StatusOr<LoadedConfig> config =
       LoadRunConfig(RepoPath("configs/right_foot_planner.textproto"));

@@ -68,7 +68,14 @@ void BaseController::AddReferenceFeedforward(const CursorState& cursor,
 void BaseController::AddStanceBalance(const CursorState& cursor, mjData* data,
                                       double* feedforward) const {
   const config::ReferencePose& ref = spec_.graph().node(cursor.current).spec.pose();
-  if (!ref.has_leg_swing()) return;
+  if (!ref.has_leg_swing()) {
+    // Headers, chest traps, stalls: both feet are down. Without it the PD alone tips the
+    // character over within about a second of headers (envs/soccer_juggle/stance_test.cc).
+    humanoid::AddDoubleStanceBalance(spec_.joints(), spec_.env().stance_balance(),
+                                     spec_.root_body(), spec_.env().action_torque(), model_, data,
+                                     feedforward);
+    return;
+  }
   const bool kick_left = ref.leg_swing().side() == config::LEFT;
   humanoid::AddStanceBalance(spec_.joints(), spec_.env().stance_balance(),
                              kick_left ? humanoid::Foot::kRight : humanoid::Foot::kLeft,

@@ -5,7 +5,7 @@
 //   - reference feed-forward (env.reference_feedforward): the inverse dynamics of the
 //     reference motion, so that the PD only corrects deviations;
 //   - stance balance (env.stance_balance): centre of mass over the stance ankle, pelvis upright
-//     and heading, through the stance leg of a leg-swing node;
+//     and heading, through the stance leg of a leg-swing node, through both legs elsewhere;
 //   - kick feedback (env.kick_feedback): the leg swing moved with the ball's predicted crossing
 //     of the contact height.
 // Holds no episode state (the swing change lives in JuggleEnvState): only a scratch mjData.

@@ -107,22 +107,30 @@ double BodySplineValue(const SoccerPlanLayout& layout, const double* theta, int 
 
 namespace {
 
-// Rotates ball joint `j` of `pose` by `angle` about its z axis (pitch in the y-up joint frames)
-// or moves hinge `j` by `angle`.
-void AddPitch(const JuggleSpec& spec, soccer_juggle::JointId j, double angle, CharacterPose* pose) {
+// Rotates ball joint `j` of `pose` by `angle` about its local `axis` (y-up joint frames: z is
+// pitch, x roll toward the character's right) or moves hinge `j` by `angle`.
+void AddRotation(const JuggleSpec& spec, soccer_juggle::JointId j, int axis, double angle,
+                 CharacterPose* pose) {
   const ActuatedJoint& joint = spec.joint(j);
   if (joint.dofs == 3) {
-    const double rotation[3] = {0, 0, angle};
+    double rotation[3] = {0, 0, 0};
+    rotation[axis] = angle;
     mju_quatIntegrate(pose->data() + joint.qpos_adr, rotation, 1.0);
   } else {
     (*pose)[joint.qpos_adr] += angle;
   }
 }
 
+void AddPitch(const JuggleSpec& spec, soccer_juggle::JointId j, double angle, CharacterPose* pose) {
+  AddRotation(spec, j, 2, angle, pose);
+}
+
 // The contact node's reference changed by the kick variables: for a leg swing, its timing and
 // amplitudes (reference_pose.h SwingAdjust); for the other generators (head, chest), its timing
-// and the pitch of chest, neck, both hips and both knees, scaled by sin²(πφ) (largest at the
-// contact, zero where the cycle wraps).
+// and the chest's pitch, the neck's pitch, the chest's and the neck's roll, and both knees,
+// scaled by sin²(πφ) (largest at the contact, zero where the cycle wraps). The roll replaced the
+// hips' pitch, which moved a header's landing sideways by 3 cm for 0.2 rad (docs/planner.md,
+// "Headers").
 void KickReferences(const JuggleEnv& env, const double* kick, double cycle_s, CharacterPose* from,
                     CharacterPose* to) {
   const JuggleSpec& spec = env.spec();
@@ -147,8 +155,8 @@ void KickReferences(const JuggleEnv& env, const double* kick, double cycle_s, Ch
   using soccer_juggle::JointId;
   AddPitch(spec, soccer_juggle::kChest, kick[1] * envelope, to);
   AddPitch(spec, soccer_juggle::kNeck, kick[2] * envelope, to);
-  for (JointId hip : {soccer_juggle::kRightHip, soccer_juggle::kLeftHip}) {
-    AddPitch(spec, hip, kick[3] * envelope, to);
+  for (JointId lean : {soccer_juggle::kChest, soccer_juggle::kNeck}) {
+    AddRotation(spec, lean, 0, kick[3] * envelope, to);
   }
   for (JointId knee : {soccer_juggle::kRightKnee, soccer_juggle::kLeftKnee}) {
     AddPitch(spec, knee, kick[4] * envelope, to);

@@ -4,7 +4,8 @@
 //   kick variables, one set per juggle cycle (KickVariables.cycles sets; a cycle starts when a
 //   DOWN node is entered): the contact node's timing (s earlier), and for a leg swing its hip
 //   flexion, hip abduction, knee and ankle-pitch amplitudes (rad), for the other generators
-//   (head, chest) the pitch of chest, neck, both hips and both knees (rad, largest at the
+//   (head, chest) the chest's pitch, the neck's pitch, the chest's and the neck's roll (the
+//   sideways lean that steers a header across) and both knees' bend (rad, largest at the
 //   contact);
 //   whole-body knots: body_knots × 28 actions (policy units), a piecewise-linear spline with a
 //   knot every knot_steps control steps of the episode, on a grid fixed to the episode (knot 0

@@ -174,6 +174,24 @@ absl::Status ValidateSoccerJuggleTask(const LoadedConfig& config) {
   if (absl::StatusOr<std::vector<int>> a = BodyActionIndices(p.body_actions()); !a.ok()) {
     return absl::InvalidArgumentError(absl::StrCat(where("body_actions"), ": ", a.status().message()));
   }
+  // One kick set serves every cycle in the horizon: a leg swing's set read as a header's (or
+  // the other way) moves different joints.
+  const config::KickVariables& kick = p.soccer_juggle().kick();
+  if (kick.enabled() && kick.cycles() < 2 && config.graph != nullptr) {
+    const ControlGraph& graph = *config.graph;
+    for (int e = 0; e < graph.num_edges(); ++e) {
+      const GraphNode& from = graph.node(graph.edge(e).from);
+      const GraphNode& to = graph.node(graph.edge(e).to);
+      if (from.stage != config::UP) continue;
+      if (from.spec.pose().has_leg_swing() == to.spec.pose().has_leg_swing()) continue;
+      return absl::InvalidArgumentError(absl::StrCat(
+          config.root.Where({{"planner"}, {"soccer_juggle"}, {"kick"}, {"cycles"}}), ": ",
+          kick.cycles(), " kick variable set for a graph whose edge ", from.name, " -> ", to.name,
+          " leads from ", from.spec.pose().has_leg_swing() ? "a leg swing" : "a header or chest",
+          " to ", to.spec.pose().has_leg_swing() ? "a leg swing" : "a header or chest",
+          ": their variables move different joints; set cycles: 2 or more"));
+    }
+  }
   const config::PlannerCost& cost = p.soccer_juggle().cost();
   if (cost.impact_acceleration_min() > cost.impact_acceleration_max()) {
     return absl::InvalidArgumentError(absl::StrCat(

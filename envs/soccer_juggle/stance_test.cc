@@ -15,25 +15,19 @@ namespace {
 
 constexpr float kZeroAction[kNumActions] = {0};
 
-// `name`'s config with its graph replaced by `graph` (text format) and the reference
-// feed-forward set to `reference_feedforward`; null (test failed) on error.
-std::shared_ptr<const JuggleSpec> SpecWith(const std::string& name, const char* graph,
-                                           double reference_feedforward) {
+// `name`'s config with its graph replaced by `graph` (text format); null (test failed) on error.
+std::shared_ptr<const JuggleSpec> SpecWith(const std::string& name, const char* graph) {
   absl::StatusOr<LoadedConfig> loaded = testing::LoadShippedConfig(name);
   EXPECT_TRUE(loaded.ok()) << loaded.status();
   if (!loaded.ok()) return nullptr;
   LoadedConfig config = *loaded;
-  if (graph != nullptr) {
-    config::ControlGraph proto;
-    EXPECT_TRUE(google::protobuf::TextFormat::ParseFromString(graph, &proto));
-    absl::StatusOr<ControlGraph> built = ControlGraph::Build(proto, config.graph_locator);
-    EXPECT_TRUE(built.ok()) << built.status();
-    if (!built.ok()) return nullptr;
-    *config.run.mutable_soccer_juggle()->mutable_graph() = proto;
-    config.graph = std::make_shared<const ControlGraph>(*std::move(built));
-  }
-  config.run.mutable_soccer_juggle()->mutable_env()->set_reference_feedforward(
-      reference_feedforward);
+  config::ControlGraph proto;
+  EXPECT_TRUE(google::protobuf::TextFormat::ParseFromString(graph, &proto));
+  absl::StatusOr<ControlGraph> built = ControlGraph::Build(proto, config.graph_locator);
+  EXPECT_TRUE(built.ok()) << built.status();
+  if (!built.ok()) return nullptr;
+  *config.run.mutable_soccer_juggle()->mutable_graph() = proto;
+  config.graph = std::make_shared<const ControlGraph>(*std::move(built));
   absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = JuggleSpec::Create(config);
   EXPECT_TRUE(spec.ok()) << spec.status();
   return spec.ok() ? *spec : nullptr;
@@ -70,7 +64,7 @@ double SecondsStanding(const std::shared_ptr<const JuggleSpec>& spec, double sec
 }
 
 TEST(SoccerStanceTest, HeadersStandOnBothFeetForTwentySecondsWithZeroAction) {
-  std::shared_ptr<const JuggleSpec> spec = SpecWith("right_foot_planner", kHeadersOnly, 1.0);
+  std::shared_ptr<const JuggleSpec> spec = SpecWith("right_foot_planner", kHeadersOnly);
   ASSERT_NE(spec, nullptr);
   ASSERT_TRUE(spec->env().has_stance_balance());
   EXPECT_EQ(SecondsStanding(spec, 20.0), 20.0);

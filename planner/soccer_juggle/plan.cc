@@ -130,7 +130,7 @@ void AddPitch(const JuggleSpec& spec, soccer_juggle::JointId j, double angle, Ch
 // and the chest's pitch, the neck's pitch, the chest's and the neck's roll, and both knees,
 // scaled by sin²(πφ) (largest at the contact, zero where the cycle wraps). The roll replaced the
 // hips' pitch, which moved a header's landing sideways by 3 cm for 0.2 rad (docs/planner.md,
-// "Headers").
+// "Every skill by search").
 void KickReferences(const JuggleEnv& env, const double* kick, double cycle_s, CharacterPose* from,
                     CharacterPose* to) {
   const JuggleSpec& spec = env.spec();

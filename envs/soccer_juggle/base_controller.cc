@@ -5,6 +5,7 @@
 #include "envs/ballistic.h"
 #include "envs/humanoid/reference_dynamics.h"
 #include "envs/humanoid/stance_balance.h"
+#include "envs/soccer_juggle/stance_change.h"
 
 namespace juggle::soccer_juggle {
 
@@ -15,8 +16,12 @@ BaseController::BaseController(const JuggleSpec& spec)
 
 void BaseController::UpdateSwingAdjust(const mjData& data, const CursorState& cursor,
                                        bool kick_touched, SwingAdjust* adjust) const {
-  if (!spec_.env().has_kick_feedback()) return;
   const GraphNode& node = spec_.graph().node(cursor.current);
+  adjust->placing = spec_.env().has_stance_change() && HandsStanceOver(spec_.graph(), cursor);
+  if (adjust->placing) {
+    PlaceKickingFoot(spec_, data, node.spec.pose().leg_swing().side() == config::LEFT, adjust);
+  }
+  if (!spec_.env().has_kick_feedback()) return;
   if (node.stage != config::DOWN || kick_touched || !node.spec.pose().has_leg_swing()) return;
   const double* qpos = data.qpos;
   const double* ball = qpos + spec_.ball_qpos();
@@ -68,19 +73,38 @@ void BaseController::AddReferenceFeedforward(const CursorState& cursor,
 void BaseController::AddStanceBalance(const CursorState& cursor, mjData* data,
                                       double* feedforward) const {
   const config::ReferencePose& ref = spec_.graph().node(cursor.current).spec.pose();
+  config::StanceBalance gains = spec_.env().stance_balance();
+  const bool changing = spec_.env().has_stance_change();
+  const config::StanceChange& change = spec_.env().stance_change();
   if (!ref.has_leg_swing()) {
     // Headers, chest traps, stalls: both feet are down. Without it the PD alone tips the
     // character over within about a second of headers (envs/soccer_juggle/stance_test.cc).
-    humanoid::AddDoubleStanceBalance(spec_.joints(), spec_.env().stance_balance(),
-                                     spec_.root_body(), spec_.env().action_torque(), model_, data,
-                                     feedforward);
+    bool next_kicks_left = false;
+    if (changing && KickFollowsBothFeet(spec_.graph(), cursor, &next_kicks_left)) {
+      // Toward the next kick's standing ankle (stance_change.h).
+      const double* left = AnklePosition(*data, humanoid::kLeftAnkle);
+      const double* right = AnklePosition(*data, humanoid::kRightAnkle);
+      const double* stance = next_kicks_left ? right : left;
+      const double share = HeaderShiftShare(change, cursor.phase);
+      gains.set_com_x(gains.com_x() + share * (stance[0] - (left[0] + right[0]) / 2));
+      gains.set_com_y(gains.com_y() + share * (stance[1] - (left[1] + right[1]) / 2));
+    }
+    humanoid::AddDoubleStanceBalance(spec_.joints(), gains, spec_.root_body(),
+                                     spec_.env().action_torque(), model_, data, feedforward);
     return;
   }
   const bool kick_left = ref.leg_swing().side() == config::LEFT;
-  humanoid::AddStanceBalance(spec_.joints(), spec_.env().stance_balance(),
+  if (changing && HandsStanceOver(spec_.graph(), cursor)) {
+    gains.set_com_y(gains.com_y() + LeanTowardKick(change, kick_left, cursor.phase));
+  }
+  humanoid::AddStanceBalance(spec_.joints(), gains,
                              kick_left ? humanoid::Foot::kRight : humanoid::Foot::kLeft,
                              spec_.root_body(), spec_.env().action_torque(), model_, data,
                              feedforward);
+}
+
+const double* BaseController::AnklePosition(const mjData& data, humanoid::JointId ankle) const {
+  return data.xpos + 3 * model_->dof_bodyid[spec_.joint(ankle).dof_adr];
 }
 
 }  // namespace juggle::soccer_juggle

@@ -7,7 +7,10 @@
 //   - stance balance (env.stance_balance): centre of mass over the stance ankle, pelvis upright
 //     and heading, through the stance leg of a leg-swing node, through both legs elsewhere;
 //   - kick feedback (env.kick_feedback): the leg swing moved with the ball's predicted crossing
-//     of the contact height.
+//     of the contact height;
+//   - stance change (env.stance_change, stance_change.h): the last kick before the other
+//     foot's puts its foot down beside the body and leans onto it; a header before a kick
+//     moves the body over the kick's standing foot.
 // Holds no episode state (the swing change lives in JuggleEnvState): only a scratch mjData.
 #ifndef JUGGLE_ENVS_SOCCER_JUGGLE_BASE_CONTROLLER_H_
 #define JUGGLE_ENVS_SOCCER_JUGGLE_BASE_CONTROLLER_H_
@@ -29,6 +32,7 @@ class BaseController {
   // env.kick_feedback: recomputes `*adjust` from the ball's free flight while the cursor's
   // leg-swing DOWN node has not touched the ball (`kick_touched` false) and the ball is above
   // the contact height; leaves it otherwise (held after the contact until the next DOWN node).
+  // env.stance_change: sets adjust->placing, and the placement while it is set, every step.
   void UpdateSwingAdjust(const mjData& data, const CursorState& cursor, bool kick_touched,
                          SwingAdjust* adjust) const;
 
@@ -44,6 +48,7 @@ class BaseController {
                                const SwingAdjust& adjust, const mjData& data,
                                double* feedforward);
   void AddStanceBalance(const CursorState& cursor, mjData* data, double* feedforward) const;
+  const double* AnklePosition(const mjData& data, humanoid::JointId ankle) const;
 
   const JuggleSpec& spec_;
   const mjModel* model_;

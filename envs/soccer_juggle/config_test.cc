@@ -189,6 +189,16 @@ TEST(SoccerJuggleConfigTest, EnvCountBeyondItsLimitSaysHowMuchMemoryItWouldNeed)
               HasSubstr("50000000 is outside [1, 4096] (50000000 would need about 139698 GiB of memory)"));
 }
 
+TEST(SoccerJuggleConfigTest, StanceChangeLeanBeyondItsRangeIsRefusedAtTheField) {
+  const std::string text = WithGraph(ValidBody(), "env { stance_change { lean: 0.5 } }\n");
+  const absl::StatusOr<LoadedConfig> loaded = ParseRunConfig(text, kFile);
+  ASSERT_EQ(loaded.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(loaded.status().message()),
+              StartsWith(absl::StrCat(Loc(text, "lean: 0.5"),
+                                      ": soccer_juggle.env.stance_change.lean: ")));
+  EXPECT_THAT(std::string(loaded.status().message()), HasSubstr("is outside [0, 0.3] m"));
+}
+
 TEST(SoccerJuggleConfigTest, FloatWithoutADeclaredRangeIsStillBounded) {
   const std::string text =
       WithGraph(ValidBody(), "env { reward { w_position: 1e300 } }\n");

@@ -73,14 +73,23 @@ void LegSwingPose(const JuggleSpec& spec, const config::LegSwing& g, const Swing
   const JointId hip = left ? kLeftHip : kRightHip;
   const JointId knee = left ? kLeftKnee : kRightKnee;
   const JointId ankle = left ? kLeftAnkle : kRightAnkle;
-  if (abduction != 0) {
+  double flexion = hip_amplitude * s, outward = abduction * s, knee_bend = 0;
+  if (adjust.placing && phase >= 0.5) {
+    // The follow-through puts the foot down where the stance changes to it (stance_change.h).
+    const double u = (phase - 0.5) / 0.5;
+    const double w = std::min(1.0, 2 * u) * (1 - s);
+    flexion += w * adjust.place_hip;
+    outward += w * adjust.place_abduction;
+    knee_bend = spec.env().stance_change().knee_lift() * std::sin(M_PI * u);
+  }
+  if (outward != 0) {
     // Flexion about z and abduction about x (−x moves a right limb toward +z, outward).
-    const double rotvec[3] = {(left ? 1 : -1) * abduction * s, 0, hip_amplitude * s};
+    const double rotvec[3] = {(left ? 1 : -1) * outward, 0, flexion};
     SetBallJointRotation(spec, hip, rotvec, pose);
   } else {
-    SetBallJointAxisRotation(spec, hip, kZ, hip_amplitude * s, pose);
+    SetBallJointAxisRotation(spec, hip, kZ, flexion, pose);
   }
-  SetHinge(spec, knee, -(g.knee_amplitude() + adjust.knee) * s, pose);
+  SetHinge(spec, knee, -(g.knee_amplitude() + adjust.knee) * s - knee_bend, pose);
   if (const double ankle_amplitude = g.ankle_amplitude() + adjust.ankle; ankle_amplitude != 0) {
     SetBallJointAxisRotation(spec, ankle, kZ, ankle_amplitude * s, pose);
   }

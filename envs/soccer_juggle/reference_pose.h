@@ -25,6 +25,12 @@ CharacterPose StandingPose(const JuggleSpec& spec);
 // phase. Zero: the configured swing.
 struct SwingAdjust {
   double hip = 0, knee = 0, abduction = 0, phase = 0, ankle = 0;
+  // env.stance_change's foot placement (envs/soccer_juggle/stance_change.h), set while the
+  // node hands the stance to the other foot: over the follow-through (φ ≥ 0.5) the kicking
+  // hip's flexion and abduction blend toward place_hip and place_abduction (rad) and the knee
+  // lifts the foot clear. Not placing: the configured swing.
+  bool placing = false;
+  double place_hip = 0, place_abduction = 0;
 };
 
 // Writes the reference pose of `node` at phase φ into `pose` (root x, y relative to the

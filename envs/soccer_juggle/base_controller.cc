@@ -45,7 +45,9 @@ void BaseController::AddFeedforward(const CursorState& cursor, const CharacterPo
                                     const SwingAdjust& adjust, mjData* data,
                                     double* feedforward) {
   if (id_data_ != nullptr) AddReferenceFeedforward(cursor, reference, adjust, *data, feedforward);
-  if (spec_.env().has_stance_balance()) AddStanceBalance(cursor, data, feedforward);
+  if (spec_.env().has_stance_balance()) {
+    AddStanceBalance(cursor, adjust.placing, data, feedforward);
+  }
 }
 
 void BaseController::AddReferenceFeedforward(const CursorState& cursor,
@@ -70,7 +72,7 @@ void BaseController::AddReferenceFeedforward(const CursorState& cursor,
   }
 }
 
-void BaseController::AddStanceBalance(const CursorState& cursor, mjData* data,
+void BaseController::AddStanceBalance(const CursorState& cursor, bool placing, mjData* data,
                                       double* feedforward) const {
   const config::ReferencePose& ref = spec_.graph().node(cursor.current).spec.pose();
   config::StanceBalance gains = spec_.env().stance_balance();
@@ -94,7 +96,7 @@ void BaseController::AddStanceBalance(const CursorState& cursor, mjData* data,
     return;
   }
   const bool kick_left = ref.leg_swing().side() == config::LEFT;
-  if (changing && HandsStanceOver(spec_.graph(), cursor)) {
+  if (placing) {  // the stance goes to the kicking foot next (UpdateSwingAdjust)
     gains.set_com_y(gains.com_y() + LeanTowardKick(change, kick_left, cursor.phase));
   }
   humanoid::AddStanceBalance(spec_.joints(), gains,

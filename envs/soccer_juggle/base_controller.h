@@ -47,7 +47,9 @@ class BaseController {
   void AddReferenceFeedforward(const CursorState& cursor, const CharacterPose& reference,
                                const SwingAdjust& adjust, const mjData& data,
                                double* feedforward);
-  void AddStanceBalance(const CursorState& cursor, mjData* data, double* feedforward) const;
+  // `placing`: the step's SwingAdjust::placing (the balance leans onto the foot put down).
+  void AddStanceBalance(const CursorState& cursor, bool placing, mjData* data,
+                        double* feedforward) const;
   const double* AnklePosition(const mjData& data, humanoid::JointId ankle) const;
 
   const JuggleSpec& spec_;

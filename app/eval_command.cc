@@ -10,6 +10,7 @@
 #include <cstring>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,7 @@
 #include "eval/summary.h"
 #include "eval/tables.h"
 #include "planner/impact_observer.h"
+#include "planner/kick_memory_recorder.h"
 #include "planner/planner_controller.h"
 #include "planner/replan_trace.h"
 
@@ -44,6 +46,7 @@ struct EvalFlags {
   bool planner_trace = false;
   PlannerFlags planner;
   std::string proposal;  // --controller=planner: a policy as the plans' prior
+  std::string kick_memory_out;  // --controller=planner, soccer: the solved kicks' memory
   int episodes = 50;
   int64_t seed = kHeldOutSeed;
   int first_episode = 0;
@@ -107,6 +110,9 @@ int Evaluate(EvalFlags f) {
   if (!f.proposal.empty() && f.controller != "planner") {
     return UsageError("--proposal needs --controller=planner");
   }
+  if (!f.kick_memory_out.empty() && f.controller != "planner") {
+    return UsageError("--kick-memory-out needs --controller=planner");
+  }
   if (f.impact_band[0] > f.impact_band[1]) {
     return UsageError(absl::StrFormat("--impact-band: MIN %g is above MAX %g", f.impact_band[0],
                                       f.impact_band[1]));
@@ -135,6 +141,9 @@ int Evaluate(EvalFlags f) {
   if (!f.json.empty()) {
     // Fail before evaluating, not after.
     if (absl::Status s = WriteJsonLines(f.json, {}); !s.ok()) return Fail(s);
+  }
+  if (!f.kick_memory_out.empty()) {
+    if (absl::Status s = CheckWritable(f.kick_memory_out); !s.ok()) return Fail(s);
   }
   PolicyController* policy_controller = nullptr;
   planner::PlannerController* planner_controller = nullptr;
@@ -171,8 +180,21 @@ int Evaluate(EvalFlags f) {
   options.record = !f.record.empty();
   options.config_path = RecordedConfigName(config);
   planner::ImpactObservingController observed(controller.get());
-  absl::StatusOr<EpisodeReport> report = RunEpisodes(*spec, &observed, options);
+  std::optional<planner::KickMemoryRecorder> remembered;
+  Controller* acting = &observed;
+  if (!f.kick_memory_out.empty()) {
+    remembered.emplace(&observed, planner_controller);
+    acting = &*remembered;
+  }
+  absl::StatusOr<EpisodeReport> report = RunEpisodes(*spec, acting, options);
   if (!report.ok()) return Fail(report.status());
+  if (remembered.has_value()) {
+    if (absl::Status s = WriteFileAtomically(f.kick_memory_out, remembered->FileText()); !s.ok()) {
+      return Fail(s);
+    }
+    std::printf("kick memory: %d kicks to %s\n", static_cast<int>(remembered->rows().size()),
+                f.kick_memory_out.c_str());
+  }
   if (report->trajectory) {
     if (absl::Status s = WriteTrajectory(*report->trajectory, f.record); !s.ok()) return Fail(s);
     std::printf("recorded %d episodes (%.2f s) to %s\n", f.episodes,
@@ -201,6 +223,11 @@ int Evaluate(EvalFlags f) {
         "prediction_checks=%d prediction_mismatches=%d wall_s=%.1f wall_s_per_sim_s=%.3f",
         t.replans, t.rollouts, t.rollout_steps, t.rescues, t.prediction_checks, t.prediction_mismatches,
         wall, wall / std::max(sim_seconds, 1e-9)));
+    if (t.refined_out_of_trouble > 0) {
+      // Troubled re-plans the refinement before the rescue fixed (planner.rescue.refine_first).
+      absl::StrAppend(&line, absl::StrFormat(" planner_refined_out_of_trouble=%d",
+                                             t.refined_out_of_trouble));
+    }
     if (t.proposal_tried > 0) {
       // The learned proposal (--proposal): re-plans that chose it alone, without offsets.
       absl::StrAppend(&line, absl::StrFormat(
@@ -325,6 +352,10 @@ CommandBody AddEvalCommand(CLI::App* cmd) {
                   "with --controller=planner: a policy (checkpoint, run directory or .jglpolicy) "
                   "whose mean action is every plan's prior, the search correcting it "
                   "(planner.policy_prior; docs/planner.md)");
+  cmd->add_option("--kick-memory-out", f->kick_memory_out,
+                  "with --controller=planner on soccer juggling: write a memory of the solved "
+                  "kicks (each incoming ball and the kick variables executed for it), which "
+                  "planner.soccer_juggle.kick_memory reads as the next kick's proposal");
   cmd->add_option("--episodes", f->episodes, "episodes, one per env seed")
       ->check(Between(1, 100000))
       ->capture_default_str();

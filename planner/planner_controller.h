@@ -37,6 +37,8 @@ class PlannerController final : public Controller {
   }
   // Totals over every env's planner.
   PlannerTotals totals() const { return planners_->totals(); }
+  // The planner of `env` (made when `env` is first seen).
+  const RecedingHorizonPlanner& PlannerFor(const Env& env) { return planners_->For(env); }
   const PlanningTask& task() const { return planners_->task(); }
   // Called after every re-plan (the env's planner stream, report): progress lines.
   void set_on_replan(std::function<void(int, const ReplanReport&)> f) { on_replan_ = std::move(f); }

@@ -108,7 +108,8 @@ class PlanningTask {
   // How much of the prior plan `theta` takes, in [0, 1] (default: all of it).
   virtual double PriorWeight(const double* theta) const { return 1; }
   // Narrows the search at `env`'s state: e.g. variables that can no longer act are held at the
-  // shifted plan's values (`shifted`), in `space` and in every seed. Default: nothing.
+  // shifted plan's values (`shifted`), in `space` and in every seed; or appends seeds the state
+  // suggests (soccer: remembered kicks for the incoming ball). Default: nothing.
   virtual void Restrict(const Env& env, const std::vector<double>& shifted, SearchSpace* space,
                         std::vector<std::vector<double>>* seeds) const {}
   // How far (m) the env's ball (or whatever the task's contacts are with) is from a contact

@@ -40,6 +40,7 @@ void PlannerTotals::Add(const PlannerTotals& other) {
   rollouts += other.rollouts;
   rollout_steps += other.rollout_steps;
   rescues += other.rescues;
+  refined_out_of_trouble += other.refined_out_of_trouble;
   proposal_tried += other.proposal_tried;
   proposal_chosen += other.proposal_chosen;
   proposal_weight_sum += other.proposal_weight_sum;
@@ -265,8 +266,9 @@ absl::StatusOr<CemResult> RecedingHorizonPlanner::Search(ReplanState& r) {
   return result;
 }
 
-absl::Status RecedingHorizonPlanner::Rescue(ReplanState& r, CemResult* result) {
+absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemResult* result) {
   last_.rescued = false;
+  last_.refined_out = false;
   const config::RescueSearch& rescue = config_.rescue();
   if (!(rescue.cost_above() > 0 && result->best_cost > rescue.cost_above())) {
     troubled_ = 0;
@@ -274,6 +276,18 @@ absl::Status RecedingHorizonPlanner::Rescue(ReplanState& r, CemResult* result) {
   }
   if (++troubled_ < rescue.patience()) return absl::OkStatus();
   troubled_ = 0;
+  if (rescue.refine_first() > 0) {
+    // A linear step on the next kick first; the wide search only if still in trouble.
+    if (const std::optional<VariableBlock> block = task_->RefineBlock(env); block.has_value()) {
+      RETURN_IF_ERROR(Refine(*r.snapshot, r.clock, *block, r.shifted, rescue.refine_first(),
+                             &result->best, &result->best_cost));
+      if (result->best_cost <= rescue.cost_above()) {
+        ++totals_.refined_out_of_trouble;
+        last_.refined_out = true;
+        return absl::OkStatus();
+      }
+    }
+  }
   // In trouble: search again, wider, from the best plan found (its incumbent), so the answer is
   // never worse than the regular search's. Variables the state holds stay held.
   SearchSpace wide = task_->rescue_space();
@@ -308,12 +322,13 @@ absl::Status RecedingHorizonPlanner::RefineBest(const Env& env, ReplanState& r,
   if (config_.refine_iterations() == 0) return absl::OkStatus();
   const std::optional<VariableBlock> block = task_->RefineBlock(env);
   if (!block.has_value()) return absl::OkStatus();
-  return Refine(*r.snapshot, r.clock, *block, r.shifted, &result->best, &result->best_cost);
+  return Refine(*r.snapshot, r.clock, *block, r.shifted, config_.refine_iterations(), &result->best,
+                &result->best_cost);
 }
 
 absl::Status RecedingHorizonPlanner::Refine(const EnvSnapshot& snapshot, PlanClock clock,
                                             const VariableBlock& block,
-                                            const std::vector<double>& warm,
+                                            const std::vector<double>& warm, int iterations,
                                             std::vector<double>* theta, double* cost) {
   const int dim = task_->dim();
   const int k = block.size();
@@ -321,7 +336,7 @@ absl::Status RecedingHorizonPlanner::Refine(const EnvSnapshot& snapshot, PlanClo
   JUGGLE_CHECK(k <= kMaxBlock && m <= kMaxBlock, "a refinement block or residual too large");
   const SearchSpace& space = task_->space();
   const double* h = block.steps.data();
-  for (int it = 0; it < config_.refine_iterations(); ++it) {
+  for (int it = 0; it < iterations; ++it) {
     std::vector<double> batch;
     for (int j = -1; j < k; ++j) {
       batch.insert(batch.end(), theta->begin(), theta->end());
@@ -481,7 +496,7 @@ absl::Status RecedingHorizonPlanner::Commit(const Env& env, const ReplanState& r
 absl::Status RecedingHorizonPlanner::Replan(const Env& env) {
   ReplanState r = WarmStart(env);
   ASSIGN_OR_RETURN(CemResult result, Search(r));
-  RETURN_IF_ERROR(Rescue(r, &result));
+  RETURN_IF_ERROR(Rescue(env, r, &result));
   RETURN_IF_ERROR(RefineBest(env, r, &result));
   return Commit(env, r, result);
 }

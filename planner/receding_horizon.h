@@ -35,6 +35,7 @@ struct ReplanReport {
   double best_cost = 0;
   int evaluations = 0;         // rollouts simulated
   bool rescued = false;        // the wider second search ran (PlannerConfig.rescue)
+  bool refined_out = false;    // in trouble, and the refinement before the rescue fixed it
   bool predicts_failure = false;  // the best plan's rollout ends the episode
   Outcome predicted_end = Outcome::kRunning;  // how, and after how many steps
   int predicted_end_step = 0;
@@ -52,6 +53,9 @@ struct PlannerTotals {
   int64_t rollouts = 0;
   int64_t rollout_steps = 0;   // control steps simulated by rollouts
   int64_t rescues = 0;         // re-plans that ran the wider second search
+  // Re-plans in trouble that the refinement before the rescue (RescueSearch.refine_first)
+  // brought out of it, so no rescue ran.
+  int64_t refined_out_of_trouble = 0;
   // With a proposing prior (PlannerConfig.policy_prior and a policy set): re-plans that tried
   // the proposal alone (zero offsets) as a candidate, and those that chose it (the policy's
   // share of chosen candidates, issue 48).
@@ -155,7 +159,7 @@ class RecedingHorizonPlanner {
   absl::Status Replan(const Env& env);
   ReplanState WarmStart(const Env& env);
   absl::StatusOr<CemResult> Search(ReplanState& r);
-  absl::Status Rescue(ReplanState& r, CemResult* result);
+  absl::Status Rescue(const Env& env, ReplanState& r, CemResult* result);
   absl::Status RefineBest(const Env& env, ReplanState& r, CemResult* result);
   absl::Status Commit(const Env& env, const ReplanState& r, const CemResult& result);
   // With a planning model: simulates theta_ (the planning model's choice) on it once more and,
@@ -164,10 +168,11 @@ class RecedingHorizonPlanner {
   // executed-model rollout with its prediction in predicted_.
   absl::Status ChooseOnExact(const ReplanState& r, bool had_plan, RolloutResult* chosen);
 
-  // Levenberg–Marquardt steps on `block` of `theta` (cost `cost`, plan cost against `warm`);
-  // keeps a step only if the whole cost falls.
+  // `iterations` Levenberg–Marquardt steps on `block` of `theta` (cost `cost`, plan cost
+  // against `warm`); keeps a step only if the whole cost falls.
   absl::Status Refine(const EnvSnapshot& snapshot, PlanClock clock, const VariableBlock& block,
-                      const std::vector<double>& warm, std::vector<double>* theta, double* cost);
+                      const std::vector<double>& warm, int iterations, std::vector<double>* theta,
+                      double* cost);
 
   // PlannerConfig.robust: draws this re-plan's noise (robust_noise_) from random stream
   // (seed, stream, draw_index), and the noise of draw d in [1, draws].

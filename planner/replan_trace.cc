@@ -27,6 +27,7 @@ std::string FormatReplanTrace(const PlanningTask& task, const EnvSpec& spec, int
                                      slot, r.env_step, r.incumbent_cost, r.best_cost,
                                      r.evaluations);
   if (r.rescued) absl::StrAppend(&line, " rescue");
+  if (r.refined_out) absl::StrAppend(&line, " refined");
   if (r.predicts_failure) {
     absl::StrAppendFormat(&line, " ends %s at step %d",
                           spec.outcome_names()[static_cast<int>(r.predicted_end)],

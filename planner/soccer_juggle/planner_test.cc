@@ -427,6 +427,58 @@ TEST_F(SoccerPlannerTest, ARescueSearchRunsOnlyAboveItsCostAndNeverRaisesIt) {
   EXPECT_EQ(never.report.best_cost, off.report.best_cost);
 }
 
+// rescue.refine_first: a troubled re-plan first takes Levenberg–Marquardt steps on the next
+// kick, the same steps as the refinement after the search (refine_iterations, the independent
+// path here), and runs the wide search only if the plan is still above cost_above.
+TEST_F(SoccerPlannerTest, ARefinementBeforeTheRescueSkipsItOnlyWhenItLeavesTrouble) {
+  config::PlannerConfig& p = *config_.run.mutable_planner();
+  config::RescueSearch& rescue = *p.mutable_rescue();
+  rescue.set_samples(24);
+  rescue.set_iterations(3);
+  float action[kNumActions];
+  const double ahead = 0.06;  // (at 0.12 m the regular search's kick is already a minimum)
+  auto plan_once = [&](std::unique_ptr<SoccerPlanner>* planner) {
+    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(ahead);
+    *planner = NewPlanner();
+    EXPECT_TRUE((*planner)->Act(*env, action).ok());
+    return (*planner)->last_replan();
+  };
+  // The regular search alone, and followed by two refinement steps.
+  rescue.set_cost_above(0);
+  std::unique_ptr<SoccerPlanner> planner;
+  const ReplanReport searched = plan_once(&planner);
+  p.set_refine_iterations(2);
+  const ReplanReport refined = plan_once(&planner);
+  const std::vector<double> refined_plan = planner->plan();
+  p.set_refine_iterations(0);
+  ASSERT_LT(refined.best_cost, searched.best_cost) << "the ball 6 cm ahead leaves room to refine";
+
+  // In trouble (above the threshold) and brought out of it by the refinement: no rescue.
+  rescue.set_refine_first(2);
+  rescue.set_cost_above(0.5 * (searched.best_cost + refined.best_cost));
+  const ReplanReport out = plan_once(&planner);
+  EXPECT_FALSE(out.rescued);
+  EXPECT_TRUE(out.refined_out);
+  EXPECT_EQ(planner->totals().refined_out_of_trouble, 1);
+  EXPECT_EQ(planner->totals().rescues, 0);
+  EXPECT_EQ(out.best_cost, refined.best_cost);
+  EXPECT_EQ(planner->plan(), refined_plan);
+
+  // Still in trouble after it: the rescue runs from the refined plan and can only lower its cost.
+  rescue.set_cost_above(0.5 * refined.best_cost);
+  const ReplanReport still = plan_once(&planner);
+  EXPECT_TRUE(still.rescued);
+  EXPECT_FALSE(still.refined_out);
+  EXPECT_EQ(planner->totals().refined_out_of_trouble, 0);
+  EXPECT_LE(still.best_cost, refined.best_cost);
+
+  // Below the threshold nothing extra runs: the plan is the regular search's.
+  rescue.set_cost_above(2 * searched.best_cost);
+  const ReplanReport healthy = plan_once(&planner);
+  EXPECT_FALSE(healthy.rescued || healthy.refined_out);
+  EXPECT_EQ(healthy.best_cost, searched.best_cost);
+}
+
 // With rescue.body the whole-body knots move only in rescues: a planner that never rescues
 // keeps them at 0, one that always does moves them.
 TEST_F(SoccerPlannerTest, RescueBodyKnotsMoveOnlyInARescue) {

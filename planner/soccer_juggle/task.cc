@@ -5,6 +5,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "common/check.h"
 #include "planner/soccer_juggle/cost.h"
 
 namespace juggle::planner {
@@ -26,6 +27,12 @@ SoccerJuggleTask::SoccerJuggleTask(std::shared_ptr<const soccer_juggle::JuggleSp
   for (int v = 0; v < rescue_space_.dim(); ++v) {
     rescue_space_.sigma[v] = std::min(rescue_space_.sigma[v] * config.rescue().sigma_scale(),
                                       rescue_space_.upper[v] - rescue_space_.lower[v]);
+  }
+  if (settings_.has_kick_memory() && layout_.kick_sets > 0) {
+    absl::StatusOr<KickMemory> memory =
+        KickMemory::Load(settings_.kick_memory().file(), settings_.cost());
+    JUGGLE_CHECK(memory.ok(), "the kick memory was checked by ValidateSoccerJuggleTask");
+    memory_ = *std::move(memory);
   }
 }
 
@@ -62,6 +69,7 @@ bool SoccerJuggleTask::Released(const Env& env) {
 void SoccerJuggleTask::Restrict(const Env& env, const std::vector<double>& shifted,
                                 SearchSpace* space,
                                 std::vector<std::vector<double>>* seeds) const {
+  if (memory_.has_value()) AddRememberedKicks(env, seeds);
   // After the current cycle's release its kick set is held where it is.
   if (!(settings_.kick().freeze_after_release() && Released(env) && layout_.kick_sets > 0)) return;
   for (int v = 0; v < kKickVariables; ++v) {
@@ -70,6 +78,23 @@ void SoccerJuggleTask::Restrict(const Env& env, const std::vector<double>& shift
   }
   for (std::vector<double>& seed : *seeds) {
     std::copy_n(shifted.begin(), kKickVariables, seed.begin());
+  }
+}
+
+void SoccerJuggleTask::AddRememberedKicks(const Env& env,
+                                          std::vector<std::vector<double>>* seeds) const {
+  const std::optional<KickContext> context =
+      KickContextOf(static_cast<const JuggleEnv&>(env));
+  const std::optional<VariableBlock> next = RefineBlock(env);  // the next kick's set
+  if (!context.has_value() || !next.has_value()) return;
+  const std::vector<double> start = seeds->front();
+  for (const KickDecision& kick : memory_->Nearest(*context, settings_.kick_memory().neighbours())) {
+    std::vector<double> seed = start;
+    for (int v = 0; v < kKickVariables; ++v) {
+      const int i = next->first + v;
+      seed[i] = std::clamp(kick[v], space_.lower[i], space_.upper[i]);
+    }
+    seeds->push_back(std::move(seed));
   }
 }
 
@@ -190,6 +215,21 @@ absl::Status ValidateSoccerJuggleTask(const LoadedConfig& config) {
           " leads from ", from.spec.pose().has_leg_swing() ? "a leg swing" : "a header or chest",
           " to ", to.spec.pose().has_leg_swing() ? "a leg swing" : "a header or chest",
           ": their variables move different joints; set cycles: 2 or more"));
+    }
+  }
+  if (p.soccer_juggle().has_kick_memory()) {
+    const config::KickMemoryConfig& memory = p.soccer_juggle().kick_memory();
+    const std::string where_file = config.root.Where(
+        {{"planner"}, {"soccer_juggle"}, {"kick_memory"}, {"file"}});
+    if (!kick.enabled()) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          where_file, ": kick_memory.file: a kick memory proposes kick variables, and "
+          "kick.enabled is false"));
+    }
+    if (absl::StatusOr<KickMemory> m = KickMemory::Load(memory.file(), p.soccer_juggle().cost());
+        !m.ok()) {
+      return absl::InvalidArgumentError(absl::StrCat(where_file, ": kick_memory.file: ",
+                                                     m.status().message()));
     }
   }
   const config::PlannerCost& cost = p.soccer_juggle().cost();

@@ -16,6 +16,7 @@
 #include "common/config_loader.h"
 #include "envs/soccer_juggle/spec.h"
 #include "planner/planning_task.h"
+#include "planner/soccer_juggle/kick_memory.h"
 #include "planner/soccer_juggle/plan.h"
 #include "proto/planner.pb.h"
 
@@ -26,7 +27,7 @@ class SoccerJuggleTask final : public PlanningTask {
   // At most this many steps past the horizon to let a kick in contact release the ball.
   static constexpr int kReleaseSteps = 6;
 
-  // REQUIRES: `config` passed ValidateSoccerJuggleTask.
+  // REQUIRES: `config` passed ValidateSoccerJuggleTask (its kick memory file reads).
   SoccerJuggleTask(std::shared_ptr<const soccer_juggle::JuggleSpec> spec,
                    const config::PlannerConfig& config);
 
@@ -70,6 +71,9 @@ class SoccerJuggleTask final : public PlanningTask {
   VariableBlock KickBlock(int set) const;
   // The current cycle's kick has left the foot.
   static bool Released(const Env& env);
+  // While the ball flies to the next contact: the first seed with the next kick's set replaced by
+  // each of the kick memory's nearest decisions, appended to `seeds`.
+  void AddRememberedKicks(const Env& env, std::vector<std::vector<double>>* seeds) const;
 
   std::shared_ptr<const soccer_juggle::JuggleSpec> spec_;
   config::SoccerJugglePlanning settings_;
@@ -77,11 +81,12 @@ class SoccerJuggleTask final : public PlanningTask {
   SoccerPlanLayout layout_;
   SearchSpace space_;
   SearchSpace rescue_space_;  // PlannerConfig.rescue's: every spread widened, body knots free
+  std::optional<KickMemory> memory_;  // SoccerJugglePlanning.kick_memory
 };
 
 // OK, or INVALID_ARGUMENT "file:line:col: planner.<field>: ..." for soccer settings the schema's
 // ranges allow but the run does not: a horizon longer than the episode, a body action that names
-// no joint, an empty impact band.
+// no joint, an empty impact band, a kick memory file that does not read.
 absl::Status ValidateSoccerJuggleTask(const LoadedConfig& config);
 
 }  // namespace juggle::planner

@@ -11,7 +11,8 @@
 #
 # Every part also records its episode (OUT/ep_N.traj) for `juggle render --replay`.
 # EVAL_FLAGS (environment): more `juggle eval` flags for every part, e.g.
-# EVAL_FLAGS=--proposal=policies/right_foot/kick_fb_30min.jglpolicy.
+# EVAL_FLAGS=--proposal=policies/right_foot/kick_fb_30min.jglpolicy; "{i}" in them becomes the
+# part's episode index (e.g. --kick-memory-out=OUT/memory_{i}.txt).
 set -euo pipefail
 if [ $# -lt 4 ]; then
   sed -n '2,12p' "$0"
@@ -25,10 +26,12 @@ mkdir -p "$out"
 
 part() {
   local i=$1 json="$out/ep_$1.jsonl"
+  local flags=${EVAL_FLAGS:-}
+  flags=${flags//\{i\}/$i}
   if [ -s "$json" ] && grep -q '"table":"episode"' "$json"; then return 0; fi
   "$juggle" eval --controller=planner --config="$config" --episodes=1 --first-episode="$i" \
     --max_seconds="$seconds" --planner-set="threads: 1 $extra" --json="$json.part" \
-    --record="$out/ep_$i.traj" ${EVAL_FLAGS:-} > "$out/ep_$i.log" 2>&1
+    --record="$out/ep_$i.traj" $flags > "$out/ep_$i.log" 2>&1
   mv "$json.part" "$json"
   echo "episode $i: $(grep -o 'juggles=[0-9.]*' "$out/ep_$i.log" | head -1) $(tail -1 "$out/ep_$i.log" | grep -o 'wall_s=[0-9.]*')"
 }

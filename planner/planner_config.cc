@@ -34,6 +34,19 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
         absl::StrCat(where(block.c_str()), ": a planning task for ", block, ", but this run's "
                      "envs are of the ", family_name, " family"));
   }
+  if (!(*task)->refines) {
+    // Silently nothing would refine (PlanningTaskEntry::refines).
+    const std::string no_refinement = absl::StrCat(
+        ": the ", family_name, " planning task has no refinement (no residuals to take "
+        "Levenberg-Marquardt steps on); set it to 0");
+    if (p.refine_iterations() > 0) {
+      return absl::InvalidArgumentError(absl::StrCat(where("refine_iterations"), no_refinement));
+    }
+    if (p.rescue().refine_first() > 0) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          config.root.Where({{"planner"}, {"rescue"}, {"refine_first"}}), no_refinement));
+    }
+  }
   if (p.rescue().body() && p.body_knot_steps() == 0) {
     return absl::InvalidArgumentError(absl::StrCat(
         config.root.Where({{"planner"}, {"rescue"}, {"body"}}),

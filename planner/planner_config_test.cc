@@ -2,6 +2,7 @@
 // planner refuses settings the schema allows but the run does not.
 #include <string>
 
+#include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "envs/registry.h"
 #include "envs/testing/test_configs.h"
@@ -172,6 +173,35 @@ TEST(PlannerConfigTest, TheShippedPlannerConfigIsValid) {
       LoadRunConfig(RepoPath("configs/right_foot_planner.textproto"));
   ASSERT_TRUE(config.ok()) << config.status();
   EXPECT_TRUE(ValidatePlannerConfig(*config).ok());
+}
+
+TEST(PlannerConfigTest, ARefinementForATaskWithoutOneIsRefusedAtTheField) {
+  for (const char* field : {"refine_iterations: 2", "rescue { refine_first: 2 }"}) {
+    const std::string text =
+        absl::StrCat("base_config: \"", RepoPath("configs/toss_throw_planner.textproto"),
+                     "\"\nplanner {\n  ", field, "\n}\n");
+    LoadedConfig config;
+    ASSERT_TRUE(Load("toss_refine.textproto", text, &config).ok());
+    const absl::Status s = ValidatePlannerConfig(config);
+    EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument) << field;
+    const std::string at = absl::StrContains(field, "refine_first") ? "refine_first: 2" : field;
+    EXPECT_THAT(std::string(s.message()),
+                StartsWith(::juggle::testing::Loc(config.config_path, text, at)));
+    EXPECT_THAT(std::string(s.message()), HasSubstr("the toss planning task has no refinement"));
+  }
+  // The soccer task refines its kick variables, not without them.
+  const std::string no_kick = Config(
+      "body_knot_steps: 5 soccer_juggle { kick { enabled: false } } rescue { refine_first: 1 }");
+  LoadedConfig config;
+  ASSERT_TRUE(Load("soccer_no_kick_refine.textproto", no_kick, &config).ok());
+  const absl::Status s = ValidatePlannerConfig(config);
+  EXPECT_THAT(std::string(s.message()),
+              StartsWith(::juggle::testing::Loc(config.config_path, no_kick, "refine_first: 1")));
+  EXPECT_THAT(std::string(s.message()), HasSubstr("kick.enabled is false"));
+  ASSERT_TRUE(Load("soccer_refine.textproto",
+                   Config("refine_iterations: 2 rescue { refine_first: 2 }"), &config)
+                  .ok());
+  EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
 }
 
 TEST(PlannerConfigTest, ATaskBlockOfAnotherFamilyIsRefusedNamingBothFamilies) {

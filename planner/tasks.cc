@@ -38,9 +38,9 @@ std::shared_ptr<const PlanningTask> MakeFootballTask(std::shared_ptr<const EnvSp
 
 const std::vector<PlanningTaskEntry>& PlanningTasks() {
   static const auto* const kTasks = new std::vector<PlanningTaskEntry>{
-      {"soccer_juggle", &ValidateSoccerJuggleTask, &MakeSoccerJuggleTask},
-      {"toss", &ValidateTossTask, &MakeTossTask},
-      {"football", &ValidateFootballTask, &MakeFootballTask},
+      {"soccer_juggle", &ValidateSoccerJuggleTask, &MakeSoccerJuggleTask, /*refines=*/true},
+      {"toss", &ValidateTossTask, &MakeTossTask, /*refines=*/false},
+      {"football", &ValidateFootballTask, &MakeFootballTask, /*refines=*/false},
   };
   return *kTasks;
 }

@@ -22,6 +22,9 @@ struct PlanningTaskEntry {
   // The task for envs of `spec` (of this family), from validated settings.
   std::shared_ptr<const PlanningTask> (*make)(std::shared_ptr<const EnvSpec> spec,
                                               const config::PlannerConfig& config);
+  // The task has a refinement (PlanningTask::RefineBlock and residuals), which
+  // planner.refine_iterations and planner.rescue.refine_first need (else a config error).
+  bool refines = false;
 };
 
 // Every task, in the order of planner/tasks.cc.

@@ -210,8 +210,9 @@ void SoccerRolloutScorer::AfterStep(const Env& base, const float* action, const 
     k.impact_acceleration = cycle_impact_;
     if (k.valid) {
       if (kicks_ == 0) first_kick_ = k;
+      const double weight = kicks_ == 0 ? 1.0 : cost_.later_kicks();
       ++kicks_;
-      kick_cost_ += cost_.kick() * (Square(k.timing / cost_.timing_scale_s()) +
+      kick_cost_ += weight * cost_.kick() * (Square(k.timing / cost_.timing_scale_s()) +
                                     (Square(k.dx) + Square(k.dy)) / Square(cost_.landing_scale()) +
                                     cost_.apex_weight() * Square(k.apex / cost_.apex_scale()));
     }

@@ -323,6 +323,47 @@ TEST_F(SoccerPlannerTest, WithoutRunOnEveryKickALaterCyclesKickIsNotRunOn) {
   }
 }
 
+// cost.later_kicks weights the kick term of every kick after a rollout's first. Checked
+// against both kicks' outcomes taken from a plain zero-action run at their releases and the
+// cost's formula (the planner's nominal plan is the zero action).
+TEST_F(SoccerPlannerTest, LaterKicksWeightsTheKickTermOfEveryKickAfterTheRolloutsFirst) {
+  std::unique_ptr<JuggleEnv> probe = StartWithBallAhead(0.01, 3);
+  const float zero[kNumActions] = {0};
+  std::vector<KickOutcome> kicks;
+  int second_release = 0;
+  bool released = false;  // this cycle's ball has left the foot
+  for (int t = 1; t <= 150 && second_release == 0; ++t) {
+    ASSERT_EQ(probe->Step(zero, *walk_).outcome, Outcome::kRunning) << "step " << t;
+    const soccer_juggle::JuggleEnvState& s = probe->state();
+    if (!s.kick_touched) released = false;
+    if (!s.kick_touched || s.touched_this_step || released) continue;
+    released = true;
+    kicks.push_back(PredictKickOutcome(*probe));
+    if (kicks.size() == 2) second_release = t;
+  }
+  ASSERT_EQ(kicks.size(), 2u) << "the zero action should release the ball twice";
+  const config::PlannerCost& w = config_.run.planner().soccer_juggle().cost();
+  auto kick_cost = [&](const KickOutcome& k) {
+    return w.kick() * (std::pow(k.timing / w.timing_scale_s(), 2) +
+                       (k.dx * k.dx + k.dy * k.dy) / std::pow(w.landing_scale(), 2) +
+                       w.apex_weight() * std::pow(k.apex / w.apex_scale(), 2));
+  };
+  const double first = kick_cost(kicks[0]), second = kick_cost(kicks[1]);
+  ASSERT_GT(second, 0);
+  for (const double later : {1.0, 0.25, 0.0}) {
+    config::PlannerConfig p = NominalOnly(config_.run.planner(), second_release + 2);
+    p.set_prune(false);
+    p.mutable_soccer_juggle()->mutable_cost()->set_later_kicks(later);
+    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.01, 3);
+    SoccerPlanner planner(spec_, p, pool_.get(), 0);
+    float action[kNumActions];
+    ASSERT_TRUE(planner.Act(*env, action).ok());
+    const std::vector<double>& terms = planner.last_replan().terms;
+    ASSERT_EQ(terms.size(), SoccerTermNames().size());
+    EXPECT_NEAR(terms[2], first + later * second, 1e-9 * (first + second)) << "later_kicks " << later;
+  }
+}
+
 // With replan_at_cycle_start the planner decides once per juggle cycle: it re-plans at the
 // episode's first step and at every DOWN entry, nowhere else, and acts open loop in between.
 TEST_F(SoccerPlannerTest, ReplanAtCycleStartReplansOnlyWhenADownNodeIsEntered) {

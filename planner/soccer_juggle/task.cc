@@ -232,6 +232,15 @@ absl::Status ValidateSoccerJuggleTask(const LoadedConfig& config) {
                                                      m.status().message()));
     }
   }
+  if (!kick.enabled() && (p.refine_iterations() > 0 || p.rescue().refine_first() > 0)) {
+    // The refinement steps on a kick's variables (RefineBlock); without them nothing refines.
+    const bool iterations = p.refine_iterations() > 0;
+    return absl::InvalidArgumentError(absl::StrCat(
+        iterations ? where("refine_iterations")
+                   : config.root.Where({{"planner"}, {"rescue"}, {"refine_first"}}),
+        ": the refinement steps on the kick variables, and soccer_juggle.kick.enabled is false; "
+        "set it to 0"));
+  }
   const config::PlannerCost& cost = p.soccer_juggle().cost();
   if (cost.impact_acceleration_min() > cost.impact_acceleration_max()) {
     return absl::InvalidArgumentError(absl::StrCat(

@@ -64,6 +64,10 @@ class RolloutScorer {
   // True when a horizon ending now should run one step further (at most
   // PlanningTask::max_run_on_steps()): e.g. a kick still in contact is scored at its release.
   virtual bool RunsOn(const Env& env) const { return false; }
+  // The part of the cost so far that decisions after the rollout's first make (soccer: the
+  // kick term of later kicks), which RescueSearch.ignore_later_kicks leaves out of the trouble
+  // test. 0: none.
+  virtual double later_cost() const { return 0; }
   // The rollout ends past the horizon in a way the task counts as a failure without the episode
   // ending inside it (soccer: a contact passed without a touch). Valid after Finish.
   virtual bool predicts_miss() const { return false; }

@@ -137,6 +137,7 @@ RecedingHorizonPlanner::RolloutResult RecedingHorizonPlanner::Rollout(
       result.first_outcome = scorer->first_outcome();
       result.steps = t + 1;
       result.cost = scorer->partial();
+      result.later = scorer->later_cost();
       return result;
     }
     // A horizon the task wants to run on (e.g. to a kick's release) gets one more step at a time.
@@ -149,6 +150,7 @@ RecedingHorizonPlanner::RolloutResult RecedingHorizonPlanner::Rollout(
   result.first_outcome = scorer->first_outcome();
   result.steps = t;
   result.cost = scorer->Finish(*env);
+  result.later = scorer->later_cost();
   result.missed = scorer->predicts_miss();
   if (o.terms) result.terms = scorer->terms();
   return result;
@@ -273,6 +275,21 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
   if (!(rescue.cost_above() > 0 && result->best_cost > rescue.cost_above())) {
     troubled_ = 0;
     return absl::OkStatus();
+  }
+  if (rescue.ignore_later_kicks()) {
+    // Trouble that only later decisions make is left to the re-plans after the first one.
+    RolloutOptions plain;
+    plain.clock = r.clock;
+    RolloutResult best;
+    RETURN_IF_ERROR(pool_->Run(*r.snapshot, 1, [&](int, Env* copy) {
+      best = Rollout(copy, result->best.data(), plain);
+    }));
+    ++totals_.rollouts;
+    totals_.rollout_steps += best.steps;
+    if (best.cost - best.later <= rescue.cost_above()) {
+      troubled_ = 0;
+      return absl::OkStatus();
+    }
   }
   if (++troubled_ < rescue.patience()) return absl::OkStatus();
   troubled_ = 0;

@@ -127,6 +127,7 @@ class RecedingHorizonPlanner {
     int exact_steps = 0;  // of `steps`, simulated on the executed model (exact_within_m)
     std::vector<double> first_outcome;
     std::vector<double> terms;  // only when asked for (the chosen plan's rollout)
+    double later = 0;  // RolloutScorer::later_cost
   };
   // How a rollout runs: the plan's clock at its first state; with `trace`, the fingerprint of
   // the state after every step is appended to it; with config.prune it stops once the cost so far

@@ -212,9 +212,13 @@ void SoccerRolloutScorer::AfterStep(const Env& base, const float* action, const 
       if (kicks_ == 0) first_kick_ = k;
       const double weight = kicks_ == 0 ? 1.0 : cost_.later_kicks();
       ++kicks_;
-      kick_cost_ += weight * cost_.kick() * (Square(k.timing / cost_.timing_scale_s()) +
-                                    (Square(k.dx) + Square(k.dy)) / Square(cost_.landing_scale()) +
-                                    cost_.apex_weight() * Square(k.apex / cost_.apex_scale()));
+      const double term =
+          weight * cost_.kick() *
+          (Square(k.timing / cost_.timing_scale_s()) +
+           (Square(k.dx) + Square(k.dy)) / Square(cost_.landing_scale()) +
+           cost_.apex_weight() * Square(k.apex / cost_.apex_scale()));
+      kick_cost_ += term;
+      if (kicks_ > 1) later_cost_ += term;
     }
   }
 }

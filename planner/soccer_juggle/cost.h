@@ -72,6 +72,7 @@ class SoccerRolloutScorer final : public RolloutScorer {
   // for any kick, or only for the rollout's first.
   bool RunsOn(const Env& env) const override;
   bool predicts_miss() const override { return missed_; }
+  double later_cost() const override { return later_cost_; }
   std::vector<double> first_outcome() const override { return OutcomeValues(first_kick_); }
   std::vector<double> terms() const override;
 
@@ -94,6 +95,7 @@ class SoccerRolloutScorer final : public RolloutScorer {
   bool failed_ = false;
   bool missed_ = false;
   int kicks_ = 0;
+  double later_cost_ = 0;  // the kick term of kicks after the first
   KickOutcome first_kick_;
   float previous_action_[soccer_juggle::kNumActions] = {0};
   bool has_previous_ = false;

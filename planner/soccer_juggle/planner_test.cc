@@ -364,6 +364,52 @@ TEST_F(SoccerPlannerTest, LaterKicksWeightsTheKickTermOfEveryKickAfterTheRollout
   }
 }
 
+// rescue.ignore_later_kicks: a plan in trouble only by its later kick's cost gets no rescue; the
+// same plan in trouble by its own cost does. The threshold sits between the plan's cost with
+// and without the later kick (measured with later_kicks at 1 and at 0).
+TEST_F(SoccerPlannerTest, ARescueTriggerWithoutLaterKicksSkipsTroubleOnlyTheLaterKickMakes) {
+  std::unique_ptr<JuggleEnv> probe = StartWithBallAhead(0.01, 3);
+  const float zero[kNumActions] = {0};
+  int second_release = 0, kicks = 0;
+  bool released = false;
+  for (int t = 1; t <= 150 && second_release == 0; ++t) {
+    ASSERT_EQ(probe->Step(zero, *walk_).outcome, Outcome::kRunning) << "step " << t;
+    const soccer_juggle::JuggleEnvState& s = probe->state();
+    if (!s.kick_touched) released = false;
+    if (!s.kick_touched || s.touched_this_step || released) continue;
+    released = true;
+    if (++kicks == 2) second_release = t;
+  }
+  ASSERT_GT(second_release, 0) << "the zero action should release the ball twice";
+  const config::PlannerConfig nominal = NominalOnly(config_.run.planner(), second_release + 2);
+  auto replan = [&](const config::PlannerConfig& p) {
+    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.01, 3);
+    SoccerPlanner planner(spec_, p, pool_.get(), 0);
+    float action[kNumActions];
+    EXPECT_TRUE(planner.Act(*env, action).ok());
+    return planner.last_replan();
+  };
+  config::PlannerConfig p = nominal;
+  p.set_prune(false);
+  const double with_later = replan(p).best_cost;
+  p.mutable_soccer_juggle()->mutable_cost()->set_later_kicks(0);
+  const double without_later = replan(p).best_cost;
+  ASSERT_LT(without_later, with_later);
+  for (const bool ignore : {false, true}) {
+    for (const double above : {0.5 * (with_later + without_later), 0.5 * without_later}) {
+      config::PlannerConfig q = nominal;
+      q.set_prune(false);
+      q.mutable_rescue()->set_cost_above(above);
+      q.mutable_rescue()->set_ignore_later_kicks(ignore);
+      q.mutable_rescue()->set_samples(8);
+      q.mutable_rescue()->set_iterations(1);
+      const bool own_trouble = above < without_later;
+      EXPECT_EQ(replan(q).rescued, own_trouble || !ignore)
+          << "ignore_later_kicks " << ignore << ", cost_above " << above;
+    }
+  }
+}
+
 // With replan_at_cycle_start the planner decides once per juggle cycle: it re-plans at the
 // episode's first step and at every DOWN entry, nowhere else, and acts open loop in between.
 TEST_F(SoccerPlannerTest, ReplanAtCycleStartReplansOnlyWhenADownNodeIsEntered) {

@@ -323,24 +323,33 @@ TEST_F(SoccerPlannerTest, WithoutRunOnEveryKickALaterCyclesKickIsNotRunOn) {
   }
 }
 
-// cost.later_kicks weights the kick term of every kick after a rollout's first. Checked
-// against both kicks' outcomes taken from a plain zero-action run at their releases and the
-// cost's formula (the planner's nominal plan is the zero action).
-TEST_F(SoccerPlannerTest, LaterKicksWeightsTheKickTermOfEveryKickAfterTheRolloutsFirst) {
-  std::unique_ptr<JuggleEnv> probe = StartWithBallAhead(0.01, 3);
+// Steps `probe` with zero action until its ball leaves the foot a second time (at most 150
+// steps); returns each release's kick outcome and sets *second_release to its step (0: none).
+std::vector<KickOutcome> ZeroActionReleases(JuggleEnv* probe, const AdaptiveWalk& walk,
+                                            int* second_release) {
   const float zero[kNumActions] = {0};
   std::vector<KickOutcome> kicks;
-  int second_release = 0;
+  *second_release = 0;
   bool released = false;  // this cycle's ball has left the foot
-  for (int t = 1; t <= 150 && second_release == 0; ++t) {
-    ASSERT_EQ(probe->Step(zero, *walk_).outcome, Outcome::kRunning) << "step " << t;
+  for (int t = 1; t <= 150 && *second_release == 0; ++t) {
+    if (probe->Step(zero, walk).outcome != Outcome::kRunning) break;
     const soccer_juggle::JuggleEnvState& s = probe->state();
     if (!s.kick_touched) released = false;
     if (!s.kick_touched || s.touched_this_step || released) continue;
     released = true;
     kicks.push_back(PredictKickOutcome(*probe));
-    if (kicks.size() == 2) second_release = t;
+    if (kicks.size() == 2) *second_release = t;
   }
+  return kicks;
+}
+
+// cost.later_kicks weights the kick term of every kick after a rollout's first. Checked
+// against both kicks' outcomes taken from a plain zero-action run at their releases and the
+// cost's formula (the planner's nominal plan is the zero action).
+TEST_F(SoccerPlannerTest, LaterKicksWeightsTheKickTermOfEveryKickAfterTheRolloutsFirst) {
+  std::unique_ptr<JuggleEnv> probe = StartWithBallAhead(0.01, 3);
+  int second_release = 0;
+  const std::vector<KickOutcome> kicks = ZeroActionReleases(probe.get(), *walk_, &second_release);
   ASSERT_EQ(kicks.size(), 2u) << "the zero action should release the ball twice";
   const config::PlannerCost& w = config_.run.planner().soccer_juggle().cost();
   auto kick_cost = [&](const KickOutcome& k) {
@@ -369,17 +378,8 @@ TEST_F(SoccerPlannerTest, LaterKicksWeightsTheKickTermOfEveryKickAfterTheRollout
 // and without the later kick (measured with later_kicks at 1 and at 0).
 TEST_F(SoccerPlannerTest, ARescueTriggerWithoutLaterKicksSkipsTroubleOnlyTheLaterKickMakes) {
   std::unique_ptr<JuggleEnv> probe = StartWithBallAhead(0.01, 3);
-  const float zero[kNumActions] = {0};
-  int second_release = 0, kicks = 0;
-  bool released = false;
-  for (int t = 1; t <= 150 && second_release == 0; ++t) {
-    ASSERT_EQ(probe->Step(zero, *walk_).outcome, Outcome::kRunning) << "step " << t;
-    const soccer_juggle::JuggleEnvState& s = probe->state();
-    if (!s.kick_touched) released = false;
-    if (!s.kick_touched || s.touched_this_step || released) continue;
-    released = true;
-    if (++kicks == 2) second_release = t;
-  }
+  int second_release = 0;
+  ZeroActionReleases(probe.get(), *walk_, &second_release);
   ASSERT_GT(second_release, 0) << "the zero action should release the ball twice";
   const config::PlannerConfig nominal = NominalOnly(config_.run.planner(), second_release + 2);
   auto replan = [&](const config::PlannerConfig& p) {

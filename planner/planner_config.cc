@@ -47,6 +47,12 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
           config.root.Where({{"planner"}, {"rescue"}, {"refine_first"}}), no_refinement));
     }
   }
+  if (!(*task)->has_later_kicks && p.rescue().ignore_later_kicks()) {
+    // Nothing would be left out, and every troubled re-plan would roll out once more.
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where({{"planner"}, {"rescue"}, {"ignore_later_kicks"}}), ": the ",
+        family_name, " planning task's cost has no later kicks to leave out; remove it"));
+  }
   if (p.rescue().body() && p.body_knot_steps() == 0) {
     return absl::InvalidArgumentError(absl::StrCat(
         config.root.Where({{"planner"}, {"rescue"}, {"body"}}),

@@ -150,7 +150,7 @@ TEST(PlannerConfigTest, BodyActionsNameJointsAndAxesOfTheCharacter) {
   EXPECT_EQ(BodyActionIndices({})->size(), 28u);
 }
 
-TEST(PlannerConfigTest, OneKickSetForAGraphMixingKicksAndHeadersIsRefusedAtTheField) {
+TEST(PlannerConfigTest, OneKickSetRepeatedForAGraphMixingKicksAndHeadersIsRefusedAtTheField) {
   // configs/foot_and_head_planner.textproto with the kick sets of the right-foot planner.
   const std::string text = absl::StrCat(
       "base_config: \"", RepoPath("configs/foot_and_head_planner.textproto"),
@@ -161,6 +161,15 @@ TEST(PlannerConfigTest, OneKickSetForAGraphMixingKicksAndHeadersIsRefusedAtTheFi
   EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
   EXPECT_THAT(std::string(s.message()), HasSubstr("planner.soccer_juggle.kick.cycles"));
   EXPECT_THAT(std::string(s.message()), HasSubstr("right_foot_up -> head_down"));
+  // With the later cycles kicked by the base controller, the one set serves only its own cycle.
+  ASSERT_TRUE(Load("one_set_base.textproto",
+                   absl::StrCat("base_config: \"",
+                                RepoPath("configs/foot_and_head_planner.textproto"),
+                                "\"\nplanner { soccer_juggle { kick { cycles: 1 "
+                                "later_kicks_by_base: true } } }\n"),
+                   &config)
+                  .ok());
+  EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
 
   absl::StatusOr<LoadedConfig> shipped =
       LoadRunConfig(RepoPath("configs/foot_and_head_planner.textproto"));
@@ -201,6 +210,24 @@ TEST(PlannerConfigTest, ARefinementForATaskWithoutOneIsRefusedAtTheField) {
   ASSERT_TRUE(Load("soccer_refine.textproto",
                    Config("refine_iterations: 2 rescue { refine_first: 2 }"), &config)
                   .ok());
+  EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
+}
+
+TEST(PlannerConfigTest, ARescueIgnoringLaterKicksForATaskWithoutThemIsRefusedAtTheField) {
+  const std::string text =
+      absl::StrCat("base_config: \"", RepoPath("configs/toss_throw_planner.textproto"),
+                   "\"\nplanner {\n  rescue { ignore_later_kicks: true }\n}\n");
+  LoadedConfig config;
+  ASSERT_TRUE(Load("toss_later.textproto", text, &config).ok());
+  const absl::Status s = ValidatePlannerConfig(config);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()),
+              StartsWith(::juggle::testing::Loc(config.config_path, text,
+                                                "ignore_later_kicks: true")));
+  EXPECT_THAT(std::string(s.message()), HasSubstr("the toss planning task's cost has no later"));
+  // The soccer task has them.
+  ASSERT_TRUE(
+      Load("soccer_later.textproto", Config("rescue { ignore_later_kicks: true }"), &config).ok());
   EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
 }
 

@@ -38,9 +38,12 @@ std::shared_ptr<const PlanningTask> MakeFootballTask(std::shared_ptr<const EnvSp
 
 const std::vector<PlanningTaskEntry>& PlanningTasks() {
   static const auto* const kTasks = new std::vector<PlanningTaskEntry>{
-      {"soccer_juggle", &ValidateSoccerJuggleTask, &MakeSoccerJuggleTask, /*refines=*/true},
-      {"toss", &ValidateTossTask, &MakeTossTask, /*refines=*/false},
-      {"football", &ValidateFootballTask, &MakeFootballTask, /*refines=*/false},
+      {"soccer_juggle", &ValidateSoccerJuggleTask, &MakeSoccerJuggleTask, /*refines=*/true,
+       /*has_later_kicks=*/true},
+      {"toss", &ValidateTossTask, &MakeTossTask, /*refines=*/false,
+       /*has_later_kicks=*/false},
+      {"football", &ValidateFootballTask, &MakeFootballTask, /*refines=*/false,
+       /*has_later_kicks=*/false},
   };
   return *kTasks;
 }

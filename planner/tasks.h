@@ -25,6 +25,9 @@ struct PlanningTaskEntry {
   // The task has a refinement (PlanningTask::RefineBlock and residuals), which
   // planner.refine_iterations and planner.rescue.refine_first need (else a config error).
   bool refines = false;
+  // The task's cost has a later-kicks part (PlanningTask's later cost), which
+  // planner.rescue.ignore_later_kicks needs (else a config error).
+  bool has_later_kicks = false;
 };
 
 // Every task, in the order of planner/tasks.cc.

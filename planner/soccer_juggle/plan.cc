@@ -68,6 +68,7 @@ SoccerPlanLayout MakeSoccerPlanLayout(const config::PlannerConfig& config,
   absl::StatusOr<std::vector<int>> actions = BodyActionIndices(config.body_actions());
   if (actions.ok()) layout.body_actions = *std::move(actions);
   layout.kick_sets = kick.enabled() ? kick.cycles() : 0;
+  layout.later_kicks_by_base = kick.later_kicks_by_base();
   layout.horizon = config.horizon_steps();
   layout.knot_steps = config.body_knot_steps();
   if (layout.knot_steps > 0) {
@@ -179,7 +180,8 @@ void SoccerPlanAction(const JuggleEnv& env, const SoccerPlanLayout& layout, cons
                       PlanClock clock, float* action, const double* prior) {
   double a[kNumActions] = {0};
   if (prior != nullptr) std::copy_n(prior, kNumActions, a);
-  if (layout.kick_sets > 0) {
+  if (layout.kick_sets > 0 &&
+      !(layout.later_kicks_by_base && clock.cycle >= layout.kick_sets)) {
     const int set = std::clamp(clock.cycle, 0, layout.kick_sets - 1);
     AddKickAction(env, theta + layout.kick(set), a);
   }

@@ -36,6 +36,8 @@ constexpr int kKickVariables = 5;  // timing (s), hip, abduction, knee, ankle (r
 
 struct SoccerPlanLayout {
   int kick_sets = 0;     // 0 when KickVariables.enabled is false
+  // Cycles past the last set kick with no variables (KickVariables.later_kicks_by_base).
+  bool later_kicks_by_base = false;
   int knot_steps = 0;    // 0: no whole-body corrections
   int body_knots = 0;    // enough to span a horizon from anywhere between two grid knots
   int horizon = 1;

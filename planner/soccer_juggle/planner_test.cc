@@ -769,6 +769,37 @@ TEST_F(SoccerPlannerTest, RobustDrawsWithoutNoiseChooseTheSamePlans) {
   EXPECT_EQ(runs[0], runs[1]);
 }
 
+TEST_F(SoccerPlannerTest, LaterKicksByBaseActWithoutKickVariablesPastThePlansSets) {
+  config::PlannerConfig p = config_.run.planner();
+  p.mutable_soccer_juggle()->mutable_kick()->set_later_kicks_by_base(true);
+  const SoccerPlanLayout by_base = MakeSoccerPlanLayout(p, p.soccer_juggle().kick());
+  p.mutable_soccer_juggle()->mutable_kick()->set_later_kicks_by_base(false);
+  const SoccerPlanLayout repeated = MakeSoccerPlanLayout(p, p.soccer_juggle().kick());
+  ASSERT_EQ(by_base.kick_sets, 1);
+  const std::vector<double> theta = {0.03, 0.2, -0.15, 0.25, -0.1};
+  const std::vector<double> zero(theta.size(), 0.0);
+  std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0);
+  const float still[kNumActions] = {0};
+  int differing = 0;
+  for (int step = 0; step < 30; ++step) {
+    float first[kNumActions], later[kNumActions], plain[kNumActions], again[kNumActions];
+    SoccerPlanAction(*env, by_base, theta.data(), {step, 0}, first);
+    SoccerPlanAction(*env, by_base, theta.data(), {step, 1}, later);
+    SoccerPlanAction(*env, by_base, zero.data(), {step, 1}, plain);
+    SoccerPlanAction(*env, repeated, theta.data(), {step, 1}, again);
+    bool differs = false;
+    for (int i = 0; i < kNumActions; ++i) {
+      ASSERT_EQ(later[i], plain[i]) << "step " << step << " action " << i;
+      ASSERT_EQ(again[i], first[i]) << "step " << step << " action " << i;
+      differs = differs || first[i] != plain[i];
+    }
+    differing += differs;
+    ASSERT_EQ(env->Step(still, *walk_).outcome, Outcome::kRunning);
+  }
+  // The variables act in the plan's own cycle, so the equalities above compare something.
+  EXPECT_GT(differing, 10);
+}
+
 TEST_F(SoccerPlannerTest, AShiftedPlanActsAsBefore) {
   config::PlannerConfig p = config_.run.planner();
   p.set_body_knot_steps(5);

@@ -161,6 +161,7 @@ double SoccerJuggleTask::refine_prior_weight() const {
 
 std::optional<VariableBlock> SoccerJuggleTask::ActingBlock(PlanClock clock) const {
   if (layout_.kick_sets == 0) return std::nullopt;
+  if (layout_.later_kicks_by_base && clock.cycle >= layout_.kick_sets) return std::nullopt;
   return KickBlock(std::clamp(clock.cycle, 0, layout_.kick_sets - 1));
 }
 
@@ -199,10 +200,11 @@ absl::Status ValidateSoccerJuggleTask(const LoadedConfig& config) {
   if (absl::StatusOr<std::vector<int>> a = BodyActionIndices(p.body_actions()); !a.ok()) {
     return absl::InvalidArgumentError(absl::StrCat(where("body_actions"), ": ", a.status().message()));
   }
-  // One kick set serves every cycle in the horizon: a leg swing's set read as a header's (or
-  // the other way) moves different joints.
+  // One kick set serves every cycle in the horizon (unless later cycles kick by the base
+  // controller): a leg swing's set read as a header's (or the other way) moves different joints.
   const config::KickVariables& kick = p.soccer_juggle().kick();
-  if (kick.enabled() && kick.cycles() < 2 && config.graph != nullptr) {
+  if (kick.enabled() && kick.cycles() < 2 && !kick.later_kicks_by_base() &&
+      config.graph != nullptr) {
     const ControlGraph& graph = *config.graph;
     for (int e = 0; e < graph.num_edges(); ++e) {
       const GraphNode& from = graph.node(graph.edge(e).from);

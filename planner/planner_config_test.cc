@@ -20,10 +20,15 @@ using ::juggle::testing::WriteTemp;
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
 
-// A config over the shipped planner config with `planner_fields` in its planner block.
+// A config over `base` (a shipped config) with `planner_fields` in its planner block.
+std::string ConfigOver(const std::string& base, const std::string& planner_fields) {
+  return absl::StrCat("base_config: \"", RepoPath(base), "\"\nplanner {\n  ", planner_fields,
+                      "\n}\n");
+}
+
+// The same over the shipped right-foot planner config.
 std::string Config(const std::string& planner_fields) {
-  return absl::StrCat("base_config: \"", RepoPath("configs/right_foot_planner.textproto"),
-                      "\"\nplanner {\n  ", planner_fields, "\n}\n");
+  return ConfigOver("configs/right_foot_planner.textproto", planner_fields);
 }
 
 absl::Status Load(const std::string& name, const std::string& text,
@@ -163,10 +168,8 @@ TEST(PlannerConfigTest, OneKickSetRepeatedForAGraphMixingKicksAndHeadersIsRefuse
   EXPECT_THAT(std::string(s.message()), HasSubstr("right_foot_up -> head_down"));
   // With the later cycles kicked by the base controller, the one set serves only its own cycle.
   ASSERT_TRUE(Load("one_set_base.textproto",
-                   absl::StrCat("base_config: \"",
-                                RepoPath("configs/foot_and_head_planner.textproto"),
-                                "\"\nplanner { soccer_juggle { kick { cycles: 1 "
-                                "later_kicks_by_base: true } } }\n"),
+                   ConfigOver("configs/foot_and_head_planner.textproto",
+                              "soccer_juggle { kick { cycles: 1 later_kicks_by_base: true } }"),
                    &config)
                   .ok());
   EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
@@ -186,9 +189,7 @@ TEST(PlannerConfigTest, TheShippedPlannerConfigIsValid) {
 
 TEST(PlannerConfigTest, ARefinementForATaskWithoutOneIsRefusedAtTheField) {
   for (const char* field : {"refine_iterations: 2", "rescue { refine_first: 2 }"}) {
-    const std::string text =
-        absl::StrCat("base_config: \"", RepoPath("configs/toss_throw_planner.textproto"),
-                     "\"\nplanner {\n  ", field, "\n}\n");
+    const std::string text = ConfigOver("configs/toss_throw_planner.textproto", field);
     LoadedConfig config;
     ASSERT_TRUE(Load("toss_refine.textproto", text, &config).ok());
     const absl::Status s = ValidatePlannerConfig(config);
@@ -215,8 +216,7 @@ TEST(PlannerConfigTest, ARefinementForATaskWithoutOneIsRefusedAtTheField) {
 
 TEST(PlannerConfigTest, ARescueIgnoringLaterKicksForATaskWithoutThemIsRefusedAtTheField) {
   const std::string text =
-      absl::StrCat("base_config: \"", RepoPath("configs/toss_throw_planner.textproto"),
-                   "\"\nplanner {\n  rescue { ignore_later_kicks: true }\n}\n");
+      ConfigOver("configs/toss_throw_planner.textproto", "rescue { ignore_later_kicks: true }");
   LoadedConfig config;
   ASSERT_TRUE(Load("toss_later.textproto", text, &config).ok());
   const absl::Status s = ValidatePlannerConfig(config);
@@ -235,8 +235,7 @@ TEST(PlannerConfigTest, ATaskBlockOfAnotherFamilyIsRefusedNamingBothFamilies) {
   // Both families have a planning task (planner/tasks.cc); a toss run with the soccer task's
   // block is refused at the block.
   const std::string text =
-      absl::StrCat("base_config: \"", RepoPath("configs/toss_throw_planner.textproto"),
-                   "\"\nplanner {\n  soccer_juggle { cost { kick: 20 } }\n}\n");
+      ConfigOver("configs/toss_throw_planner.textproto", "soccer_juggle { cost { kick: 20 } }");
   LoadedConfig config;
   ASSERT_TRUE(Load("toss_soccer_block.textproto", text, &config).ok());
   const absl::Status s = ValidatePlannerConfig(config);

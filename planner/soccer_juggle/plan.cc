@@ -180,9 +180,7 @@ void SoccerPlanAction(const JuggleEnv& env, const SoccerPlanLayout& layout, cons
                       PlanClock clock, float* action, const double* prior) {
   double a[kNumActions] = {0};
   if (prior != nullptr) std::copy_n(prior, kNumActions, a);
-  if (layout.kick_sets > 0 &&
-      !(layout.later_kicks_by_base && clock.cycle >= layout.kick_sets)) {
-    const int set = std::clamp(clock.cycle, 0, layout.kick_sets - 1);
+  if (const int set = layout.acting_kick_set(clock.cycle); set >= 0) {
     AddKickAction(env, theta + layout.kick(set), a);
   }
   if (layout.body_knots > 0) {

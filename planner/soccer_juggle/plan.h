@@ -19,6 +19,7 @@
 #ifndef JUGGLE_PLANNER_SOCCER_JUGGLE_PLAN_H_
 #define JUGGLE_PLANNER_SOCCER_JUGGLE_PLAN_H_
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,12 @@ struct SoccerPlanLayout {
   int dim() const { return kick_dim() + body_knots * knot_size(); }
   // Index of the first variable of kick set `set` / body knot `knot`.
   int kick(int set) const { return set * kKickVariables; }
+  // The kick set that acts in plan cycle `cycle` (the last set for cycles past it), or -1: none
+  // (no kick variables, or a later cycle kicked by the base controller).
+  int acting_kick_set(int cycle) const {
+    if (kick_sets == 0 || (later_kicks_by_base && cycle >= kick_sets)) return -1;
+    return std::clamp(cycle, 0, kick_sets - 1);
+  }
   int knot(int k) const { return kick_dim() + k * knot_size(); }
 };
 

@@ -160,9 +160,9 @@ double SoccerJuggleTask::refine_prior_weight() const {
 }
 
 std::optional<VariableBlock> SoccerJuggleTask::ActingBlock(PlanClock clock) const {
-  if (layout_.kick_sets == 0) return std::nullopt;
-  if (layout_.later_kicks_by_base && clock.cycle >= layout_.kick_sets) return std::nullopt;
-  return KickBlock(std::clamp(clock.cycle, 0, layout_.kick_sets - 1));
+  const int set = layout_.acting_kick_set(clock.cycle);
+  if (set < 0) return std::nullopt;
+  return KickBlock(set);
 }
 
 const float* SoccerJuggleTask::AppliedAction(const Env& env) const {

@@ -3,7 +3,10 @@
 #ifndef JUGGLE_ENVS_TESTING_TEST_CONFIGS_H_
 #define JUGGLE_ENVS_TESTING_TEST_CONFIGS_H_
 
+#include <unistd.h>
+
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -47,10 +50,15 @@ inline std::shared_ptr<const toss::TossSpec> LoadTossSpec(const std::string& nam
   return spec.ok() ? *spec : nullptr;
 }
 
-// Writes `text` to a fresh file under the test's temp dir; returns its path.
+// Writes `text` to `name` in a directory of the running test's own (ctest runs tests of one
+// fixture side by side, and they may write files of the same name); returns its path.
 inline std::string WriteTemp(const std::string& name, const std::string& text) {
   std::string dir = ::testing::TempDir();
   while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  dir = test != nullptr ? absl::StrCat(dir, "/juggle_", test->test_suite_name(), ".", test->name())
+                        : absl::StrCat(dir, "/juggle_pid", ::getpid());
+  std::filesystem::create_directories(dir);
   const std::string path = absl::StrCat(dir, "/", name);
   std::ofstream(path) << text;
   return path;

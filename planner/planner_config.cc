@@ -64,6 +64,14 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
         p.rescue().stop_below(), " may stop still in trouble (planner.rescue.cost_above is ",
         p.rescue().cost_above(), "); set it at or below cost_above"));
   }
+  if (p.rescue().half_fixed_above() > 0 &&
+      !(p.rescue().half_fixed_above() < p.rescue().cost_above())) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where({{"planner"}, {"rescue"}, {"half_fixed_above"}}), ": ",
+        p.rescue().half_fixed_above(), " is a bar below planner.rescue.cost_above (",
+        p.rescue().cost_above(), ") after a troubled warm start; at or above it, it changes "
+        "nothing: lower it or remove it"));
+  }
   if (p.search_prior_trust() && !p.policy_prior()) {
     return absl::InvalidArgumentError(absl::StrCat(
         where("search_prior_trust"), ": a trust in the learned proposal needs "

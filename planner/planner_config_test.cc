@@ -231,6 +231,24 @@ TEST(PlannerConfigTest, ARescueIgnoringLaterKicksForATaskWithoutThemIsRefusedAtT
   EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
 }
 
+TEST(PlannerConfigTest, AHalfFixedBarNotBelowTheRescuesCostAboveIsRefusedAtTheField) {
+  // The shipped config's rescue runs above 500.
+  for (const char* field : {"half_fixed_above: 500", "half_fixed_above: 800"}) {
+    const std::string text = Config(absl::StrCat("rescue { ", field, " }"));
+    LoadedConfig config;
+    ASSERT_TRUE(Load("soccer_half_fixed.textproto", text, &config).ok());
+    const absl::Status s = ValidatePlannerConfig(config);
+    EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument) << field;
+    EXPECT_THAT(std::string(s.message()),
+                StartsWith(::juggle::testing::Loc(config.config_path, text, field)));
+    EXPECT_THAT(std::string(s.message()), HasSubstr("cost_above (500)"));
+  }
+  LoadedConfig config;
+  ASSERT_TRUE(
+      Load("soccer_half_fixed.textproto", Config("rescue { half_fixed_above: 150 }"), &config).ok());
+  EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
+}
+
 TEST(PlannerConfigTest, ATaskBlockOfAnotherFamilyIsRefusedNamingBothFamilies) {
   // Both families have a planning task (planner/tasks.cc); a toss run with the soccer task's
   // block is refused at the block.

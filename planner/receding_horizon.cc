@@ -272,7 +272,12 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
   last_.rescued = false;
   last_.refined_out = false;
   const config::RescueSearch& rescue = config_.rescue();
-  if (!(rescue.cost_above() > 0 && result->best_cost > rescue.cost_above())) {
+  // The bar for trouble: cost_above, or the lower half_fixed_above after a troubled warm start.
+  double above = rescue.cost_above();
+  if (rescue.half_fixed_above() > 0 && result->incumbent_cost > rescue.cost_above()) {
+    above = std::min(above, rescue.half_fixed_above());
+  }
+  if (!(above > 0 && result->best_cost > above)) {
     troubled_ = 0;
     return absl::OkStatus();
   }
@@ -286,7 +291,7 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
     }));
     ++totals_.rollouts;
     totals_.rollout_steps += best.steps;
-    if (best.cost - best.later <= rescue.cost_above()) {
+    if (best.cost - best.later <= above) {
       troubled_ = 0;
       return absl::OkStatus();
     }
@@ -298,7 +303,7 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
     if (const std::optional<VariableBlock> block = task_->RefineBlock(env); block.has_value()) {
       RETURN_IF_ERROR(Refine(*r.snapshot, r.clock, *block, r.shifted, rescue.refine_first(),
                              &result->best, &result->best_cost));
-      if (result->best_cost <= rescue.cost_above()) {
+      if (result->best_cost <= above) {
         ++totals_.refined_out_of_trouble;
         last_.refined_out = true;
         return absl::OkStatus();

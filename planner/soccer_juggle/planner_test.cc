@@ -566,6 +566,41 @@ TEST_F(SoccerPlannerTest, ARefinementBeforeTheRescueSkipsItOnlyWhenItLeavesTroub
   EXPECT_EQ(healthy.best_cost, searched.best_cost);
 }
 
+// rescue.half_fixed_above: after a warm start in trouble (above cost_above), a best plan below
+// cost_above but above the lower bar is in trouble too; after a healthy warm start the lower bar
+// does not apply. The warm start's and the best plan's costs come from a re-plan without rescue.
+TEST_F(SoccerPlannerTest, AHalfFixedBarRescuesOnlyAfterAWarmStartInTrouble) {
+  config::PlannerConfig& p = *config_.run.mutable_planner();
+  config::RescueSearch& rescue = *p.mutable_rescue();
+  rescue.set_samples(8);
+  rescue.set_iterations(1);
+  float action[kNumActions];
+  auto plan_once = [&]() {
+    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.12);
+    std::unique_ptr<SoccerPlanner> planner = NewPlanner();
+    EXPECT_TRUE(planner->Act(*env, action).ok());
+    return planner->last_replan();
+  };
+  rescue.set_cost_above(0);
+  const ReplanReport plain = plan_once();
+  const double warm = plain.incumbent_cost, best = plain.best_cost;
+  ASSERT_LT(2 * best, warm) << "the ball 12 cm ahead: the search should more than halve the "
+                               "warm start's cost";
+
+  // The warm start in trouble, the best plan out of it by cost_above.
+  rescue.set_cost_above(0.5 * (best + warm));
+  EXPECT_FALSE(plan_once().rescued) << "no lower bar";
+  rescue.set_half_fixed_above(0.5 * best);
+  EXPECT_TRUE(plan_once().rescued) << "best " << best << " above the bar " << 0.5 * best;
+  rescue.set_half_fixed_above(0.5 * (best + rescue.cost_above()));
+  EXPECT_FALSE(plan_once().rescued) << "best " << best << " below the bar";
+
+  // A healthy warm start: the lower bar does not apply.
+  rescue.set_cost_above(2 * warm);
+  rescue.set_half_fixed_above(0.5 * best);
+  EXPECT_FALSE(plan_once().rescued);
+}
+
 // With rescue.body the whole-body knots move only in rescues: a planner that never rescues
 // keeps them at 0, one that always does moves them.
 TEST_F(SoccerPlannerTest, RescueBodyKnotsMoveOnlyInARescue) {

@@ -88,6 +88,15 @@ class SoccerPlannerTest : public ::testing::Test {
     return std::make_unique<SoccerPlanner>(spec_, p, pool_.get(), 0);
   }
 
+  // One re-plan of a new planner (kept in *planner) on a start with the ball `ahead` m ahead.
+  ReplanReport PlanOnce(double ahead, std::unique_ptr<SoccerPlanner>* planner) {
+    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(ahead);
+    *planner = NewPlanner();
+    float action[kNumActions];
+    EXPECT_TRUE((*planner)->Act(*env, action).ok());
+    return (*planner)->last_replan();
+  }
+
   LoadedConfig config_;
   std::shared_ptr<const JuggleSpec> spec_;
   std::unique_ptr<AdaptiveWalk> walk_;
@@ -522,14 +531,8 @@ TEST_F(SoccerPlannerTest, ARefinementBeforeTheRescueSkipsItOnlyWhenItLeavesTroub
   config::RescueSearch& rescue = *p.mutable_rescue();
   rescue.set_samples(24);
   rescue.set_iterations(3);
-  float action[kNumActions];
   const double ahead = 0.06;  // (at 0.12 m the regular search's kick is already a minimum)
-  auto plan_once = [&](std::unique_ptr<SoccerPlanner>* planner) {
-    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(ahead);
-    *planner = NewPlanner();
-    EXPECT_TRUE((*planner)->Act(*env, action).ok());
-    return (*planner)->last_replan();
-  };
+  auto plan_once = [&](std::unique_ptr<SoccerPlanner>* planner) { return PlanOnce(ahead, planner); };
   // The regular search alone, and followed by two refinement steps.
   rescue.set_cost_above(0);
   std::unique_ptr<SoccerPlanner> planner;
@@ -574,13 +577,8 @@ TEST_F(SoccerPlannerTest, AHalfFixedBarRescuesOnlyAfterAWarmStartInTrouble) {
   config::RescueSearch& rescue = *p.mutable_rescue();
   rescue.set_samples(8);
   rescue.set_iterations(1);
-  float action[kNumActions];
-  auto plan_once = [&]() {
-    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.12);
-    std::unique_ptr<SoccerPlanner> planner = NewPlanner();
-    EXPECT_TRUE(planner->Act(*env, action).ok());
-    return planner->last_replan();
-  };
+  std::unique_ptr<SoccerPlanner> planner;
+  auto plan_once = [&]() { return PlanOnce(0.12, &planner); };
   rescue.set_cost_above(0);
   const ReplanReport plain = plan_once();
   const double warm = plain.incumbent_cost, best = plain.best_cost;

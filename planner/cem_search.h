@@ -37,6 +37,10 @@ struct CemSettings {
   // Stop after an iteration whose best cost is at or below this (good enough: a rescue search
   // ends once out of trouble). -infinity: never.
   double stop_below = -std::numeric_limits<double>::infinity();
+  // iCEM's population decay: iteration i draws samples / population_decay^i candidates (carried
+  // elites included), never fewer than twice the first iteration's elites. 1: every iteration
+  // draws `samples`.
+  double population_decay = 1;
 };
 
 // Writes the costs of `n` candidates (row-major [n, dim] in `candidates`) to costs[0..n).

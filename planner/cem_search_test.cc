@@ -131,6 +131,35 @@ TEST(CemSearchTest, StopsWhenAnIterationNoLongerImproves) {
   EXPECT_EQ((*MinimizeCem(Box(2, 1.0, 0.2), settings, {{0.0, 0.0}}, &rng2, flat)).iterations, 6);
 }
 
+// Batch sizes of a search without carried elites: each iteration's whole population.
+std::vector<int> PopulationSizes(double decay, int samples, int iterations) {
+  std::vector<int> sizes;
+  int evaluations = 0;
+  const BatchCost bowl = Bowl(&evaluations);
+  const BatchCost record = [&](const std::vector<double>& x, int n, double bound,
+                               std::vector<double>* costs) {
+    sizes.push_back(n);
+    return bowl(x, n, bound, costs);
+  };
+  CemSettings settings;
+  settings.samples = samples;
+  settings.iterations = iterations;
+  settings.keep_elite_fraction = 0;
+  settings.population_decay = decay;
+  Rng rng(4);
+  const CemResult r = *MinimizeCem(Box(3, 1.0, 0.3), settings, {{0.0, 0.0, 0.0}}, &rng, record);
+  EXPECT_EQ(r.evaluations, evaluations);
+  return sizes;
+}
+
+TEST(CemSearchTest, PopulationDecayShrinksEachIterationByTheFactorDownToTwiceTheElites) {
+  // 64 / 1.25^i rounded: 64, 51.2, 40.96, 32.77, 26.21, 20.97.
+  EXPECT_EQ(PopulationSizes(1.25, 64, 6), (std::vector<int>{64, 51, 41, 33, 26, 21}));
+  // 64 / 4 = 16 is the floor (2 × 8 elites of the first 64); 4 would be below it.
+  EXPECT_EQ(PopulationSizes(4, 64, 3), (std::vector<int>{64, 16, 16}));
+  EXPECT_EQ(PopulationSizes(1, 64, 3), (std::vector<int>{64, 64, 64}));
+}
+
 TEST(CemSearchTest, StopsAfterTheFirstIterationWhoseBestIsGoodEnough) {
   CemSettings settings;
   settings.samples = 16;

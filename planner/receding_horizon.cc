@@ -85,6 +85,7 @@ RecedingHorizonPlanner::RecedingHorizonPlanner(std::shared_ptr<const PlanningTas
   settings_.min_sigma_fraction = config_.min_sigma_fraction();
   settings_.explore_fraction = config_.explore_fraction();
   settings_.converged_fraction = config_.converged_fraction();
+  settings_.population_decay = config_.population_decay();
   theta_.assign(task_->dim(), 0.0);
   interval_ = config_.replan_every();
 }
@@ -322,6 +323,7 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
   CemSettings settings = settings_;
   settings.samples = rescue.samples();
   settings.iterations = rescue.iterations();
+  settings.population_decay = rescue.population_decay();
   if (rescue.stop_below() > 0) settings.stop_below = rescue.stop_below();
   std::vector<std::vector<double>> seeds = {result->best};
   seeds.insert(seeds.end(), r.seeds.begin(), r.seeds.end());

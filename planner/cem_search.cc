@@ -17,9 +17,12 @@ void ClampInto(const SearchSpace& space, double* x) {
   for (int d = 0; d < space.dim(); ++d) x[d] = std::clamp(x[d], space.lower[d], space.upper[d]);
 }
 
-// Candidates of iteration `it` (carried elites included): iCEM's decayed population.
-int IterationSamples(const CemSettings& settings, int first_elites, int it) {
+// Candidates of iteration `it` (carried elites included): iCEM's decayed population, never
+// below twice the elites of a full first iteration.
+int IterationSamples(const CemSettings& settings, int it) {
   if (settings.population_decay <= 1 || it == 0) return settings.samples;
+  const int first_elites = std::max(
+      2, static_cast<int>(std::lround(settings.elite_fraction * settings.samples)));
   const int decayed = static_cast<int>(
       std::lround(settings.samples * std::pow(settings.population_decay, -it)));
   return std::max(decayed, std::min(settings.samples, 2 * first_elites));
@@ -39,10 +42,8 @@ absl::StatusOr<CemResult> MinimizeCem(const SearchSpace& space, const CemSetting
   std::vector<Scored> carried;
   std::vector<double> batch;
   std::vector<double> costs;
-  const int first_elites = std::max(
-      2, static_cast<int>(std::lround(settings.elite_fraction * settings.samples)));
   for (int it = 0; it < settings.iterations; ++it) {
-    const int samples = IterationSamples(settings, first_elites, it);
+    const int samples = IterationSamples(settings, it);
     // New candidates: the mean first (the incumbent in the first iteration), the other seeds
     // in the first iteration, then samples.
     const int fresh = std::max(1, samples - static_cast<int>(carried.size()));

@@ -28,6 +28,44 @@ int IterationSamples(const CemSettings& settings, int it) {
   return std::max(decayed, std::min(settings.samples, 2 * first_elites));
 }
 
+// Elites of an iteration whose pool (carried and fresh) holds `pool_size` candidates.
+int EliteCount(const CemSettings& settings, int pool_size) {
+  return std::clamp(
+      static_cast<int>(std::lround(settings.elite_fraction * static_cast<double>(pool_size))),
+      std::min(2, pool_size), pool_size);
+}
+
+// Scores the `fresh` candidates of `batch` in calls of settings.prune_chunk. Before each call
+// the bound is the lowest of `before` and the `matter`-th lowest cost scored so far (`scored`
+// starts with the carried elites' costs): a candidate at or above it has at least `matter`
+// candidates ahead of it in the stable sort (they come earlier in the pool), and a pruned
+// candidate's cost is never below the bound, so the first `matter` of the pool are the same
+// as with one call.
+absl::Status ScoreInChunks(const CemSettings& settings, const std::vector<double>& batch, int dim,
+                           int fresh, double before, int matter, std::vector<double> scored,
+                           const BatchCost& cost, std::vector<double>* costs) {
+  costs->assign(fresh, 0.0);
+  if (settings.prune_chunk <= 0 || settings.prune_chunk >= fresh) {
+    return cost(batch, fresh, before, costs);
+  }
+  std::vector<double> chunk, chunk_costs;
+  for (int start = 0; start < fresh; start += settings.prune_chunk) {
+    const int n = std::min(settings.prune_chunk, fresh - start);
+    double bound = before;
+    if (static_cast<int>(scored.size()) >= matter) {
+      std::nth_element(scored.begin(), scored.begin() + (matter - 1), scored.end());
+      bound = std::min(bound, scored[matter - 1]);
+    }
+    chunk.assign(batch.begin() + static_cast<size_t>(start) * dim,
+                 batch.begin() + static_cast<size_t>(start + n) * dim);
+    chunk_costs.assign(n, 0.0);
+    if (absl::Status s = cost(chunk, n, bound, &chunk_costs); !s.ok()) return s;
+    std::copy(chunk_costs.begin(), chunk_costs.end(), costs->begin() + start);
+    scored.insert(scored.end(), chunk_costs.begin(), chunk_costs.end());
+  }
+  return absl::OkStatus();
+}
+
 }  // namespace
 
 absl::StatusOr<CemResult> MinimizeCem(const SearchSpace& space, const CemSettings& settings,
@@ -64,9 +102,17 @@ absl::StatusOr<CemResult> MinimizeCem(const SearchSpace& space, const CemSetting
       for (int d = 0; d < dim; ++d) x[d] = mean[d] + spread[d] * rng->Normal();
       ClampInto(space, x);
     }
-    costs.assign(fresh, 0.0);
     const double before = it == 0 ? std::numeric_limits<double>::infinity() : result.best_cost;
-    if (absl::Status s = cost(batch, fresh, before, &costs); !s.ok()) return s;
+    // What the iteration's choices read: its elites, in the last iteration the best alone.
+    const int pool_size = static_cast<int>(carried.size()) + fresh;
+    const int matter = it + 1 == settings.iterations ? 1 : EliteCount(settings, pool_size);
+    std::vector<double> scored;
+    for (const Scored& c : carried) scored.push_back(c.cost);
+    if (absl::Status s =
+            ScoreInChunks(settings, batch, dim, fresh, before, matter, std::move(scored), cost, &costs);
+        !s.ok()) {
+      return s;
+    }
     result.evaluations += fresh;
     result.iterations = it + 1;
     if (it == 0) {
@@ -93,9 +139,7 @@ absl::StatusOr<CemResult> MinimizeCem(const SearchSpace& space, const CemSetting
         before - result.best_cost <= settings.converged_fraction * std::abs(result.best_cost)) {
       break;
     }
-    const int elites = std::clamp(
-        static_cast<int>(std::lround(settings.elite_fraction * static_cast<double>(pool.size()))),
-        std::min<int>(2, static_cast<int>(pool.size())), static_cast<int>(pool.size()));
+    const int elites = EliteCount(settings, static_cast<int>(pool.size()));
     for (int d = 0; d < dim; ++d) {
       double m = 0;
       for (int e = 0; e < elites; ++e) m += pool[e].x[d];

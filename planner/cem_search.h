@@ -41,12 +41,19 @@ struct CemSettings {
   // elites included), never fewer than twice the first iteration's elites. 1: every iteration
   // draws `samples`.
   double population_decay = 1;
+  // Candidates per call of the batch cost (0: each iteration's fresh candidates in one call).
+  // Between calls the bound tightens to the cost that the candidates scored so far in the
+  // iteration (carried elites included) put on the elites — the best alone in the last
+  // iteration: a candidate at or above it can be neither, so the search's choices are those
+  // of whole batches, bit for bit, and a pruning cost simulates less.
+  int prune_chunk = 0;
 };
 
 // Writes the costs of `n` candidates (row-major [n, dim] in `candidates`) to costs[0..n).
-// `bound` is the best cost found before this batch (infinity for the first): a candidate known
-// to cost at least that much may be given any cost >= bound (it cannot become the best), so
-// its evaluation may stop early; the value must still be deterministic. An error (e.g. a
+// `bound` is the best cost found before this batch (infinity for the first), or lower with
+// CemSettings::prune_chunk: a candidate known to cost at least that much may be given any
+// cost >= bound (it can become neither the best nor an elite), so its evaluation may stop
+// early; the value must still be deterministic. An error (e.g. a
 // rollout that could not run) ends the search with that error.
 using BatchCost = std::function<absl::Status(const std::vector<double>& candidates, int n,
                                              double bound, std::vector<double>* costs)>;

@@ -229,6 +229,58 @@ TEST(CemSearchTest, ExplorationSamplesUseTheInitialSpread) {
   EXPECT_LT(widest_last, 0.5);
 }
 
+// The bowl term by term, stopping once the sum so far reaches the bound (as a rollout prunes);
+// every candidate's candidates and the terms summed are recorded.
+BatchCost PruningBowl(std::vector<double>* seen, long* terms) {
+  return [seen, terms](const std::vector<double>& x, int n, double bound,
+                       std::vector<double>* costs) {
+    const int dim = static_cast<int>(x.size()) / n;
+    seen->insert(seen->end(), x.begin(), x.end());
+    for (int i = 0; i < n; ++i) {
+      double c = 0;
+      for (int d = 0; d < dim; ++d) {
+        const double target = (d % 2 == 0 ? 0.3 : -0.2) / (1 + d / 2);
+        c += std::pow(x[i * dim + d] - target, 2);
+        ++*terms;
+        if (c >= bound) break;
+      }
+      (*costs)[i] = c;
+    }
+    return absl::OkStatus();
+  };
+}
+
+TEST(CemSearchTest, PruningInChunksDrawsTheSameCandidatesAndFindsTheSameBestForFewerTerms) {
+  CemSettings settings;
+  settings.samples = 48;
+  settings.iterations = 5;
+  const SearchSpace space = Box(12, 2.0, 0.8);
+  const std::vector<std::vector<double>> seeds = {std::vector<double>(12, 1.0)};
+  std::vector<double> whole_seen, chunked_seen;
+  long whole_terms = 0, chunked_terms = 0;
+  Rng a(21), b(21);
+  const CemResult whole = *MinimizeCem(space, settings, seeds, &a, PruningBowl(&whole_seen, &whole_terms));
+  settings.prune_chunk = 4;
+  const CemResult chunked =
+      *MinimizeCem(space, settings, seeds, &b, PruningBowl(&chunked_seen, &chunked_terms));
+  // Every iteration's elites are the same, so every later iteration draws the same candidates.
+  EXPECT_EQ(chunked_seen, whole_seen);
+  EXPECT_EQ(chunked.best, whole.best);
+  EXPECT_EQ(chunked.best_cost, whole.best_cost);
+  EXPECT_EQ(chunked.iteration_best, whole.iteration_best);
+  EXPECT_EQ(chunked.incumbent_cost, whole.incumbent_cost);
+  EXPECT_EQ(chunked.evaluations, whole.evaluations);
+  // The first iteration has no bound in one call; in chunks it prunes after its first six.
+  EXPECT_LT(chunked_terms, whole_terms * 0.95) << chunked_terms << " of " << whole_terms;
+  // A chunk as large as the batch is one call.
+  settings.prune_chunk = 48;
+  std::vector<double> one_seen;
+  long one_terms = 0;
+  Rng c(21);
+  MinimizeCem(space, settings, seeds, &c, PruningBowl(&one_seen, &one_terms)).IgnoreError();
+  EXPECT_EQ(one_terms, whole_terms);
+}
+
 TEST(CemSearchTest, ACostErrorEndsTheSearchWithThatError) {
   int calls = 0;
   const BatchCost failing = [&](const std::vector<double>&, int n, double,

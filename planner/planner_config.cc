@@ -72,6 +72,13 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
         p.rescue().cost_above(), ") after a troubled warm start; at or above it, it changes "
         "nothing: lower it or remove it"));
   }
+  if (p.prune_chunk() > 0 && (!p.prune() || p.robust().draws() > 0)) {
+    // Groups only tighten a pruning bound; without one they only add waits.
+    return absl::InvalidArgumentError(absl::StrCat(
+        where("prune_chunk"), ": groups tighten the pruning bound, but ",
+        p.prune() ? "planner.robust.draws > 0 turns pruning off" : "planner.prune is false",
+        "; remove it or prune"));
+  }
   if (p.search_prior_trust() && !p.policy_prior()) {
     return absl::InvalidArgumentError(absl::StrCat(
         where("search_prior_trust"), ": a trust in the learned proposal needs "

@@ -249,6 +249,23 @@ TEST(PlannerConfigTest, AHalfFixedBarNotBelowTheRescuesCostAboveIsRefusedAtTheFi
   EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
 }
 
+TEST(PlannerConfigTest, PruningInGroupsWithoutPruningIsRefusedAtTheField) {
+  // The shipped config prunes; groups without pruning, or with robust draws (which do not
+  // prune), would only wait.
+  for (const char* fields : {"prune: false prune_chunk: 8", "prune_chunk: 8 robust { draws: 2 }"}) {
+    const std::string text = Config(fields);
+    LoadedConfig config;
+    ASSERT_TRUE(Load("soccer_prune_chunk.textproto", text, &config).ok());
+    const absl::Status s = ValidatePlannerConfig(config);
+    EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument) << fields;
+    EXPECT_THAT(std::string(s.message()),
+                StartsWith(::juggle::testing::Loc(config.config_path, text, "prune_chunk: 8")));
+  }
+  LoadedConfig config;
+  ASSERT_TRUE(Load("soccer_prune_chunk.textproto", Config("prune_chunk: 8"), &config).ok());
+  EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
+}
+
 TEST(PlannerConfigTest, ATaskBlockOfAnotherFamilyIsRefusedNamingBothFamilies) {
   // Both families have a planning task (planner/tasks.cc); a toss run with the soccer task's
   // block is refused at the block.

@@ -86,6 +86,7 @@ RecedingHorizonPlanner::RecedingHorizonPlanner(std::shared_ptr<const PlanningTas
   settings_.explore_fraction = config_.explore_fraction();
   settings_.converged_fraction = config_.converged_fraction();
   settings_.population_decay = config_.population_decay();
+  settings_.prune_chunk = config_.prune() ? config_.prune_chunk() : 0;
   theta_.assign(task_->dim(), 0.0);
   interval_ = config_.replan_every();
 }

@@ -176,6 +176,31 @@ TEST_F(SoccerPlannerTest, TheSameSeedGivesTheSamePlan) {
   EXPECT_NE(runs[0], runs[2]);
 }
 
+// prune_chunk: the same search in groups whose bound tightens between them chooses the same
+// plans, the rescue's included, from fewer rollout steps.
+TEST_F(SoccerPlannerTest, PruningInGroupsChoosesTheSamePlansFromFewerRolloutSteps) {
+  config::PlannerConfig& p = *config_.run.mutable_planner();
+  ASSERT_TRUE(p.prune());
+  p.mutable_rescue()->set_cost_above(1e-9);  // every re-plan rescued
+  p.mutable_rescue()->set_samples(24);
+  p.mutable_rescue()->set_iterations(3);
+  std::vector<float> actions[2];
+  PlannerTotals totals[2];
+  for (int arm = 0; arm < 2; ++arm) {
+    p.set_prune_chunk(arm == 0 ? 0 : 4);
+    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.12);
+    std::unique_ptr<SoccerPlanner> planner = NewPlanner();
+    actions[arm] = ActionsOver(planner.get(), env.get(), *walk_, 12);
+    totals[arm] = planner->totals();
+  }
+  EXPECT_EQ(actions[1], actions[0]);
+  EXPECT_EQ(totals[1].rescues, totals[0].rescues);
+  EXPECT_EQ(totals[0].rescues, 3);
+  EXPECT_EQ(totals[1].rollouts, totals[0].rollouts);
+  EXPECT_LT(totals[1].rollout_steps, totals[0].rollout_steps * 0.95)
+      << totals[1].rollout_steps << " against " << totals[0].rollout_steps;
+}
+
 TEST_F(SoccerPlannerTest, ItsActionsReplayedInAPlainEnvGiveTheSameEpisode) {
   std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.03);
   std::unique_ptr<SoccerPlanner> planner = NewPlanner();

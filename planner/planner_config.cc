@@ -46,6 +46,10 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
       return absl::InvalidArgumentError(absl::StrCat(
           config.root.Where({{"planner"}, {"rescue"}, {"refine_first"}}), no_refinement));
     }
+    if (p.rescue().refine_after() > 0) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          config.root.Where({{"planner"}, {"rescue"}, {"refine_after"}}), no_refinement));
+    }
   }
   if (!(*task)->has_later_kicks && p.rescue().ignore_later_kicks()) {
     // Nothing would be left out, and every troubled re-plan would roll out once more.

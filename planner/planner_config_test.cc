@@ -188,13 +188,16 @@ TEST(PlannerConfigTest, TheShippedPlannerConfigIsValid) {
 }
 
 TEST(PlannerConfigTest, ARefinementForATaskWithoutOneIsRefusedAtTheField) {
-  for (const char* field : {"refine_iterations: 2", "rescue { refine_first: 2 }"}) {
+  for (const char* field :
+       {"refine_iterations: 2", "rescue { refine_first: 2 }", "rescue { refine_after: 2 }"}) {
     const std::string text = ConfigOver("configs/toss_throw_planner.textproto", field);
     LoadedConfig config;
     ASSERT_TRUE(Load("toss_refine.textproto", text, &config).ok());
     const absl::Status s = ValidatePlannerConfig(config);
     EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument) << field;
-    const std::string at = absl::StrContains(field, "refine_first") ? "refine_first: 2" : field;
+    const std::string at = absl::StrContains(field, "refine_first")   ? "refine_first: 2"
+                           : absl::StrContains(field, "refine_after") ? "refine_after: 2"
+                                                                      : field;
     EXPECT_THAT(std::string(s.message()),
                 StartsWith(::juggle::testing::Loc(config.config_path, text, at)));
     EXPECT_THAT(std::string(s.message()), HasSubstr("the toss planning task has no refinement"));
@@ -208,6 +211,12 @@ TEST(PlannerConfigTest, ARefinementForATaskWithoutOneIsRefusedAtTheField) {
   EXPECT_THAT(std::string(s.message()),
               StartsWith(::juggle::testing::Loc(config.config_path, no_kick, "refine_first: 1")));
   EXPECT_THAT(std::string(s.message()), HasSubstr("kick.enabled is false"));
+  const std::string no_kick_after = Config(
+      "body_knot_steps: 5 soccer_juggle { kick { enabled: false } } rescue { refine_after: 1 }");
+  ASSERT_TRUE(Load("soccer_no_kick_refine_after.textproto", no_kick_after, &config).ok());
+  EXPECT_THAT(std::string(ValidatePlannerConfig(config).message()),
+              StartsWith(::juggle::testing::Loc(config.config_path, no_kick_after,
+                                                "refine_after: 1")));
   ASSERT_TRUE(Load("soccer_refine.textproto",
                    Config("refine_iterations: 2 rescue { refine_first: 2 }"), &config)
                   .ok());

@@ -334,6 +334,12 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
   };
   ASSIGN_OR_RETURN(CemResult second, MinimizeCem(wide, settings, seeds, &r.rng, cost));
   totals_.rollouts += second.evaluations;
+  if (rescue.refine_after() > 0) {
+    if (const std::optional<VariableBlock> block = task_->RefineBlock(env); block.has_value()) {
+      RETURN_IF_ERROR(Refine(*r.snapshot, r.clock, *block, r.shifted, rescue.refine_after(),
+                             &second.best, &second.best_cost));
+    }
+  }
   ++totals_.rescues;
   second.evaluations += result->evaluations;
   second.incumbent_cost = result->incumbent_cost;

@@ -548,6 +548,42 @@ TEST_F(SoccerPlannerTest, ARescueSearchRunsOnlyAboveItsCostAndNeverRaisesIt) {
   EXPECT_EQ(never.report.best_cost, off.report.best_cost);
 }
 
+// rescue.refine_after: the rescue's best plan polished by Levenberg–Marquardt steps, the same
+// steps as refine_iterations after every re-plan (the independent path: here every re-plan is
+// rescued), and nothing at all where no rescue runs.
+TEST_F(SoccerPlannerTest, ARefinementAfterTheRescueIsTheRefinementOfTheRescuesBest) {
+  config::PlannerConfig& p = *config_.run.mutable_planner();
+  config::RescueSearch& rescue = *p.mutable_rescue();
+  rescue.set_samples(24);
+  rescue.set_iterations(3);
+  const double ahead = 0.06;
+  std::unique_ptr<SoccerPlanner> planner;
+  rescue.set_cost_above(1e-9);  // every re-plan rescued
+  const ReplanReport rescued = PlanOnce(ahead, &planner);
+  ASSERT_TRUE(rescued.rescued);
+  p.set_refine_iterations(2);
+  const ReplanReport refined_every = PlanOnce(ahead, &planner);
+  const std::vector<double> refined_every_plan = planner->plan();
+  const int64_t refined_every_rollouts = planner->totals().rollouts;
+  p.set_refine_iterations(0);
+  rescue.set_refine_after(2);
+  const ReplanReport refined_after = PlanOnce(ahead, &planner);
+  EXPECT_EQ(planner->plan(), refined_every_plan);
+  EXPECT_EQ(refined_after.best_cost, refined_every.best_cost);
+  EXPECT_EQ(planner->totals().rollouts, refined_every_rollouts);
+  EXPECT_LT(refined_after.best_cost, rescued.best_cost) << "the rescue's best left room to refine";
+  // No rescue, no refinement.
+  rescue.set_cost_above(1e30);
+  rescue.set_refine_after(0);
+  const ReplanReport plain = PlanOnce(ahead, &planner);
+  const std::vector<double> plain_plan = planner->plan();
+  rescue.set_refine_after(2);
+  const ReplanReport plain_after = PlanOnce(ahead, &planner);
+  EXPECT_FALSE(plain_after.rescued);
+  EXPECT_EQ(planner->plan(), plain_plan);
+  EXPECT_EQ(plain_after.best_cost, plain.best_cost);
+}
+
 // rescue.refine_first: a troubled re-plan first takes Levenberg–Marquardt steps on the next
 // kick, the same steps as the refinement after the search (refine_iterations, the independent
 // path here), and runs the wide search only if the plan is still above cost_above.

@@ -234,12 +234,14 @@ absl::Status ValidateSoccerJuggleTask(const LoadedConfig& config) {
                                                      m.status().message()));
     }
   }
-  if (!kick.enabled() && (p.refine_iterations() > 0 || p.rescue().refine_first() > 0)) {
+  if (!kick.enabled() && (p.refine_iterations() > 0 || p.rescue().refine_first() > 0 ||
+                          p.rescue().refine_after() > 0)) {
     // The refinement steps on a kick's variables (RefineBlock); without them nothing refines.
-    const bool iterations = p.refine_iterations() > 0;
+    const char* rescue_field = p.rescue().refine_first() > 0 ? "refine_first" : "refine_after";
     return absl::InvalidArgumentError(absl::StrCat(
-        iterations ? where("refine_iterations")
-                   : config.root.Where({{"planner"}, {"rescue"}, {"refine_first"}}),
+        p.refine_iterations() > 0
+            ? where("refine_iterations")
+            : config.root.Where({{"planner"}, {"rescue"}, {rescue_field}}),
         ": the refinement steps on the kick variables, and soccer_juggle.kick.enabled is false; "
         "set it to 0"));
   }

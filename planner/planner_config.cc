@@ -1,5 +1,7 @@
 #include "planner/planner_config.h"
 
+#include <utility>
+
 #include "absl/strings/str_cat.h"
 #include "envs/registry.h"
 #include "planner/tasks.h"
@@ -42,13 +44,13 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
     if (p.refine_iterations() > 0) {
       return absl::InvalidArgumentError(absl::StrCat(where("refine_iterations"), no_refinement));
     }
-    if (p.rescue().refine_first() > 0) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          config.root.Where({{"planner"}, {"rescue"}, {"refine_first"}}), no_refinement));
-    }
-    if (p.rescue().refine_after() > 0) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          config.root.Where({{"planner"}, {"rescue"}, {"refine_after"}}), no_refinement));
+    const std::pair<const char*, int> rescue_refinements[] = {
+        {"refine_first", p.rescue().refine_first()}, {"refine_after", p.rescue().refine_after()}};
+    for (const auto& [field, iterations] : rescue_refinements) {
+      if (iterations > 0) {
+        return absl::InvalidArgumentError(absl::StrCat(
+            config.root.Where({{"planner"}, {"rescue"}, {field}}), no_refinement));
+      }
     }
   }
   if (!(*task)->has_later_kicks && p.rescue().ignore_later_kicks()) {

@@ -302,14 +302,11 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
   troubled_ = 0;
   if (rescue.refine_first() > 0) {
     // A linear step on the next kick first; the wide search only if still in trouble.
-    if (const std::optional<VariableBlock> block = task_->RefineBlock(env); block.has_value()) {
-      RETURN_IF_ERROR(Refine(*r.snapshot, r.clock, *block, r.shifted, rescue.refine_first(),
-                             &result->best, &result->best_cost));
-      if (result->best_cost <= above) {
-        ++totals_.refined_out_of_trouble;
-        last_.refined_out = true;
-        return absl::OkStatus();
-      }
+    RETURN_IF_ERROR(RefineNextKick(env, r, rescue.refine_first(), result));
+    if (result->best_cost <= above) {
+      ++totals_.refined_out_of_trouble;
+      last_.refined_out = true;
+      return absl::OkStatus();
     }
   }
   // In trouble: search again, wider, from the best plan found (its incumbent), so the answer is
@@ -334,12 +331,7 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
   };
   ASSIGN_OR_RETURN(CemResult second, MinimizeCem(wide, settings, seeds, &r.rng, cost));
   totals_.rollouts += second.evaluations;
-  if (rescue.refine_after() > 0) {
-    if (const std::optional<VariableBlock> block = task_->RefineBlock(env); block.has_value()) {
-      RETURN_IF_ERROR(Refine(*r.snapshot, r.clock, *block, r.shifted, rescue.refine_after(),
-                             &second.best, &second.best_cost));
-    }
-  }
+  RETURN_IF_ERROR(RefineNextKick(env, r, rescue.refine_after(), &second));
   ++totals_.rescues;
   second.evaluations += result->evaluations;
   second.incumbent_cost = result->incumbent_cost;
@@ -350,10 +342,15 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
 
 absl::Status RecedingHorizonPlanner::RefineBest(const Env& env, ReplanState& r,
                                                 CemResult* result) {
-  if (config_.refine_iterations() == 0) return absl::OkStatus();
+  return RefineNextKick(env, r, config_.refine_iterations(), result);
+}
+
+absl::Status RecedingHorizonPlanner::RefineNextKick(const Env& env, const ReplanState& r,
+                                                    int iterations, CemResult* result) {
+  if (iterations == 0) return absl::OkStatus();
   const std::optional<VariableBlock> block = task_->RefineBlock(env);
   if (!block.has_value()) return absl::OkStatus();
-  return Refine(*r.snapshot, r.clock, *block, r.shifted, config_.refine_iterations(), &result->best,
+  return Refine(*r.snapshot, r.clock, *block, r.shifted, iterations, &result->best,
                 &result->best_cost);
 }
 

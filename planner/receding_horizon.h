@@ -162,6 +162,10 @@ class RecedingHorizonPlanner {
   absl::StatusOr<CemResult> Search(ReplanState& r);
   absl::Status Rescue(const Env& env, ReplanState& r, CemResult* result);
   absl::Status RefineBest(const Env& env, ReplanState& r, CemResult* result);
+  // `iterations` refinement steps (Refine) on the task's block for `env` (RefineBlock) of
+  // result's best plan, in place; nothing when the task has no block here.
+  absl::Status RefineNextKick(const Env& env, const ReplanState& r, int iterations,
+                              CemResult* result);
   absl::Status Commit(const Env& env, const ReplanState& r, const CemResult& result);
   // With a planning model: simulates theta_ (the planning model's choice) on it once more and,
   // beside the warm start (PlanningModel.check_on_exact), on the executed model; counts the

@@ -228,6 +228,10 @@ int Evaluate(EvalFlags f) {
       absl::StrAppend(&line, absl::StrFormat(" planner_refined_out_of_trouble=%d",
                                              t.refined_out_of_trouble));
     }
+    if (t.full_after_decay > 0) {
+      // Decayed rescues still in trouble that a full one followed (planner.rescue.full_after_decay).
+      absl::StrAppend(&line, absl::StrFormat(" planner_full_after_decay=%d", t.full_after_decay));
+    }
     if (t.proposal_tried > 0) {
       // The learned proposal (--proposal): re-plans that chose it alone, without offsets.
       absl::StrAppend(&line, absl::StrFormat(

@@ -78,6 +78,13 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
         p.rescue().cost_above(), ") after a troubled warm start; at or above it, it changes "
         "nothing: lower it or remove it"));
   }
+  if (p.rescue().full_after_decay() && !(p.rescue().population_decay() > 1)) {
+    // Without a decay the rescue is already the full one: it would run twice.
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where({{"planner"}, {"rescue"}, {"full_after_decay"}}),
+        ": follows a decayed rescue with a full one, but planner.rescue.population_decay is ",
+        p.rescue().population_decay(), " (no decay); set a decay above 1 or remove it"));
+  }
   if (p.prune_chunk() > 0 && (!p.prune() || p.robust().draws() > 0)) {
     // Groups only tighten a pruning bound; without one they only add waits.
     return absl::InvalidArgumentError(absl::StrCat(

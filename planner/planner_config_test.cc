@@ -258,6 +258,24 @@ TEST(PlannerConfigTest, AHalfFixedBarNotBelowTheRescuesCostAboveIsRefusedAtTheFi
   EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
 }
 
+TEST(PlannerConfigTest, AFullRescueAfterADecayWithoutADecayIsRefusedAtTheField) {
+  for (const char* fields : {"rescue { full_after_decay: true }",
+                             "rescue { population_decay: 1 full_after_decay: true }"}) {
+    const std::string text = Config(fields);
+    LoadedConfig config;
+    ASSERT_TRUE(Load("soccer_full_after_decay.textproto", text, &config).ok());
+    const absl::Status s = ValidatePlannerConfig(config);
+    EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument) << fields;
+    EXPECT_THAT(std::string(s.message()),
+                StartsWith(::juggle::testing::Loc(config.config_path, text, "full_after_decay")));
+  }
+  LoadedConfig config;
+  ASSERT_TRUE(Load("soccer_full_after_decay.textproto",
+                   Config("rescue { population_decay: 1.25 full_after_decay: true }"), &config)
+                  .ok());
+  EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
+}
+
 TEST(PlannerConfigTest, PruningInGroupsWithoutPruningIsRefusedAtTheField) {
   // The shipped config prunes; groups without pruning, or with robust draws (which do not
   // prune), would only wait.

@@ -41,6 +41,7 @@ void PlannerTotals::Add(const PlannerTotals& other) {
   rollout_steps += other.rollout_steps;
   rescues += other.rescues;
   refined_out_of_trouble += other.refined_out_of_trouble;
+  full_after_decay += other.full_after_decay;
   proposal_tried += other.proposal_tried;
   proposal_chosen += other.proposal_chosen;
   proposal_weight_sum += other.proposal_weight_sum;
@@ -270,6 +271,22 @@ absl::StatusOr<CemResult> RecedingHorizonPlanner::Search(ReplanState& r) {
   return result;
 }
 
+absl::StatusOr<bool> RecedingHorizonPlanner::InTrouble(const ReplanState& r,
+                                                      const CemResult& result, double above) {
+  if (!(above > 0 && result.best_cost > above)) return false;
+  if (!config_.rescue().ignore_later_kicks()) return true;
+  // Trouble that only later decisions make is left to the re-plans after the first one.
+  RolloutOptions plain;
+  plain.clock = r.clock;
+  RolloutResult best;
+  RETURN_IF_ERROR(pool_->Run(*r.snapshot, 1, [&](int, Env* copy) {
+    best = Rollout(copy, result.best.data(), plain);
+  }));
+  ++totals_.rollouts;
+  totals_.rollout_steps += best.steps;
+  return best.cost - best.later > above;
+}
+
 absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemResult* result) {
   last_.rescued = false;
   last_.refined_out = false;
@@ -279,24 +296,10 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
   if (rescue.half_fixed_above() > 0 && result->incumbent_cost > rescue.cost_above()) {
     above = std::min(above, rescue.half_fixed_above());
   }
-  if (!(above > 0 && result->best_cost > above)) {
+  ASSIGN_OR_RETURN(const bool in_trouble, InTrouble(r, *result, above));
+  if (!in_trouble) {
     troubled_ = 0;
     return absl::OkStatus();
-  }
-  if (rescue.ignore_later_kicks()) {
-    // Trouble that only later decisions make is left to the re-plans after the first one.
-    RolloutOptions plain;
-    plain.clock = r.clock;
-    RolloutResult best;
-    RETURN_IF_ERROR(pool_->Run(*r.snapshot, 1, [&](int, Env* copy) {
-      best = Rollout(copy, result->best.data(), plain);
-    }));
-    ++totals_.rollouts;
-    totals_.rollout_steps += best.steps;
-    if (best.cost - best.later <= above) {
-      troubled_ = 0;
-      return absl::OkStatus();
-    }
   }
   if (++troubled_ < rescue.patience()) return absl::OkStatus();
   troubled_ = 0;
@@ -331,6 +334,19 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
   };
   ASSIGN_OR_RETURN(CemResult second, MinimizeCem(wide, settings, seeds, &r.rng, cost));
   totals_.rollouts += second.evaluations;
+  if (rescue.full_after_decay() && settings.population_decay > 1) {
+    ASSIGN_OR_RETURN(const bool still, InTrouble(r, second, above));
+    if (still) {
+      // The cheap search failed here: the full population, from its best.
+      settings.population_decay = 1;
+      seeds[0] = second.best;
+      ASSIGN_OR_RETURN(CemResult full, MinimizeCem(wide, settings, seeds, &r.rng, cost));
+      totals_.rollouts += full.evaluations;
+      ++totals_.full_after_decay;
+      full.evaluations += second.evaluations;  // its incumbent: never worse than the decayed
+      second = std::move(full);
+    }
+  }
   RETURN_IF_ERROR(RefineNextKick(env, r, rescue.refine_after(), &second));
   ++totals_.rescues;
   second.evaluations += result->evaluations;

@@ -56,6 +56,8 @@ struct PlannerTotals {
   // Re-plans in trouble that the refinement before the rescue (RescueSearch.refine_first)
   // brought out of it, so no rescue ran.
   int64_t refined_out_of_trouble = 0;
+  // Decayed rescues still in trouble that a full one followed (RescueSearch.full_after_decay).
+  int64_t full_after_decay = 0;
   // With a proposing prior (PlannerConfig.policy_prior and a policy set): re-plans that tried
   // the proposal alone (zero offsets) as a candidate, and those that chose it (the policy's
   // share of chosen candidates, issue 48).
@@ -161,6 +163,9 @@ class RecedingHorizonPlanner {
   ReplanState WarmStart(const Env& env);
   absl::StatusOr<CemResult> Search(ReplanState& r);
   absl::Status Rescue(const Env& env, ReplanState& r, CemResult* result);
+  // Whether `result`'s best plan is in trouble: above `above` (> 0), and with
+  // RescueSearch.ignore_later_kicks also its cost less the later kicks' (one more rollout).
+  absl::StatusOr<bool> InTrouble(const ReplanState& r, const CemResult& result, double above);
   absl::Status RefineBest(const Env& env, ReplanState& r, CemResult* result);
   // `iterations` refinement steps (Refine) on the task's block for `env` (RefineBlock) of
   // result's best plan, in place; nothing when the task has no block here.

@@ -584,6 +584,44 @@ TEST_F(SoccerPlannerTest, ARefinementAfterTheRescueIsTheRefinementOfTheRescuesBe
   EXPECT_EQ(plain_after.best_cost, plain.best_cost);
 }
 
+// rescue.full_after_decay: a decayed rescue that ends in trouble is followed by a full one (its
+// rollouts are the full rescue's count again: the independent path), and one that ends out of
+// trouble is not.
+TEST_F(SoccerPlannerTest, AFullRescueFollowsADecayedOneOnlyWhenItEndsInTrouble) {
+  config::PlannerConfig& p = *config_.run.mutable_planner();
+  p.set_prune(false);  // every candidate a whole rollout: the counts below are exact
+  config::RescueSearch& rescue = *p.mutable_rescue();
+  rescue.set_samples(24);
+  rescue.set_iterations(3);
+  const double ahead = 0.06;
+  std::unique_ptr<SoccerPlanner> planner;
+  // Rollouts of the regular search alone, with a full rescue, with a decayed one.
+  rescue.set_cost_above(1e30);
+  const ReplanReport plain = PlanOnce(ahead, &planner);
+  const int64_t plain_rollouts = planner->totals().rollouts;
+  rescue.set_cost_above(1e-9);  // every re-plan in trouble, every rescue ends in it
+  PlanOnce(ahead, &planner);
+  const int64_t full_rescue = planner->totals().rollouts - plain_rollouts;
+  rescue.set_population_decay(2);
+  const ReplanReport decayed = PlanOnce(ahead, &planner);
+  const int64_t decayed_rescue = planner->totals().rollouts - plain_rollouts;
+  ASSERT_TRUE(decayed.rescued);
+  ASSERT_LT(decayed_rescue, full_rescue);
+  rescue.set_full_after_decay(true);
+  const ReplanReport escalated = PlanOnce(ahead, &planner);
+  EXPECT_TRUE(escalated.rescued);
+  EXPECT_EQ(planner->totals().full_after_decay, 1);
+  EXPECT_EQ(planner->totals().rollouts - plain_rollouts, decayed_rescue + full_rescue);
+  EXPECT_LE(escalated.best_cost, decayed.best_cost);
+  // A decayed rescue that ends below the bar: no full one.
+  ASSERT_GT(plain.best_cost, decayed.best_cost);
+  rescue.set_cost_above(0.5 * (plain.best_cost + decayed.best_cost));
+  const ReplanReport out = PlanOnce(ahead, &planner);
+  EXPECT_TRUE(out.rescued);
+  EXPECT_EQ(planner->totals().full_after_decay, 0);
+  EXPECT_EQ(planner->totals().rollouts - plain_rollouts, decayed_rescue);
+}
+
 // rescue.refine_first: a troubled re-plan first takes Levenberg–Marquardt steps on the next
 // kick, the same steps as the refinement after the search (refine_iterations, the independent
 // path here), and runs the wide search only if the plan is still above cost_above.

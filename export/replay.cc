@@ -6,6 +6,7 @@
 #include <memory>
 #include <set>
 #include <tuple>
+#include <utility>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -32,7 +33,8 @@ const char* GeomTypeName(int type) {
     case mjGEOM_ELLIPSOID: return "ellipsoid";
     case mjGEOM_CYLINDER: return "cylinder";
     case mjGEOM_BOX: return "box";
-    default: return nullptr;  // meshes, height fields: not drawn
+    case mjGEOM_MESH: return "mesh";
+    default: return nullptr;  // height fields: not drawn
   }
 }
 
@@ -96,6 +98,13 @@ ReplayScene BuildReplayScene(const mjModel* m) {
     for (int k = 0; k < 3; ++k) geom.pos[k] = m->geom_pos[3 * g + k];
     for (int k = 0; k < 4; ++k) geom.quat[k] = m->geom_quat[4 * g + k];
     for (int k = 0; k < 4; ++k) geom.rgba[k] = rgba[k];
+    if (m->geom_type[g] == mjGEOM_MESH) {
+      const int mesh = m->geom_dataid[g];
+      const float* vert = m->mesh_vert + 3 * m->mesh_vertadr[mesh];
+      const int* face = m->mesh_face + 3 * m->mesh_faceadr[mesh];
+      geom.vertices.assign(vert, vert + 3 * m->mesh_vertnum[mesh]);
+      geom.faces.assign(face, face + 3 * m->mesh_facenum[mesh]);
+    }
     r.geoms.push_back(geom);
   }
   // The follow camera tracks the character's root: the first drawn body outside the balls.
@@ -197,9 +206,14 @@ nlohmann::ordered_json GeomsJson(const std::vector<ReplayGeom>& geoms) {
   };
   Json out = Json::array();
   for (const ReplayGeom& g : geoms) {
-    out.push_back({{"name", g.name}, {"body", g.body}, {"type", g.type},
-                   {"size", shorts(g.size)}, {"pos", shorts(g.pos)},
-                   {"quat", shorts(g.quat)}, {"rgba", shorts(g.rgba)}});
+    Json geom = {{"name", g.name}, {"body", g.body}, {"type", g.type},
+                 {"size", shorts(g.size)}, {"pos", shorts(g.pos)},
+                 {"quat", shorts(g.quat)}, {"rgba", shorts(g.rgba)}};
+    if (!g.vertices.empty()) {
+      geom["vertices"] = shorts(g.vertices);
+      geom["faces"] = g.faces;
+    }
+    out.push_back(std::move(geom));
   }
   return out;
 }

@@ -21,8 +21,12 @@ namespace juggle {
 struct ReplayGeom {
   std::string name;   // geom name, or "" if unnamed
   int body = -1;      // index into ReplayData::body_ids; -1: fixed in the world
-  std::string type;   // "plane", "sphere", "capsule", "ellipsoid", "cylinder", "box"
+  std::string type;   // "plane", "sphere", "capsule", "ellipsoid", "cylinder", "box", "mesh"
   double size[3] = {0, 0, 0};  // MuJoCo's geom_size (half-lengths, radii)
+  // A mesh's vertices (x y z, in the geom's frame) and triangles (three vertex indices each;
+  // MuJoCo's convex hull when the model gives vertices only); empty for other types.
+  std::vector<float> vertices;
+  std::vector<int> faces;
   double pos[3] = {0, 0, 0};   // in the body frame (world frame when body == -1)
   double quat[4] = {1, 0, 0, 0};  // w x y z
   float rgba[4] = {1, 1, 1, 1};   // the material's colour if it has one, else the geom's
@@ -49,7 +53,7 @@ struct ReplayScene {
   std::vector<std::string> body_names;
   int follow = 0;                        // index into body_ids: the character's root
   std::vector<ReplayGeom> geoms;
-  int skipped_geoms = 0;                 // meshes, height fields, invisible geoms
+  int skipped_geoms = 0;                 // height fields, invisible geoms
 };
 ReplayScene BuildReplayScene(const mjModel* model);
 // The scene's geoms as a JSON array (the page's "geoms", web/scene.js).
@@ -62,7 +66,7 @@ struct ReplayData {
   std::vector<std::string> body_names;
   int follow = 0;                        // index into body_ids: the character's root
   std::vector<ReplayGeom> geoms;
-  int skipped_geoms = 0;                 // meshes, height fields, invisible geoms
+  int skipped_geoms = 0;                 // height fields, invisible geoms
   std::vector<AnnotationChannel> channels;  // the recording's, in its order
   std::vector<int> samples;              // recording sample of each frame
   std::vector<double> time;              // [frames] s, from the first frame

@@ -88,6 +88,33 @@ TEST(ReplayTest, GeomsCarryTheirMaterialColourAndInvisibleOnesAreSkipped) {
   EXPECT_FLOAT_EQ(r->geoms[2].rgba[0], 1.0f);
 }
 
+TEST(ReplayTest, AMeshIsDrawnAsItsHullInItsGeomsFrameAndReachesThePage) {
+  // A tetrahedron authored off the origin: MuJoCo moves its vertices to the volume's centroid
+  // (for a tetrahedron, the mean of its vertices) and keeps the hull's four triangles.
+  auto m = testing::LoadInlineModel(R"(
+<mujoco>
+  <asset><mesh name="tetra" vertex="1 1 1  1.3 1 1  1 1.3 1  1 1 1.3"/></asset>
+  <worldbody><body name="boot"><freejoint/><geom name="boot" type="mesh" mesh="tetra"/></body>
+  </worldbody>
+</mujoco>)");
+  const ReplayScene scene = BuildReplayScene(m.get());
+  ASSERT_EQ(scene.geoms.size(), 1u);
+  EXPECT_EQ(scene.skipped_geoms, 0);
+  const ReplayGeom& g = scene.geoms[0];
+  EXPECT_EQ(g.type, "mesh");
+  ASSERT_EQ(g.vertices.size(), 12u);
+  ASSERT_EQ(g.faces.size(), 12u);
+  for (int index : g.faces) EXPECT_TRUE(index >= 0 && index < 4) << index;
+  for (int k = 0; k < 3; ++k) {
+    const double mean = (g.vertices[k] + g.vertices[3 + k] + g.vertices[6 + k] + g.vertices[9 + k]) / 4;
+    EXPECT_NEAR(mean, 0, 1e-6) << k;
+  }
+  const std::string json = ReplayGeomsJson(scene.geoms);
+  EXPECT_THAT(json, HasSubstr("\"type\":\"mesh\""));
+  EXPECT_THAT(json, HasSubstr("\"faces\":["));
+  EXPECT_THAT(json, HasSubstr("\"vertices\":["));
+}
+
 TEST(ReplayTest, BallContactsAreFoundOnlyWhereTheBallTouches) {
   auto m = LoadInlineModel();
   absl::StatusOr<ReplayData> r = BuildReplayData(m.get(), Recording());

@@ -63,6 +63,15 @@ window.JuggleScene = (function () {
       case 'box':
         object = new THREE.Mesh(new THREE.BoxBufferGeometry(2 * s[0], 2 * s[1], 2 * s[2]), material);
         break;
+      case 'mesh': {  // a convex hull: flat faces, so every triangle gets its own vertices
+        const geometry = new THREE.BufferGeometry();
+        geometry.setAttribute('position', new THREE.Float32BufferAttribute(g.vertices, 3));
+        geometry.setIndex(g.faces);
+        const flat = geometry.toNonIndexed();
+        flat.computeVertexNormals();
+        object = new THREE.Mesh(flat, material);
+        break;
+      }
       default:
         return null;
     }

@@ -96,7 +96,8 @@ absl::StatusOr<std::shared_ptr<const FootballSpec>> FootballSpec::Build(const Lo
   MjDataPtr d(mj_makeData(model));
   mju_copy(d->qpos, pose.data(), humanoid::kCharacterNq);
   mj_kinematics(model, d.get());
-  mju_copy3(spec->kick_foot_standing_, d->geom_xpos + 3 * spec->kick_foot_geom_);
+  spec->kick_foot_bounds_ = MeasureGeomBounds(model, spec->kick_foot_geom_);
+  GeomBoundsCentre(spec->kick_foot_bounds_, model, d.get(), spec->kick_foot_standing_);
   if (f.task() == config::TRAP || f.task() == config::TRAP_KICK) {
     absl::StatusOr<TrapBodies> trap = ResolveTrapBodies(model, pose.data(), f.trap(), where);
     if (!trap.ok()) return trap.status();

@@ -57,9 +57,12 @@ class FootballSpec : public EnvSpec {
   // The standing pose: root at (0, 0, root_height), upright, facing +x, joints at rest.
   const CharacterPose& standing_pose() const { return standing_; }
   int root_body() const { return root_body_; }
-  // The kicking (right) foot: its body and its box geom, and the geom's centre when standing.
+  // The kicking (right) foot: its body, its geom (box or boot) and the geom's bounds
+  // (envs/geom_extent.h), and the bounds' centre when standing (the same point for a box and a
+  // boot of its length).
   int kick_foot_body() const { return kick_foot_body_; }
   int kick_foot_geom() const { return kick_foot_geom_; }
+  const GeomBounds& kick_foot_bounds() const { return kick_foot_bounds_; }
   const double* kick_foot_standing() const { return kick_foot_standing_; }
   // The TRAP and TRAP_KICK tasks' parts and arms (trap_episode.h; empty for KICK).
   const TrapBodies& trap_bodies() const { return trap_bodies_; }
@@ -78,6 +81,7 @@ class FootballSpec : public EnvSpec {
   PitchBall ball_;
   CharacterPose standing_{};
   int root_body_ = -1, kick_foot_body_ = -1, kick_foot_geom_ = -1;
+  GeomBounds kick_foot_bounds_;
   double kick_foot_standing_[3] = {0, 0, 0};
   TrapBodies trap_bodies_;
 };

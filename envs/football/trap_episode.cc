@@ -20,12 +20,6 @@ absl::Status Invalid(const SourceLocator& where, const FieldPath& path, const st
   return absl::InvalidArgumentError(absl::StrCat(where.Where(path), ": ", what));
 }
 
-double GeomSurface(const mjModel* m, int geom) {
-  const double* size = m->geom_size + 3 * geom;
-  if (m->geom_type[geom] == mjGEOM_BOX) return std::min({size[0], size[1], size[2]});
-  return size[0];  // sphere, capsule: the radius
-}
-
 }  // namespace
 
 double LobMeetingHeight(const TrapBodies& bodies, config::TrapPart part) {
@@ -53,8 +47,9 @@ absl::StatusOr<TrapBodies> ResolveTrapBodies(const mjModel* model, const double*
     if (g < 0) continue;
     b.geom[p] = g;
     b.body[p] = model->geom_bodyid[g];
-    std::copy_n(d->geom_xpos + 3 * g, 3, b.standing_centre[p].begin());
-    b.surface[p] = GeomSurface(model, g);
+    b.bounds[p] = MeasureGeomBounds(model, g);
+    GeomBoundsCentre(b.bounds[p], model, d.get(), b.standing_centre[p].data());
+    b.surface[p] = b.bounds[p].thinnest();
   }
   for (int i = 0; i < passes.parts_size(); ++i) {
     const int p = passes.parts(i);

@@ -15,6 +15,7 @@
 #include "common/rng.h"
 #include "envs/football/metrics.h"
 #include "envs/football/passes.h"
+#include "envs/geom_extent.h"
 #include "proto/envs/football.pb.h"
 
 namespace juggle::football {
@@ -28,8 +29,9 @@ constexpr int kRelativeSpeedFrames = 5;  // RBSPT's frames after the touch (seed
 struct TrapBodies {
   std::array<int, kTrapParts> geom{};  // -1: the model lacks it
   std::array<int, kTrapParts> body{};
-  std::array<std::array<double, 3>, kTrapParts> standing_centre{};  // the geom's, standing
-  std::array<double, kTrapParts> surface{};  // from the centre to the geom's surface (m, least)
+  std::array<GeomBounds, kTrapParts> bounds{};  // envs/geom_extent.h: a boot's box, not its hull
+  std::array<std::array<double, 3>, kTrapParts> standing_centre{};  // the bounds' centre, standing
+  std::array<double, kTrapParts> surface{};  // the bounds' thinnest half extent (m)
   std::vector<char> is_arm;  // per body: upper arm, forearm or hand
 };
 

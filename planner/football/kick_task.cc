@@ -9,6 +9,7 @@
 #include "envs/football/env.h"
 #include "envs/football/kick_motion.h"
 #include "envs/football/outcomes.h"
+#include "envs/geom_extent.h"
 #include "planner/pose_action.h"
 
 namespace juggle::planner {
@@ -24,15 +25,16 @@ const FootballEnv& AsFootballEnv(const Env& env) { return static_cast<const Foot
 
 double Norm3(const double* v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
-// How far the kicking foot's box centre is from the ball's surface, less the box's half-length
-// (m; ≤ 0 roughly at a touch).
+// How far the kicking foot's centre is from the ball's surface, less the foot's longest half
+// extent (its bounds', envs/geom_extent.h; m; ≤ 0 roughly at a touch).
 double FootGap(const FootballEnv& env) {
   const football::FootballSpec& spec = env.spec();
   const mjData* d = env.data();
-  const double* foot = d->geom_xpos + 3 * spec.kick_foot_geom();
+  double foot[3];
+  GeomBoundsCentre(spec.kick_foot_bounds(), spec.model(), d, foot);
   const double* ball = d->qpos + spec.ball().qpos;
   const double diff[3] = {ball[0] - foot[0], ball[1] - foot[1], ball[2] - foot[2]};
-  return Norm3(diff) - spec.ball().radius - spec.model()->geom_size[3 * spec.kick_foot_geom()];
+  return Norm3(diff) - spec.ball().radius - spec.kick_foot_bounds().longest();
 }
 
 class KickScorer final : public RolloutScorer {

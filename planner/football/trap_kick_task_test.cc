@@ -29,8 +29,11 @@ using ::juggle::testing::RepoPath;
 
 constexpr char kShipped[] = "configs/football_trap_kick.textproto";
 // A pass that standing still does not bring into the kick's zone (env seed Rng(kSeed); the
-// shipped settings were chosen on juggle eval's seed 1000000, other streams).
-constexpr uint64_t kSeed = 1000017;
+// shipped settings were chosen on juggle eval's seed 1000000, other streams). With the boot
+// (configs/models/football_pitch.xml) the first such seed the search turns into a kick is
+// 1000009 (1000001-1000008 end out of reach or on the ground); 1000017, used with the box
+// foot, is now met by the shin first.
+constexpr uint64_t kSeed = 1000009;
 
 class FootballTrapKickTaskTest : public testing::ShippedTaskTest {
  protected:

@@ -7,6 +7,7 @@
 #include "absl/strings/str_format.h"
 #include "envs/football/env.h"
 #include "envs/football/outcomes.h"
+#include "envs/geom_extent.h"
 #include "envs/humanoid/pose.h"
 #include "planner/football/free_ball.h"
 #include "planner/pose_action.h"
@@ -31,13 +32,15 @@ double Smoothstep(double u) {
   return u * u * (3 - 2 * u);
 }
 
-// The designated part's centre now.
-const double* PartCentre(const FootballEnv& e) {
-  return e.data()->geom_xpos + 3 * e.spec().trap_bodies().geom[e.state().trap.part];
+// The designated part's centre now (its bounds', envs/geom_extent.h).
+void PartCentre(const FootballEnv& e, double centre[3]) {
+  GeomBoundsCentre(e.spec().trap_bodies().bounds[e.state().trap.part], e.spec().model(), e.data(),
+                   centre);
 }
 
 double SurfaceGap(const FootballEnv& e, const double* ball) {
-  const double* part = PartCentre(e);
+  double part[3];
+  PartCentre(e, part);
   const double d[3] = {ball[0] - part[0], ball[1] - part[1], ball[2] - part[2]};
   return mju_norm3(d) - e.spec().ball().radius - e.spec().trap_bodies().surface[e.state().trap.part];
 }

@@ -131,6 +131,15 @@ TEST(FaultProxyTest, ForwardsAMegabyteBothWaysUnchanged) {
   const std::string back = ReadN(fd, data.size(), 20);
   writer.join();
   EXPECT_TRUE(back == data) << "got " << back.size() << " bytes, or different ones";
+  // The proxy counts a segment after its send returns, so the client can hold the last bytes
+  // before the count does (a race a loaded machine can expose; this test failed once in a full
+  // suite at 0.07 s, its log since overwritten): wait for the counts, 2 s at most.
+  const auto start = Clock::now();
+  while ((proxy->stats().bytes_up < int64_t(data.size()) ||
+          proxy->stats().bytes_down < int64_t(data.size())) &&
+         Since(start) < 2) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
   EXPECT_EQ(proxy->stats().bytes_up, int64_t(data.size()));
   EXPECT_EQ(proxy->stats().bytes_down, int64_t(data.size()));
   ::close(fd);

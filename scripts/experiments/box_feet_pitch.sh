@@ -1,8 +1,8 @@
 #!/bin/bash
 # The football pitch with DeepMimic's box feet instead of the boots (seed 002's ablation; issue
 # 45): writes OUT/models/ (the pitch with juggle_scene.xml's foot and sole classes — the box
-# meets the ball and the turf —, and the files it includes) and, for each CONFIG given, OUT/<its name> — the shipped config with only the model
-# file changed — then prints their paths.
+# meets the ball and the turf —, and the files it includes) and, for each CONFIG given,
+# OUT/<its name>: the shipped config with only the model file changed; prints their paths.
 #
 #   scripts/experiments/box_feet_pitch.sh OUT [CONFIG ...]
 #   e.g. scripts/experiments/box_feet_pitch.sh /tmp/box configs/football_kick.textproto

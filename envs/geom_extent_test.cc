@@ -1,10 +1,9 @@
 #include "envs/geom_extent.h"
 
-#include <cstring>
-
 #include "envs/mujoco_model.h"
-#include "gtest/gtest.h"
 #include "envs/testing/test_configs.h"
+#include "gtest/gtest.h"
+#include "record/testing/inline_model.h"
 
 namespace juggle {
 namespace {
@@ -28,21 +27,10 @@ constexpr char kModel[] = R"(<mujoco>
   </worldbody>
 </mujoco>)";
 
-MjModelPtr Compile() {
-  mjVFS vfs;
-  mj_defaultVFS(&vfs);
-  const size_t size = std::strlen(kModel);
-  mj_makeEmptyFileVFS(&vfs, "shapes.xml", static_cast<int>(size));
-  std::memcpy(vfs.filedata[mj_findFileVFS(&vfs, "shapes.xml")], kModel, size);
-  char error[512] = "";
-  MjModelPtr m(mj_loadXML("shapes.xml", &vfs, error, sizeof(error)));
-  mj_deleteVFS(&vfs);
-  EXPECT_NE(m, nullptr) << error;
-  return m;
-}
+testing::InlineModel Compile() { return testing::LoadInlineModel(kModel); }
 
 TEST(GeomExtentTest, PrimitivesAreBoundedByTheirHalfSizesAndRadiiAboutTheirOwnCentre) {
-  MjModelPtr m = Compile();
+  testing::InlineModel m = Compile();
   ASSERT_NE(m, nullptr);
   auto bounds = [&](const char* name) {
     return MeasureGeomBounds(m.get(), mj_name2id(m.get(), mjOBJ_GEOM, name));
@@ -69,7 +57,7 @@ TEST(GeomExtentTest, AMeshIsBoundedWhereItsVerticesWereAuthoredInItsBody) {
   // The cuboid 1..1.6 × 1..1.4 × 1..1.2 in a body at (0, 0, 2) turned 90° about z: its bounds'
   // centre is (1.3, 1.2, 1.1) in the body, i.e. (-1.2, 1.3, 3.1) in the world, whatever frame
   // MuJoCo gives the mesh's geom (its volume's principal axes).
-  MjModelPtr m = Compile();
+  testing::InlineModel m = Compile();
   ASSERT_NE(m, nullptr);
   const GeomBounds b = MeasureGeomBounds(m.get(), mj_name2id(m.get(), mjOBJ_GEOM, "mesh"));
   EXPECT_TRUE(b.mesh);

@@ -15,6 +15,7 @@
 #include "envs/env.h"
 #include "envs/football/pitch.h"
 #include "envs/football/trap_episode.h"
+#include "envs/geom_extent.h"
 #include "envs/humanoid/humanoid.h"
 #include "envs/mujoco_model.h"
 

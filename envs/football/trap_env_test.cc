@@ -90,8 +90,8 @@ TEST_F(FootballTrapEnvTest, ALobFliesThroughItsMeetingPointInFrontOfThePartWithi
     // The meeting point lies beyond the part's surface toward the pass (within the ranges).
     const auto& centre = spec_->trap_bodies().standing_centre[e.part];
     const double out = std::hypot(e.meet_point[0] - centre[0], e.meet_point[1] - centre[1]);
-    EXPECT_GE(out, spec_->trap_bodies().surface[e.part] + spec_->ball().radius - 1e-9);
-    EXPECT_LE(out, spec_->trap_bodies().surface[e.part] + spec_->ball().radius + 0.25 + 0.1 + 1e-9);
+    EXPECT_GE(out, spec_->trap_bodies().bounds[e.part].thinnest() + spec_->ball().radius - 1e-9);
+    EXPECT_LE(out, spec_->trap_bodies().bounds[e.part].thinnest() + spec_->ball().radius + 0.25 + 0.1 + 1e-9);
     EXPECT_GT(e.pass.start[0] - e.meet_point[0], 0) << "the ball starts in front";
     EXPECT_LT(e.pass.velocity[0], 0) << "and comes toward the character";
     // It starts lead_s before the meeting, or at the launch when the flight is shorter.

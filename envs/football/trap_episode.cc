@@ -49,7 +49,6 @@ absl::StatusOr<TrapBodies> ResolveTrapBodies(const mjModel* model, const double*
     b.body[p] = model->geom_bodyid[g];
     b.bounds[p] = MeasureGeomBounds(model, g);
     GeomBoundsCentre(b.bounds[p], model, d.get(), b.standing_centre[p].data());
-    b.surface[p] = b.bounds[p].thinnest();
   }
   for (int i = 0; i < passes.parts_size(); ++i) {
     const int p = passes.parts(i);
@@ -136,7 +135,7 @@ TrapEpisode DrawTrapEpisode(const FootballSpec& spec, Rng& rng) {
   const double u[2] = {-std::cos(travel), -std::sin(travel)};
   const double across[2] = {-u[1], u[0]};
   const std::array<double, 3>& centre = bodies.standing_centre[e.part];
-  const double out = bodies.surface[e.part] + r + ahead;
+  const double out = bodies.bounds[e.part].thinnest() + r + ahead;
   e.meet_point[0] = centre[0] + out * u[0] + side * across[0];
   e.meet_point[1] = centre[1] + out * u[1] + side * across[1];
   e.meet_point[2] = std::max(LobMeetingHeight(bodies, e.part) + raise, r);

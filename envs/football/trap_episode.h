@@ -31,7 +31,6 @@ struct TrapBodies {
   std::array<int, kTrapParts> body{};
   std::array<GeomBounds, kTrapParts> bounds{};  // envs/geom_extent.h: a boot's box, not its hull
   std::array<std::array<double, 3>, kTrapParts> standing_centre{};  // the bounds' centre, standing
-  std::array<double, kTrapParts> surface{};  // the bounds' thinnest half extent (m)
   std::vector<char> is_arm;  // per body: upper arm, forearm or hand
 };
 

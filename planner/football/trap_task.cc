@@ -38,20 +38,22 @@ void PartCentre(const FootballEnv& e, double centre[3]) {
                    centre);
 }
 
-double SurfaceGap(const FootballEnv& e, const double* ball) {
-  double part[3];
-  PartCentre(e, part);
+// From the part's surface (its centre `part`) to the ball's.
+double SurfaceGap(const FootballEnv& e, const double* part, const double* ball) {
   const double d[3] = {ball[0] - part[0], ball[1] - part[1], ball[2] - part[2]};
-  return mju_norm3(d) - e.spec().ball().radius - e.spec().trap_bodies().surface[e.state().trap.part];
+  return mju_norm3(d) - e.spec().ball().radius -
+         e.spec().trap_bodies().bounds[e.state().trap.part].thinnest();
 }
 
 // The part's closest approach to the ball's free path from now on, with the part where it is.
 double PathGap(const FootballEnv& e) {
   FreeBall ball(e);
-  double best = SurfaceGap(e, ball.p);
+  double part[3];
+  PartCentre(e, part);
+  double best = SurfaceGap(e, part, ball.p);
   for (double t = 0; t < kPathSeconds; t += kPathStep) {
     ball.Step(kPathStep);
-    best = std::min(best, SurfaceGap(e, ball.p));
+    best = std::min(best, SurfaceGap(e, part, ball.p));
   }
   return best;
 }
@@ -83,7 +85,9 @@ class TrapScorer final : public RolloutScorer {
     const FootballEnv& e = AsFootballEnv(env);
     ++steps_;
     if (!touched_at_begin_ && e.state().trap.first_body < 0) {
-      closest_gap_ = std::min(closest_gap_, SurfaceGap(e, e.data()->qpos + e.spec().ball().qpos));
+      double part[3];
+      PartCentre(e, part);
+      closest_gap_ = std::min(closest_gap_, SurfaceGap(e, part, e.data()->qpos + e.spec().ball().qpos));
     }
     if (r.outcome == football::kGroundFirst || r.outcome == football::kWrongPart) {
       miss_ = s_.trap().miss() * (1 + std::max(0.0, closest_gap_) / s_.trap().reach_scale_m());

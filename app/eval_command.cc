@@ -232,6 +232,11 @@ int Evaluate(EvalFlags f) {
       // Decayed rescues still in trouble that a full one followed (planner.rescue.full_after_decay).
       absl::StrAppend(&line, absl::StrFormat(" planner_full_after_decay=%d", t.full_after_decay));
     }
+    if (t.half_fixed_rescues > 0) {
+      // Rescues in trouble only by planner.rescue.half_fixed_above.
+      absl::StrAppend(&line, absl::StrFormat(" planner_half_fixed_rescues=%d",
+                                             t.half_fixed_rescues));
+    }
     if (t.proposal_tried > 0) {
       // The learned proposal (--proposal): re-plans that chose it alone, without offsets.
       absl::StrAppend(&line, absl::StrFormat(

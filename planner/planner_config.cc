@@ -85,6 +85,16 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
         ": follows a decayed rescue with a full one, but planner.rescue.population_decay is ",
         p.rescue().population_decay(), " (no decay); set a decay above 1 or remove it"));
   }
+  if (p.rescue().decay_half_fixed_only() &&
+      !(p.rescue().population_decay() > 1 && p.rescue().half_fixed_above() > 0)) {
+    // Without both there is no decay to confine, or no half-fixed rescue to confine it to.
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where({{"planner"}, {"rescue"}, {"decay_half_fixed_only"}}),
+        ": confines the rescue's population decay to half-fixed re-plans, but ",
+        p.rescue().population_decay() > 1 ? "planner.rescue.half_fixed_above is 0 (none)"
+                                          : "planner.rescue.population_decay is 1 (no decay)",
+        "; set it or remove this"));
+  }
   if (p.prune_chunk() > 0 && (!p.prune() || p.robust().draws() > 0)) {
     // Groups only tighten a pruning bound; without one they only add waits.
     return absl::InvalidArgumentError(absl::StrCat(

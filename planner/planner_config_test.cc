@@ -276,6 +276,26 @@ TEST(PlannerConfigTest, AFullRescueAfterADecayWithoutADecayIsRefusedAtTheField) 
   EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
 }
 
+TEST(PlannerConfigTest, ADecayConfinedToHalfFixedTroubleWithoutBothIsRefusedAtTheField) {
+  for (const char* fields : {"rescue { half_fixed_above: 150 decay_half_fixed_only: true }",
+                             "rescue { population_decay: 1.25 decay_half_fixed_only: true }"}) {
+    const std::string text = Config(fields);
+    LoadedConfig config;
+    ASSERT_TRUE(Load("soccer_decay_half_fixed.textproto", text, &config).ok());
+    const absl::Status s = ValidatePlannerConfig(config);
+    EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument) << fields;
+    EXPECT_THAT(std::string(s.message()),
+                StartsWith(::juggle::testing::Loc(config.config_path, text, "decay_half_fixed_only")));
+  }
+  LoadedConfig config;
+  ASSERT_TRUE(Load("soccer_decay_half_fixed.textproto",
+                   Config("rescue { half_fixed_above: 150 population_decay: 1.25 "
+                          "decay_half_fixed_only: true }"),
+                   &config)
+                  .ok());
+  EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
+}
+
 TEST(PlannerConfigTest, PruningInGroupsWithoutPruningIsRefusedAtTheField) {
   // The shipped config prunes; groups without pruning, or with robust draws (which do not
   // prune), would only wait.

@@ -42,6 +42,7 @@ void PlannerTotals::Add(const PlannerTotals& other) {
   rescues += other.rescues;
   refined_out_of_trouble += other.refined_out_of_trouble;
   full_after_decay += other.full_after_decay;
+  half_fixed_rescues += other.half_fixed_rescues;
   proposal_tried += other.proposal_tried;
   proposal_chosen += other.proposal_chosen;
   proposal_weight_sum += other.proposal_weight_sum;
@@ -272,8 +273,10 @@ absl::StatusOr<CemResult> RecedingHorizonPlanner::Search(ReplanState& r) {
 }
 
 absl::StatusOr<bool> RecedingHorizonPlanner::InTrouble(const ReplanState& r,
-                                                      const CemResult& result, double above) {
+                                                      const CemResult& result, double above,
+                                                      double* measure) {
   if (!(above > 0 && result.best_cost > above)) return false;
+  if (measure != nullptr) *measure = result.best_cost;
   if (!config_.rescue().ignore_later_kicks()) return true;
   // Trouble that only later decisions make is left to the re-plans after the first one.
   RolloutOptions plain;
@@ -284,6 +287,7 @@ absl::StatusOr<bool> RecedingHorizonPlanner::InTrouble(const ReplanState& r,
   }));
   ++totals_.rollouts;
   totals_.rollout_steps += best.steps;
+  if (measure != nullptr) *measure = best.cost - best.later;
   return best.cost - best.later > above;
 }
 
@@ -296,7 +300,8 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
   if (rescue.half_fixed_above() > 0 && result->incumbent_cost > rescue.cost_above()) {
     above = std::min(above, rescue.half_fixed_above());
   }
-  ASSIGN_OR_RETURN(const bool in_trouble, InTrouble(r, *result, above));
+  double measure = 0;
+  ASSIGN_OR_RETURN(const bool in_trouble, InTrouble(r, *result, above, &measure));
   if (!in_trouble) {
     troubled_ = 0;
     return absl::OkStatus();
@@ -325,6 +330,10 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
   settings.samples = rescue.samples();
   settings.iterations = rescue.iterations();
   settings.population_decay = rescue.population_decay();
+  // Half-fixed: in trouble only by the lower bar (a plan near a good one).
+  const bool half_fixed = measure <= rescue.cost_above();
+  if (half_fixed) ++totals_.half_fixed_rescues;
+  if (rescue.decay_half_fixed_only() && !half_fixed) settings.population_decay = 1;
   if (rescue.stop_below() > 0) settings.stop_below = rescue.stop_below();
   std::vector<std::vector<double>> seeds = {result->best};
   seeds.insert(seeds.end(), r.seeds.begin(), r.seeds.end());

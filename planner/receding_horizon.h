@@ -58,6 +58,9 @@ struct PlannerTotals {
   int64_t refined_out_of_trouble = 0;
   // Decayed rescues still in trouble that a full one followed (RescueSearch.full_after_decay).
   int64_t full_after_decay = 0;
+  // Rescues of half-fixed re-plans: the best plan in trouble only by RescueSearch.half_fixed_above
+  // (below cost_above after a troubled warm start).
+  int64_t half_fixed_rescues = 0;
   // With a proposing prior (PlannerConfig.policy_prior and a policy set): re-plans that tried
   // the proposal alone (zero offsets) as a candidate, and those that chose it (the policy's
   // share of chosen candidates, issue 48).
@@ -165,7 +168,9 @@ class RecedingHorizonPlanner {
   absl::Status Rescue(const Env& env, ReplanState& r, CemResult* result);
   // Whether `result`'s best plan is in trouble: above `above` (> 0), and with
   // RescueSearch.ignore_later_kicks also its cost less the later kicks' (one more rollout).
-  absl::StatusOr<bool> InTrouble(const ReplanState& r, const CemResult& result, double above);
+  // `measure` (optional): the cost compared with `above` when in trouble.
+  absl::StatusOr<bool> InTrouble(const ReplanState& r, const CemResult& result, double above,
+                                 double* measure = nullptr);
   absl::Status RefineBest(const Env& env, ReplanState& r, CemResult* result);
   // `iterations` refinement steps (Refine) on the task's block for `env` (RefineBlock) of
   // result's best plan, in place; nothing when the task has no block here.

@@ -622,6 +622,46 @@ TEST_F(SoccerPlannerTest, AFullRescueFollowsADecayedOneOnlyWhenItEndsInTrouble) 
   EXPECT_EQ(planner->totals().rollouts - plain_rollouts, decayed_rescue);
 }
 
+// rescue.decay_half_fixed_only: a half-fixed re-plan (warm start above cost_above, best plan
+// between half_fixed_above and cost_above) is rescued with the decayed population, trouble above
+// cost_above with the full one; the rollout counts of a rescue with and without the decay are the
+// independent path.
+TEST_F(SoccerPlannerTest, ADecayConfinedToHalfFixedTroubleLeavesNewTroubleTheFullRescue) {
+  config::PlannerConfig& p = *config_.run.mutable_planner();
+  p.set_prune(false);  // every candidate a whole rollout: the counts below are exact
+  config::RescueSearch& rescue = *p.mutable_rescue();
+  rescue.set_samples(24);
+  rescue.set_iterations(3);
+  std::unique_ptr<SoccerPlanner> planner;
+  auto plan_once = [&]() { return PlanOnce(0.12, &planner); };
+  rescue.set_cost_above(0);
+  const ReplanReport plain = plan_once();
+  const int64_t plain_rollouts = planner->totals().rollouts;
+  const double warm = plain.incumbent_cost, best = plain.best_cost;
+  ASSERT_LT(2 * best, warm) << "the ball 12 cm ahead: the search should more than halve the "
+                               "warm start's cost";
+  // The rescue's rollouts, full and decayed, for new trouble (every re-plan above the bar).
+  rescue.set_cost_above(1e-9);
+  plan_once();
+  const int64_t full_rescue = planner->totals().rollouts - plain_rollouts;
+  rescue.set_population_decay(2);
+  plan_once();
+  const int64_t decayed_rescue = planner->totals().rollouts - plain_rollouts;
+  ASSERT_LT(decayed_rescue, full_rescue);
+  EXPECT_EQ(planner->totals().half_fixed_rescues, 0);
+
+  rescue.set_decay_half_fixed_only(true);
+  rescue.set_half_fixed_above(0.5 * best);
+  rescue.set_cost_above(1e-9 + 0.5 * best);  // the best plan above cost_above: new trouble
+  EXPECT_TRUE(plan_once().rescued);
+  EXPECT_EQ(planner->totals().half_fixed_rescues, 0);
+  EXPECT_EQ(planner->totals().rollouts - plain_rollouts, full_rescue);
+  rescue.set_cost_above(0.5 * (best + warm));  // the best plan between the bars: half-fixed
+  EXPECT_TRUE(plan_once().rescued);
+  EXPECT_EQ(planner->totals().half_fixed_rescues, 1);
+  EXPECT_EQ(planner->totals().rollouts - plain_rollouts, decayed_rescue);
+}
+
 // rescue.refine_first: a troubled re-plan first takes Levenberg–Marquardt steps on the next
 // kick, the same steps as the refinement after the search (refine_iterations, the independent
 // path here), and runs the wide search only if the plan is still above cost_above.

@@ -126,7 +126,7 @@ double FreePathZoneDistance(const Env& env) {
   const football::TrapEpisode& t = e.state().trap;
   const double deadline = t.first_touch_s >= 0 ? t.first_touch_s + z.wait_s()
                                                : e.data()->time + kPathSeconds;
-  FreeBall ball(e);
+  FreeBall ball(e, /*bounces=*/true);  // a ball still hopping is not yet in the zone
   double best = std::numeric_limits<double>::infinity();
   for (double now = e.data()->time;; now += kPathStep) {
     if (ball.on_turf()) {

@@ -137,18 +137,21 @@ absl::Status ApplyPlannerSettings(const std::string& text, LoadedConfig* config)
   absl::StatusOr<SourceLocator> parsed = ParseTextMessage(text, "--planner-set", &changes);
   if (!parsed.ok()) return parsed.status();
   // planner.kick and planner.cost moved into the soccer task's block: the old place still works.
-  config::SoccerJugglePlanning* task = changes.mutable_soccer_juggle();
-  if ((changes.has_kick() && task->has_kick()) || (changes.has_cost() && task->has_cost())) {
-    const char* field = changes.has_kick() && task->has_kick() ? "kick" : "cost";
-    return absl::InvalidArgumentError(absl::StrCat(
-        parsed->Where({{field}}), ": set both here and in soccer_juggle { ", field,
-        " { ... } }; it belongs in soccer_juggle (docs/planner.md)"));
+  // (The task blocks are a oneof: the soccer block is touched only for them, or it would clear
+  // another task's settings, e.g. football { ... }.)
+  if (changes.has_kick() || changes.has_cost()) {
+    config::SoccerJugglePlanning* task = changes.mutable_soccer_juggle();
+    if ((changes.has_kick() && task->has_kick()) || (changes.has_cost() && task->has_cost())) {
+      const char* field = changes.has_kick() && task->has_kick() ? "kick" : "cost";
+      return absl::InvalidArgumentError(absl::StrCat(
+          parsed->Where({{field}}), ": set both here and in soccer_juggle { ", field,
+          " { ... } }; it belongs in soccer_juggle (docs/planner.md)"));
+    }
+    if (changes.has_kick()) task->mutable_kick()->Swap(changes.mutable_kick());
+    if (changes.has_cost()) task->mutable_cost()->Swap(changes.mutable_cost());
+    changes.clear_kick();
+    changes.clear_cost();
   }
-  if (changes.has_kick()) task->mutable_kick()->Swap(changes.mutable_kick());
-  if (changes.has_cost()) task->mutable_cost()->Swap(changes.mutable_cost());
-  changes.clear_kick();
-  changes.clear_cost();
-  if (task->ByteSizeLong() == 0) changes.clear_task();
   config->run.mutable_planner()->MergeFrom(changes);
   return absl::OkStatus();
 }

@@ -370,6 +370,21 @@ TEST(PlannerConfigTest, KickOrCostInBothPlacesIsAnErrorNamingFileLineAndField) {
               StartsWith("--planner-set:1:1: kick: set both here and in soccer_juggle"));
 }
 
+// --planner-set with another task's block (the task blocks are a oneof) merges into the config's
+// block: the football config's kick limits stay, the second touch is added.
+TEST(PlannerConfigTest, PlannerSettingsForAnotherTasksBlockMergeIntoIt) {
+  absl::StatusOr<LoadedConfig> config =
+      LoadRunConfig(RepoPath("configs/football_trap_kick.textproto"));
+  ASSERT_TRUE(config.ok()) << config.status();
+  ASSERT_EQ(config->run.planner().football().kick().phase_limit_s(), 0.15);
+  ASSERT_TRUE(
+      ApplyPlannerSettings("samples: 8 football { second_touch { enabled: true } }", &*config).ok());
+  EXPECT_TRUE(config->run.planner().football().second_touch().enabled());
+  EXPECT_EQ(config->run.planner().football().kick().phase_limit_s(), 0.15);
+  EXPECT_EQ(config->run.planner().samples(), 8);
+  EXPECT_FALSE(config->run.planner().has_soccer_juggle());
+}
+
 TEST(PlannerConfigTest, ThePlannerControllerRefusesAConfigWithoutAPlannerBlock) {
   absl::StatusOr<LoadedConfig> config =
       LoadRunConfig(RepoPath("configs/right_foot_recipe.textproto"));

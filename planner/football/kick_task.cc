@@ -209,6 +209,18 @@ absl::Status ValidateFootballTask(const LoadedConfig& config) {
         where("horizon_steps"), ": a horizon of ", p.horizon_steps(),
         " control steps is longer than the episode (football.max_episode_steps ", episode, ")"));
   }
+  const config::SecondTouch& second = p.football().second_touch();
+  if (second.enabled() && config.run.football().task() != config::TRAP_KICK) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where({{"planner"}, {"football"}, {"second_touch"}, {"enabled"}}),
+        ": a second touch follows a trap into a kick; this config's football.task is ",
+        config::FootballTask_Name(config.run.football().task()), ", not TRAP_KICK"));
+  }
+  if (second.enabled() && second.earliest_s() > second.latest_s()) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where({{"planner"}, {"football"}, {"second_touch"}, {"earliest_s"}}), ": ",
+        second.earliest_s(), " s is after latest_s (", second.latest_s(), " s)"));
+  }
   if (config.run.football().task() == config::TRAP) return absl::OkStatus();  // trap_task.h
   // KICK and TRAP_KICK (trap_kick_task.h) plan the kick variables.
   if (absl::StatusOr<std::vector<int>> a = BodyActionIndices(p.body_actions()); !a.ok()) {

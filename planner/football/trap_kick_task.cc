@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "envs/football/env.h"
 #include "envs/football/outcomes.h"
 #include "envs/football/trap_kick.h"
@@ -24,6 +25,24 @@ constexpr double kZoneScale = 0.5;
 constexpr double kPathStep = 0.01, kPathSeconds = 3.0;
 
 const FootballEnv& AsFootballEnv(const Env& env) { return static_cast<const FootballEnv&>(env); }
+
+// The second touch's search space (kSecondTouchVariables; empty when off).
+SearchSpace SecondTouchSpace(const config::SecondTouch& c) {
+  SearchSpace out;
+  if (!c.enabled()) return out;
+  out.lower = {c.earliest_s()};
+  out.upper = {c.latest_s()};
+  out.sigma = {c.timing_sigma_s()};
+  for (int v = 0; v < 4; ++v) {
+    out.lower.push_back(-c.angle_limit());
+    out.upper.push_back(c.angle_limit());
+    out.sigma.push_back(c.angle_sigma());
+  }
+  out.lower.push_back(0);  // the give
+  out.upper.push_back(1);
+  out.sigma.push_back(0.3);
+  return out;
+}
 
 SearchSpace Concat(const SearchSpace& a, const SearchSpace& b) {
   SearchSpace out = a;
@@ -150,8 +169,29 @@ FootballTrapKickTask::FootballTrapKickTask(std::shared_ptr<const football::Footb
       horizon_(config.horizon_steps()),
       trap_(spec, config),
       kick_(spec, config),
-      space_(Concat(trap_.space(), kick_.space())),
-      rescue_space_(Concat(trap_.rescue_space(), kick_.rescue_space())) {}
+      second_(config.football().second_touch().enabled() ? kSecondTouchVariables : 0),
+      space_(Concat(Concat(trap_.space(), SecondTouchSpace(config.football().second_touch())),
+                    kick_.space())),
+      rescue_space_(
+          Concat(Concat(trap_.rescue_space(), SecondTouchSpace(config.football().second_touch())),
+                 kick_.rescue_space())) {}
+
+LegChange FootballTrapKickTask::SecondTouch(const Env& env, const double* theta) const {
+  LegChange out;
+  if (second_ == 0) return out;
+  const double* v = theta + kTrapVariables;
+  const football::TrapEpisode& t = AsFootballEnv(env).state().trap;
+  // After the touch, from it; before it, from the pass's meeting time.
+  const double anchor = t.first_touch_s >= 0 ? t.first_touch_s : t.pass.meet_s;
+  const double w = ReachWeight(anchor + v[0], v[5], AsFootballEnv(env).time_s(),
+                               settings_.trap().ramp_s());
+  if (w <= 0) return out;
+  out.hip = w * v[1];
+  out.abduction = w * v[2];
+  out.knee = w * v[3];
+  out.ankle = w * v[4];
+  return out;
+}
 
 int FootballTrapKickTask::KnotAtOrBefore(int step) const { return kick_.KnotAtOrBefore(step); }
 
@@ -161,9 +201,9 @@ int FootballTrapKickTask::max_run_on_steps() const {
 
 std::vector<double> FootballTrapKickTask::Shift(const std::vector<double>& theta, int grid_steps,
                                                 int cycles) const {
-  std::vector<double> trap(theta.begin(), theta.begin() + kTrapVariables);
-  std::vector<double> kick(theta.begin() + kTrapVariables, theta.end());
-  std::vector<double> out = trap_.Shift(trap, grid_steps, cycles);
+  // The trap's and the second touch's variables are on the episode's clock.
+  std::vector<double> out(theta.begin(), theta.begin() + kick_offset());
+  std::vector<double> kick(theta.begin() + kick_offset(), theta.end());
   const std::vector<double> shifted_kick = kick_.Shift(kick, grid_steps, cycles);
   out.insert(out.end(), shifted_kick.begin(), shifted_kick.end());
   return out;
@@ -173,22 +213,22 @@ void FootballTrapKickTask::Restrict(const Env& env, const std::vector<double>& s
                                     SearchSpace* space,
                                     std::vector<std::vector<double>>* seeds) const {
   if (!AsFootballEnv(env).kicking()) return;
-  // The trap is over: its reach is held.
-  for (int v = 0; v < kTrapVariables; ++v) {
+  // The trap is over: its reach (and the second touch) are held.
+  for (int v = 0; v < kick_offset(); ++v) {
     space->lower[v] = space->upper[v] = shifted[v];
     space->sigma[v] = 0;
   }
   for (std::vector<double>& seed : *seeds) {
-    std::copy_n(shifted.begin(), kTrapVariables, seed.begin());
+    std::copy_n(shifted.begin(), kick_offset(), seed.begin());
   }
 }
 
 void FootballTrapKickTask::Action(const Env& env, const double* theta, PlanClock clock,
                                   const double* prior, float* action) const {
   if (AsFootballEnv(env).kicking()) {
-    kick_.Action(env, theta + kTrapVariables, clock, prior, action);
+    kick_.Action(env, theta + kick_offset(), clock, prior, action);
   } else {
-    trap_.Action(env, theta, clock, prior, action);
+    trap_.ActionWithLeg(env, theta, SecondTouch(env, theta), prior, action);
   }
 }
 
@@ -212,8 +252,16 @@ std::string FootballTrapKickTask::DescribeDecision(const std::vector<double>& d,
                                                    const std::vector<double>& outcome) const {
   if (static_cast<int>(d.size()) != dim()) return "";
   const std::vector<double> trap(d.begin(), d.begin() + kTrapVariables);
-  const std::vector<double> kick(d.begin() + kTrapVariables, d.end());
-  return absl::StrCat(trap_.DescribeDecision(trap, {}), " |", kick_.DescribeDecision(kick, {}));
+  const std::vector<double> kick(d.begin() + kick_offset(), d.end());
+  std::string second;
+  if (second_ > 0) {
+    const double* v = d.data() + kTrapVariables;
+    second = absl::StrFormat(
+        " | second %+.0f ms hip %+.2f abd %+.2f knee %+.2f ankle %+.2f give %.2f", v[0] * 1000,
+        v[1], v[2], v[3], v[4], v[5]);
+  }
+  return absl::StrCat(trap_.DescribeDecision(trap, {}), second, " |",
+                      kick_.DescribeDecision(kick, {}));
 }
 
 }  // namespace juggle::planner

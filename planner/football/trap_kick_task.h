@@ -5,7 +5,11 @@
 // trap's terms until the switch (at the switch's state), with a `zone` term for a trapped ball
 // whose free path does not come to rest in the kick's zone (envs/football/trap_kick.h) and
 // `out_of_reach` when the env says so, and by the kick's terms from the switch on (each named
-// kick_*). After the switch the trap's variables are held. Immutable; thread-safe.
+// kick_*). After the switch the trap's variables are held. With
+// FootballPlanning.second_touch the plan has a second decision between the two
+// (kSecondTouchVariables): a reach of the right leg complete a searched time after the trap's
+// touch, added to the trap's pose — a stop or a tap that steers the bounced ball into the
+// zone. Immutable; thread-safe.
 #ifndef JUGGLE_PLANNER_FOOTBALL_TRAP_KICK_TASK_H_
 #define JUGGLE_PLANNER_FOOTBALL_TRAP_KICK_TASK_H_
 
@@ -26,6 +30,10 @@ namespace juggle::planner {
 // env's wait for the switch ends, the least of the ground-plane distance to the zone plus
 // 0.5 s × the speed beyond the limit. REQUIRES: a TRAP_KICK env.
 double FreePathZoneDistance(const Env& env);
+
+// The second touch's variables: when the reach is complete after the touch (s), right hip
+// flexion, right hip abduction, right knee bend, right ankle pitch (rad), give (0–1).
+constexpr int kSecondTouchVariables = 6;
 
 class FootballTrapKickTask final : public PlanningTask {
  public:
@@ -60,7 +68,11 @@ class FootballTrapKickTask final : public PlanningTask {
   int horizon_;
   FootballTrapTask trap_;
   FootballKickTask kick_;
+  int second_;  // kSecondTouchVariables with the second touch, else 0
   SearchSpace space_, rescue_space_;
+
+  int kick_offset() const { return kTrapVariables + second_; }
+  LegChange SecondTouch(const Env& env, const double* theta) const;
 };
 
 }  // namespace juggle::planner

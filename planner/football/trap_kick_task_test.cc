@@ -16,12 +16,13 @@
 #include "absl/strings/str_cat.h"
 #include "envs/football/env.h"
 #include "envs/football/outcomes.h"
+#include "envs/football/pitch.h"
 #include "envs/football/trap_kick.h"
 #include "envs/testing/test_configs.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
-#include "envs/football/pitch.h"
 #include "planner/football/free_ball.h"
+#include "planner/planner_config.h"
 #include "planner/receding_horizon.h"
 #include "planner/testing/shipped_task_test.h"
 
@@ -161,6 +162,48 @@ TEST_F(FootballTrapKickTaskTest, ABallStillHoppingAtTheEndOfItsPathIsNotInTheZon
   // From 4 m it still hops 3 s later (its sixth rebound, of e ≈ 0.62, rises 1.3 cm at 3.6 s).
   ball[2] = b.radius + 4.0;
   EXPECT_GT(FreePathZoneDistance(*env), 0.01);
+}
+
+// With planner.football.second_touch the plan has the second touch's variables between the
+// trap's and the kick's; every visited state is as predicted and its actions replay bit for bit.
+TEST_F(FootballTrapKickTaskTest, ASecondTouchIsPlannedBetweenTrapAndKickAndAsPredicted) {
+  const std::string text = absl::StrCat("base_config: \"", RepoPath(kShipped),
+                                        "\"\nplanner { football { second_touch { enabled: true } } }\n");
+  Use(LoadRunConfig(::juggle::testing::WriteTemp("football_second_touch.textproto", text)));
+  ASSERT_EQ(task_->dim(), kTrapVariables + kSecondTouchVariables + kKickVariables);
+  RolloutPool pool(spec_, 2);
+  RecedingHorizonPlanner planner(task_, Settings(), &pool, kSeed);
+  const testing::Episode planned = Run(kSeed, &planner);
+  EXPECT_GT(planner.totals().prediction_checks, 10);
+  EXPECT_EQ(planner.totals().prediction_mismatches, 0);
+  const testing::Episode replayed = Run(kSeed, nullptr, &planned.actions);
+  EXPECT_EQ(replayed.final_qpos, planned.final_qpos);
+  EXPECT_EQ(replayed.end, planned.end);
+}
+
+TEST_F(FootballTrapKickTaskTest, ASecondTouchOutsideTrapThenKickOrOutOfOrderIsRefusedAtTheField) {
+  using ::juggle::testing::Loc;
+  using ::juggle::testing::WriteTemp;
+  const std::string on_trap = absl::StrCat(
+      "base_config: \"", RepoPath("configs/football_trap.textproto"),
+      "\"\nplanner {\n  football { second_touch { enabled: true } }\n}\n");
+  const std::string path = WriteTemp("football_trap_second_touch.textproto", on_trap);
+  absl::StatusOr<LoadedConfig> c = LoadRunConfig(path);
+  ASSERT_TRUE(c.ok()) << c.status();
+  absl::Status s = ValidatePlannerConfig(*c);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()), ::testing::StartsWith(Loc(path, on_trap, "enabled")));
+  EXPECT_THAT(std::string(s.message()), ::testing::HasSubstr("TRAP_KICK"));
+
+  const std::string reversed = absl::StrCat(
+      "base_config: \"", RepoPath(kShipped),
+      "\"\nplanner {\n  football { second_touch { enabled: true earliest_s: 1.0 latest_s: 0.5 } }\n}\n");
+  const std::string path2 = WriteTemp("football_second_touch_reversed.textproto", reversed);
+  c = LoadRunConfig(path2);
+  ASSERT_TRUE(c.ok()) << c.status();
+  s = ValidatePlannerConfig(*c);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()), ::testing::StartsWith(Loc(path2, reversed, "earliest_s")));
 }
 
 }  // namespace

@@ -158,23 +158,29 @@ class TrapScorer final : public RolloutScorer {
 
 }  // namespace
 
+double ReachWeight(double reached, double give, double t, double ramp_s) {
+  return t <= reached ? Smoothstep((t - (reached - ramp_s)) / ramp_s)
+                      : 1 - give * Smoothstep((t - reached) / ramp_s);
+}
+
 void TrapReachPose(const football::FootballSpec& spec, const double* theta, double meet_s,
-                   double t, double ramp_s, humanoid::CharacterPose* pose) {
+                   double t, double ramp_s, humanoid::CharacterPose* pose,
+                   const LegChange& extra) {
   *pose = spec.standing_pose();
-  const double reached = meet_s + theta[0];
-  const double w = t <= reached ? Smoothstep((t - (reached - ramp_s)) / ramp_s)
-                                : 1 - theta[8] * Smoothstep((t - reached) / ramp_s);
-  if (w <= 0) return;
+  const double w = ReachWeight(meet_s + theta[0], theta[8], t, ramp_s);
+  const bool leg = extra.hip != 0 || extra.abduction != 0 || extra.knee != 0 || extra.ankle != 0;
+  if (w <= 0 && !leg) return;
   const humanoid::Joints& joints = spec.joints();
   // Flexion about z and abduction about x (−x moves the right limb outward), as the kick's; the
   // trunk's lean flexes both hips (with the feet on the turf it tilts the pelvis forward).
   const double lean = w * theta[5];
-  const double right_hip[3] = {-w * theta[2], 0, w * theta[1] + lean};
+  const double right_hip[3] = {-(w * theta[2] + extra.abduction), 0,
+                               w * theta[1] + extra.hip + lean};
   humanoid::SetBallJointRotation(joints, humanoid::kRightHip, right_hip, pose);
   const double left_hip[3] = {0, 0, lean};
   humanoid::SetBallJointRotation(joints, humanoid::kLeftHip, left_hip, pose);
-  humanoid::SetHinge(joints, humanoid::kRightKnee, -w * theta[3], pose);
-  const double ankle[3] = {0, 0, w * theta[4]};
+  humanoid::SetHinge(joints, humanoid::kRightKnee, -(w * theta[3] + extra.knee), pose);
+  const double ankle[3] = {0, 0, w * theta[4] + extra.ankle};
   humanoid::SetBallJointRotation(joints, humanoid::kRightAnkle, ankle, pose);
   const double chest[3] = {0, 0, w * theta[6]};
   humanoid::SetBallJointRotation(joints, humanoid::kChest, chest, pose);
@@ -204,12 +210,17 @@ int FootballTrapTask::max_run_on_steps() const { return kRunOnSteps; }
 
 void FootballTrapTask::Action(const Env& env, const double* theta, PlanClock, const double* prior,
                               float* action) const {
+  ActionWithLeg(env, theta, LegChange{}, prior, action);
+}
+
+void FootballTrapTask::ActionWithLeg(const Env& env, const double* theta, const LegChange& extra,
+                                     const double* prior, float* action) const {
   const FootballEnv& e = AsFootballEnv(env);
   double a[football::kNumActions] = {0};
   if (prior != nullptr) std::copy_n(prior, football::kNumActions, a);
   humanoid::CharacterPose to;
   TrapReachPose(*spec_, theta, e.state().trap.pass.meet_s, e.time_s(), settings_.trap().ramp_s(),
-                &to);
+                &to, extra);
   AddPoseChangeAction(spec_->joints(), spec_->standing_pose(), to,
                       spec_->football().action_torque(), a);
   for (int i = 0; i < football::kNumActions; ++i) {

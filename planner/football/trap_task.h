@@ -28,12 +28,22 @@ namespace juggle::planner {
 // back after the reach, in [0, 1]: a cushion).
 constexpr int kTrapVariables = 9;
 
+// Changes of the right leg's joints (rad) added to a reach pose: hip flexion, hip abduction,
+// knee bend, ankle pitch (trap_kick_task.h's second touch).
+struct LegChange {
+  double hip = 0, abduction = 0, knee = 0, ankle = 0;
+};
+
 // The reach pose of plan `theta` (kTrapVariables values) at episode time `t` for a pass that
 // meets its point at `meet_s`: the standing pose plus w × the changes, w rising as
 // smoothstep((t − (reach − ramp_s)) / ramp_s) up to reach = meet_s + timing, then falling as
-// 1 − give × smoothstep((t − reach) / ramp_s).
+// 1 − give × smoothstep((t − reach) / ramp_s); `extra` added to the right leg's.
 void TrapReachPose(const football::FootballSpec& spec, const double* theta, double meet_s,
-                   double t, double ramp_s, humanoid::CharacterPose* pose);
+                   double t, double ramp_s, humanoid::CharacterPose* pose,
+                   const LegChange& extra = {});
+
+// The weight of a reach complete at `reached` that rises and gives back over `ramp_s`, at `t`.
+double ReachWeight(double reached, double give, double t, double ramp_s);
 
 class FootballTrapTask final : public PlanningTask {
  public:
@@ -52,6 +62,9 @@ class FootballTrapTask final : public PlanningTask {
   }
   void Action(const Env& env, const double* theta, PlanClock clock, const double* prior,
               float* action) const override;
+  // Action with `extra` added to the right leg's changes.
+  void ActionWithLeg(const Env& env, const double* theta, const LegChange& extra,
+                     const double* prior, float* action) const;
   std::unique_ptr<RolloutScorer> NewScorer() const override;
   // reach, relative_speed, keep (the ball's free path beyond trap.reach_m at the trap's end),
   // miss, handball, failure, upright.

@@ -99,5 +99,22 @@ TEST_F(FootballTrapTaskTest, TheReachPoseIsStandingBeforeItsRampAndMovesTheNamed
   EXPECT_EQ(after[joints[humanoid::kLeftKnee].qpos_adr], before[joints[humanoid::kLeftKnee].qpos_adr]);
 }
 
+// A LegChange (trap then kick's second touch) adds to the right leg what the trap's own hip,
+// abduction, knee and ankle variables give at full weight.
+TEST_F(FootballTrapTaskTest, ALegChangeAddsToTheRightLegAsTheTrapsOwnChangesAtFullWeight) {
+  const auto& spec = static_cast<const football::FootballSpec&>(*spec_);
+  const double own[kTrapVariables] = {0.05, 0.4, 0.1, 0.3, -0.2, 0, 0, 0, 0.5};
+  const double none[kTrapVariables] = {0.05, 0, 0, 0, 0, 0, 0, 0, 0.5};
+  humanoid::CharacterPose by_theta, by_extra;
+  TrapReachPose(spec, own, 1.0, 1.05, 0.3, &by_theta);  // reached: full weight
+  TrapReachPose(spec, none, 1.0, 1.05, 0.3, &by_extra, LegChange{0.4, 0.1, 0.3, -0.2});
+  EXPECT_EQ(by_extra, by_theta);
+  EXPECT_NE(by_extra, spec.standing_pose());
+  // Before the trap's ramp the change still applies: it has its own weight.
+  humanoid::CharacterPose early;
+  TrapReachPose(spec, none, 1.0, 0.1, 0.3, &early, LegChange{0.4, 0.1, 0.3, -0.2});
+  EXPECT_EQ(early, by_theta);
+}
+
 }  // namespace
 }  // namespace juggle::planner

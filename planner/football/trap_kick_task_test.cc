@@ -46,6 +46,27 @@ class FootballTrapKickTaskTest : public testing::ShippedTaskTest {
     ASSERT_EQ(task_->family(), "football");
     ASSERT_EQ(task_->dim(), kTrapVariables + kKickVariables);
   }
+
+  const football::FootballSpec& football_spec() const {
+    return static_cast<const football::FootballSpec&>(*spec_);
+  }
+
+  // A reset env whose ball is still, `ahead` m in front of the right foot's standing centre and
+  // `height` m above its resting height.
+  std::unique_ptr<Env> EnvWithBallAhead(double ahead, double height) {
+    const football::FootballSpec& spec = football_spec();
+    std::unique_ptr<Env> env = spec_->NewEnv(Rng(kSeed));
+    env->Reset(*walk_);
+    mjData* d = env->data();
+    const football::PitchBall& b = spec.ball();
+    const double* foot = spec.kick_foot_standing();
+    double* ball = d->qpos + b.qpos;
+    ball[0] = foot[0] + ahead;
+    ball[1] = foot[1];
+    ball[2] = b.radius + height;
+    for (int k = 0; k < 6; ++k) d->qvel[b.dof + k] = 0;
+    return env;
+  }
 };
 
 TEST_F(FootballTrapKickTaskTest, TrapsIntoTheZoneAndKicksWhereStandingStillDoesNotAndAsPredicted) {
@@ -78,17 +99,12 @@ TEST_F(FootballTrapKickTaskTest, TheTermsAddUpToTheCost) {
 }
 
 TEST_F(FootballTrapKickTaskTest, TheZoneDistanceIsZeroAtRestInTheZoneAndTheStopOfARollingBall) {
-  const auto& spec = static_cast<const football::FootballSpec&>(*spec_);
-  const std::unique_ptr<Env> env = spec_->NewEnv(Rng(kSeed));
-  env->Reset(*walk_);
+  const football::FootballSpec& spec = football_spec();
+  const std::unique_ptr<Env> env = EnvWithBallAhead(0.3, 0);
   mjData* d = env->data();
   const football::PitchBall& b = spec.ball();
   const double* foot = spec.kick_foot_standing();
   double* ball = d->qpos + b.qpos;
-  ball[0] = foot[0] + 0.3;
-  ball[1] = foot[1];
-  ball[2] = b.radius;
-  for (int k = 0; k < 6; ++k) d->qvel[b.dof + k] = 0;
   EXPECT_EQ(FreePathZoneDistance(*env), 0);
   // Rolling straight ahead at 1 m/s from the zone's far edge: it stops v²/2a further on.
   ball[0] = foot[0] + 0.4;
@@ -146,22 +162,10 @@ TEST_F(FootballTrapKickTaskTest, TheFreePathBouncesAsTheSimulatedBallDoes) {
 }
 
 TEST_F(FootballTrapKickTaskTest, ABallStillHoppingAtTheEndOfItsPathIsNotInTheZone) {
-  const auto& spec = static_cast<const football::FootballSpec&>(*spec_);
-  const std::unique_ptr<Env> env = spec_->NewEnv(Rng(kSeed));
-  env->Reset(*walk_);
-  mjData* d = env->data();
-  const football::PitchBall& b = spec.ball();
-  const double* foot = spec.kick_foot_standing();
-  double* ball = d->qpos + b.qpos;
-  ball[0] = foot[0] + 0.3;
-  ball[1] = foot[1];
-  for (int k = 0; k < 6; ++k) d->qvel[b.dof + k] = 0;
   // Dropped onto the zone from 1 m: it settles within the path's 3 s.
-  ball[2] = b.radius + 1.0;
-  EXPECT_EQ(FreePathZoneDistance(*env), 0);
+  EXPECT_EQ(FreePathZoneDistance(*EnvWithBallAhead(0.3, 1.0)), 0);
   // From 4 m it still hops 3 s later (its sixth rebound, of e ≈ 0.62, rises 1.3 cm at 3.6 s).
-  ball[2] = b.radius + 4.0;
-  EXPECT_GT(FreePathZoneDistance(*env), 0.01);
+  EXPECT_GT(FreePathZoneDistance(*EnvWithBallAhead(0.3, 4.0)), 0.01);
 }
 
 // With planner.football.second_touch the plan has the second touch's variables between the

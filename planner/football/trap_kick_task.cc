@@ -28,20 +28,9 @@ const FootballEnv& AsFootballEnv(const Env& env) { return static_cast<const Foot
 
 // The second touch's search space (kSecondTouchVariables; empty when off).
 SearchSpace SecondTouchSpace(const config::SecondTouch& c) {
-  SearchSpace out;
-  if (!c.enabled()) return out;
-  out.lower = {c.earliest_s()};
-  out.upper = {c.latest_s()};
-  out.sigma = {c.timing_sigma_s()};
-  for (int v = 0; v < 4; ++v) {
-    out.lower.push_back(-c.angle_limit());
-    out.upper.push_back(c.angle_limit());
-    out.sigma.push_back(c.angle_sigma());
-  }
-  out.lower.push_back(0);  // the give
-  out.upper.push_back(1);
-  out.sigma.push_back(0.3);
-  return out;
+  if (!c.enabled()) return SearchSpace{};
+  return ReachSpace(c.earliest_s(), c.latest_s(), c.timing_sigma_s(), kSecondTouchVariables - 2,
+                    c.angle_limit(), c.angle_sigma());
 }
 
 SearchSpace Concat(const SearchSpace& a, const SearchSpace& b) {
@@ -176,7 +165,7 @@ FootballTrapKickTask::FootballTrapKickTask(std::shared_ptr<const football::Footb
           Concat(Concat(trap_.rescue_space(), SecondTouchSpace(config.football().second_touch())),
                  kick_.rescue_space())) {}
 
-LegChange FootballTrapKickTask::SecondTouch(const Env& env, const double* theta) const {
+LegChange FootballTrapKickTask::SecondTouchChange(const Env& env, const double* theta) const {
   LegChange out;
   if (second_ == 0) return out;
   const double* v = theta + kTrapVariables;
@@ -201,9 +190,11 @@ int FootballTrapKickTask::max_run_on_steps() const {
 
 std::vector<double> FootballTrapKickTask::Shift(const std::vector<double>& theta, int grid_steps,
                                                 int cycles) const {
-  // The trap's and the second touch's variables are on the episode's clock.
-  std::vector<double> out(theta.begin(), theta.begin() + kick_offset());
+  std::vector<double> trap(theta.begin(), theta.begin() + kTrapVariables);
   std::vector<double> kick(theta.begin() + kick_offset(), theta.end());
+  std::vector<double> out = trap_.Shift(trap, grid_steps, cycles);
+  // The second touch is on the episode's clock, as the trap.
+  out.insert(out.end(), theta.begin() + kTrapVariables, theta.begin() + kick_offset());
   const std::vector<double> shifted_kick = kick_.Shift(kick, grid_steps, cycles);
   out.insert(out.end(), shifted_kick.begin(), shifted_kick.end());
   return out;
@@ -228,7 +219,7 @@ void FootballTrapKickTask::Action(const Env& env, const double* theta, PlanClock
   if (AsFootballEnv(env).kicking()) {
     kick_.Action(env, theta + kick_offset(), clock, prior, action);
   } else {
-    trap_.ActionWithLeg(env, theta, SecondTouch(env, theta), prior, action);
+    trap_.ActionWithLeg(env, theta, SecondTouchChange(env, theta), prior, action);
   }
 }
 

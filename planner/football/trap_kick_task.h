@@ -72,7 +72,8 @@ class FootballTrapKickTask final : public PlanningTask {
   SearchSpace space_, rescue_space_;
 
   int kick_offset() const { return kTrapVariables + second_; }
-  LegChange SecondTouch(const Env& env, const double* theta) const;
+  // The second touch's leg change now (none when off or before its ramp).
+  LegChange SecondTouchChange(const Env& env, const double* theta) const;
 };
 
 }  // namespace juggle::planner

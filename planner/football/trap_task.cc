@@ -188,22 +188,30 @@ void TrapReachPose(const football::FootballSpec& spec, const double* theta, doub
   humanoid::SetBallJointRotation(joints, humanoid::kNeck, neck, pose);
 }
 
+SearchSpace ReachSpace(double earliest_s, double latest_s, double timing_sigma_s, int angles,
+                       double angle_limit, double angle_sigma) {
+  SearchSpace out;
+  out.lower = {earliest_s};
+  out.upper = {latest_s};
+  out.sigma = {timing_sigma_s};
+  for (int v = 0; v < angles; ++v) {
+    out.lower.push_back(-angle_limit);
+    out.upper.push_back(angle_limit);
+    out.sigma.push_back(angle_sigma);
+  }
+  // The give: the share of the reach taken back after it (a cushion), in [0, 1].
+  out.lower.push_back(0);
+  out.upper.push_back(1);
+  out.sigma.push_back(0.3);
+  return out;
+}
+
 FootballTrapTask::FootballTrapTask(std::shared_ptr<const football::FootballSpec> spec,
                                    const config::PlannerConfig& config)
     : spec_(std::move(spec)), settings_(config.football()), horizon_(config.horizon_steps()) {
   const config::TrapPlanning& p = settings_.trap();
-  space_.lower = {-p.timing_limit_s()};
-  space_.upper = {p.timing_limit_s()};
-  space_.sigma = {p.timing_sigma_s()};
-  for (int v = 1; v < kTrapVariables - 1; ++v) {
-    space_.lower.push_back(-p.angle_limit());
-    space_.upper.push_back(p.angle_limit());
-    space_.sigma.push_back(p.angle_sigma());
-  }
-  // The give: the share of the reach taken back after it (a cushion), in [0, 1].
-  space_.lower.push_back(0);
-  space_.upper.push_back(1);
-  space_.sigma.push_back(0.3);
+  space_ = ReachSpace(-p.timing_limit_s(), p.timing_limit_s(), p.timing_sigma_s(),
+                      kTrapVariables - 2, p.angle_limit(), p.angle_sigma());
 }
 
 int FootballTrapTask::max_run_on_steps() const { return kRunOnSteps; }

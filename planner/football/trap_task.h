@@ -45,6 +45,11 @@ void TrapReachPose(const football::FootballSpec& spec, const double* theta, doub
 // The weight of a reach complete at `reached` that rises and gives back over `ramp_s`, at `t`.
 double ReachWeight(double reached, double give, double t, double ramp_s);
 
+// A reach's search space: its timing in [earliest_s, latest_s], `angles` joint changes within
+// ±angle_limit, then its give in [0, 1].
+SearchSpace ReachSpace(double earliest_s, double latest_s, double timing_sigma_s, int angles,
+                       double angle_limit, double angle_sigma);
+
 class FootballTrapTask final : public PlanningTask {
  public:
   // REQUIRES: `config` passed ValidateFootballTask for a TRAP (or TRAP_KICK) config of `spec`.

@@ -33,6 +33,7 @@ class JuggleSpecBuilder {
                                     const SourceLocator& where, const FieldPath& path,
                                     CharacterPose* pose);
   static absl::Status ResolveKeyframes(JuggleSpec* s, int n);
+  static absl::Status ResolveKickVariables(JuggleSpec* s, int n);
   static void DeriveAroundTheWorldAngles(JuggleSpec* s, int n);
 };
 
@@ -256,6 +257,55 @@ void JuggleSpecBuilder::DeriveAroundTheWorldAngles(JuggleSpec* s, int n) {
   }
 }
 
+absl::Status JuggleSpecBuilder::ResolveKickVariables(JuggleSpec* s, int n) {
+  const config::NodeSpec& spec = s->graph().node(n).spec;
+  const SourceLocator& where = s->config_.graph_locator;
+  const std::string& name = s->graph().node(n).name;
+  if (spec.kick_variable_size() > kMaxNodeKickVariables) {
+    return Invalid(where, {{"node", n}, {"kick_variable", kMaxNodeKickVariables}},
+                   absl::StrCat("node '", name, "' declares ", spec.kick_variable_size(),
+                                " kick variables; the planner searches at most ",
+                                kMaxNodeKickVariables));
+  }
+  std::vector<std::vector<KickVariableMove>>& out = s->nodes_[n].kick_variables;
+  for (int v = 0; v < spec.kick_variable_size(); ++v) {
+    const config::KickVariableSpec& variable = spec.kick_variable(v);
+    if (variable.move_size() == 0) {
+      return Invalid(where, {{"node", n}, {"kick_variable", v}},
+                     absl::StrCat("node '", name, "': kick variable ", v, " moves no joint"));
+    }
+    std::vector<KickVariableMove>& moves = out.emplace_back();
+    for (int m = 0; m < variable.move_size(); ++m) {
+      const config::JointAxis& axis = variable.move(m);
+      const FieldPath path = {{"node", n}, {"kick_variable", v}, {"move", m}};
+      const int j = JointIdByName(axis.joint());
+      if (j < 0) {
+        FieldPath p = path;
+        p.push_back({"joint"});
+        return Invalid(where, p,
+                       absl::StrCat("node '", name, "': '", axis.joint(),
+                                    "' is not a joint the character actuates"));
+      }
+      KickVariableMove move;
+      move.joint = static_cast<JointId>(j);
+      move.gain = axis.gain();
+      const bool ball = s->joint(move.joint).dofs == 3;
+      const std::string& a = axis.axis();
+      if (ball != (a.size() == 1 && a[0] >= 'x' && a[0] <= 'z') || (!ball && !a.empty())) {
+        FieldPath p = path;
+        p.push_back({"axis"});
+        return Invalid(where, p,
+                       absl::StrCat("node '", name, "': '", axis.joint(), "' ",
+                                    ball ? "is a ball joint: name its axis, x, y or z"
+                                         : "is a hinge: it takes no axis"));
+      }
+      if (ball) move.axis = a[0] - 'x';
+      moves.push_back(move);
+    }
+  }
+  return absl::OkStatus();
+}
+
 absl::Status JuggleSpecBuilder::ResolveNodes(JuggleSpec* s) {
   const mjModel* m = s->model_.get();
   const ControlGraph& graph = s->graph();
@@ -278,6 +328,7 @@ absl::Status JuggleSpecBuilder::ResolveNodes(JuggleSpec* s) {
       rt.contact_allowed[id] = 1;
     }
     if (spec.pose().has_keyframes()) RETURN_IF_ERROR(ResolveKeyframes(s, n));
+    RETURN_IF_ERROR(ResolveKickVariables(s, n));
     if (spec.has_stall()) {
       ASSIGN_OR_RETURN(rt.stall_body,
                        body_id(spec.stall().body(), {{"node", n}, {"stall"}, {"body"}}));

@@ -52,6 +52,16 @@ constexpr int ObservationSize(int num_nodes) { return kObsBase + 3 * num_nodes; 
 constexpr int kBallErrorObs = 6;  // appended by env.ball_error_observation
 
 // Per-node data resolved against the model.
+// One joint axis a node's kick variable moves (config::KickVariableSpec, resolved).
+struct KickVariableMove {
+  JointId joint = kChest;
+  int axis = 0;  // 0 = x, 1 = y, 2 = z; 0 for a hinge
+  double gain = 1;
+};
+
+// The most kick variables a node declares (NodeSpec.kick_variable): the planner's four angles.
+constexpr int kMaxNodeKickVariables = 4;
+
 struct NodeRuntime {
   std::vector<char> contact_allowed;   // by body id
   // Keyframes as full character poses (only for keyframe generators), sorted by phase.
@@ -65,6 +75,8 @@ struct NodeRuntime {
   // Stall: body the ball must stay near.
   int stall_body = -1;
   double stall_max_distance = 0;
+  // The node's declared kick variables (empty: the generator's own), each its joint axes.
+  std::vector<std::vector<KickVariableMove>> kick_variables;
 };
 
 class JuggleSpec : public EnvSpec {

@@ -10,6 +10,9 @@
 
 namespace juggle::planner {
 
+static_assert(kKickVariables - 1 == soccer_juggle::kMaxNodeKickVariables,
+              "a node declares at most the plan's angle variables");
+
 using soccer_juggle::ActuatedJoint;
 using soccer_juggle::CharacterPose;
 using soccer_juggle::JuggleEnv;
@@ -126,33 +129,47 @@ void AddPitch(const JuggleSpec& spec, soccer_juggle::JointId j, double angle, Ch
   AddRotation(spec, j, 2, angle, pose);
 }
 
-// The contact node's reference changed by the kick variables: for a leg swing, its timing and
-// amplitudes (reference_pose.h SwingAdjust); for the other generators (head, chest), its timing
-// and the chest's pitch, the neck's pitch, the chest's and the neck's roll, and both knees,
-// scaled by sin²(πφ) (largest at the contact, zero where the cycle wraps). The roll replaced the
-// hips' pitch, which moved a header's landing sideways by 3 cm for 0.2 rad (docs/planner.md,
-// "Every skill by search").
+// The contact node's reference changed by the kick variables: the first is the timing; the
+// others move the node's declared joint axes (spec.h NodeRuntime::kick_variables) by
+// gain · v · sin²(πφ) (largest at the contact, zero where the cycle wraps). Without a
+// declaration, for a leg swing its amplitudes (reference_pose.h SwingAdjust); for the other
+// generators (head, chest) the chest's pitch, the neck's pitch, the chest's and the neck's roll,
+// and both knees. The roll replaced the hips' pitch, which moved a header's landing sideways by
+// 3 cm for 0.2 rad (docs/planner.md, "Every skill by search").
 void KickReferences(const JuggleEnv& env, const double* kick, double cycle_s, CharacterPose* from,
                     CharacterPose* to) {
   const JuggleSpec& spec = env.spec();
   const int node = env.node();
   const double phase = env.cursor().phase;
   const SwingAdjust& base = env.state().swing_adjust;
+  const std::vector<std::vector<soccer_juggle::KickVariableMove>>& declared =
+      spec.node_runtime(node).kick_variables;
   ComputeReferencePose(spec, node, phase, from, base);
   if (spec.graph().node(node).spec.pose().has_leg_swing()) {
     SwingAdjust changed = base;
     changed.phase += kick[0] / cycle_s;
-    changed.hip += kick[1];
-    changed.abduction += kick[2];
-    changed.knee += kick[3];
-    changed.ankle += kick[4];
+    if (declared.empty()) {
+      changed.hip += kick[1];
+      changed.abduction += kick[2];
+      changed.knee += kick[3];
+      changed.ankle += kick[4];
+    }
     ComputeReferencePose(spec, node, phase, to, changed);
+    if (declared.empty()) return;
+  } else {
+    double shifted = phase + kick[0] / cycle_s;
+    shifted -= std::floor(shifted);
+    ComputeReferencePose(spec, node, shifted, to, base);
+  }
+  const double envelope = std::pow(std::sin(M_PI * phase), 2);
+  if (!declared.empty()) {
+    for (size_t v = 0; v < declared.size(); ++v) {
+      for (const soccer_juggle::KickVariableMove& move : declared[v]) {
+        AddRotation(spec, move.joint, move.axis, move.gain * kick[1 + v] * envelope, to);
+      }
+    }
     return;
   }
-  double shifted = phase + kick[0] / cycle_s;
-  shifted -= std::floor(shifted);
-  ComputeReferencePose(spec, node, shifted, to, base);
-  const double envelope = std::pow(std::sin(M_PI * phase), 2);
   using soccer_juggle::JointId;
   AddPitch(spec, soccer_juggle::kChest, kick[1] * envelope, to);
   AddPitch(spec, soccer_juggle::kNeck, kick[2] * envelope, to);

@@ -187,6 +187,31 @@ std::string SoccerJuggleTask::DescribeDecision(const std::vector<double>& d,
   return out;
 }
 
+namespace {
+
+// What a node's kick variables move: the leg swing's amplitudes, the header set, or the
+// declared joint axes (plan.cc KickReferences); equal strings move the same joints alike.
+std::string KickVariablesMeaning(const config::NodeSpec& node) {
+  if (node.kick_variable_size() == 0) {
+    return node.pose().has_leg_swing() ? "leg swing" : "header or chest";
+  }
+  std::string out = "declared";
+  for (const config::KickVariableSpec& v : node.kick_variable()) {
+    out += "|";
+    for (const config::JointAxis& m : v.move()) {
+      absl::StrAppend(&out, m.joint(), ":", m.axis(), "*", m.gain(), " ");
+    }
+  }
+  return out;
+}
+
+std::string KickVariablesKind(const config::NodeSpec& node) {
+  if (node.kick_variable_size() > 0) return "declared kick variables";
+  return node.pose().has_leg_swing() ? "a leg swing" : "a header or chest";
+}
+
+}  // namespace
+
 absl::Status ValidateSoccerJuggleTask(const LoadedConfig& config) {
   const config::PlannerConfig& p = config.run.planner();
   auto where = [&](const char* field) { return config.root.Where({{"planner"}, {field}}); };
@@ -200,8 +225,30 @@ absl::Status ValidateSoccerJuggleTask(const LoadedConfig& config) {
   if (absl::StatusOr<std::vector<int>> a = BodyActionIndices(p.body_actions()); !a.ok()) {
     return absl::InvalidArgumentError(absl::StrCat(where("body_actions"), ": ", a.status().message()));
   }
+  // Nodes the search has nothing to steer with or nothing to score.
+  if (config.graph != nullptr) {
+    const ControlGraph& graph = *config.graph;
+    for (int n = 0; n < graph.num_nodes(); ++n) {
+      const GraphNode& node = graph.node(n);
+      if (node.stage == config::STALL) {
+        return absl::InvalidArgumentError(absl::StrCat(
+            config.graph_locator.Where({{"node", n}, {"stage"}}), ": node '", node.name,
+            "' is a STALL node, and the planner has no cost for a stall yet (it scores kicks); "
+            "drive this graph with a policy or the base controller (docs/planner.md, \"Kick "
+            "variables per node\")"));
+      }
+      if (node.spec.pose().has_keyframes() && node.spec.kick_variable_size() == 0) {
+        return absl::InvalidArgumentError(absl::StrCat(
+            config.graph_locator.Where({{"node", n}, {"pose"}, {"keyframes"}}), ": node '",
+            node.name, "' moves by keyframes: declare the joints its kick variables move "
+            "(kick_variable { move { joint: ... } }); the header set would steer its kick with "
+            "the chest and the neck"));
+      }
+    }
+  }
   // One kick set serves every cycle in the horizon (unless later cycles kick by the base
-  // controller): a leg swing's set read as a header's (or the other way) moves different joints.
+  // controller): the set of a node whose variables move other joints than the next node's (a
+  // leg swing's amplitudes read as a header's chest and neck) would steer the wrong kick.
   const config::KickVariables& kick = p.soccer_juggle().kick();
   if (kick.enabled() && kick.cycles() < 2 && !kick.later_kicks_by_base() &&
       config.graph != nullptr) {
@@ -210,12 +257,11 @@ absl::Status ValidateSoccerJuggleTask(const LoadedConfig& config) {
       const GraphNode& from = graph.node(graph.edge(e).from);
       const GraphNode& to = graph.node(graph.edge(e).to);
       if (from.stage != config::UP) continue;
-      if (from.spec.pose().has_leg_swing() == to.spec.pose().has_leg_swing()) continue;
+      if (KickVariablesMeaning(from.spec) == KickVariablesMeaning(to.spec)) continue;
       return absl::InvalidArgumentError(absl::StrCat(
           config.root.Where({{"planner"}, {"soccer_juggle"}, {"kick"}, {"cycles"}}), ": ",
           kick.cycles(), " kick variable set for a graph whose edge ", from.name, " -> ", to.name,
-          " leads from ", from.spec.pose().has_leg_swing() ? "a leg swing" : "a header or chest",
-          " to ", to.spec.pose().has_leg_swing() ? "a leg swing" : "a header or chest",
+          " leads from ", KickVariablesKind(from.spec), " to ", KickVariablesKind(to.spec),
           ": their variables move different joints; set cycles: 2 or more"));
     }
   }

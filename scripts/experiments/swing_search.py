@@ -12,7 +12,7 @@ outside the stable band (`impact_in_band`, docs/planner.md "Impact acceleration"
 kick, its ball's free flight from just after the release (ballistic, from the recording) is
 carried down to the contact height and scored exp(-((t/0.06)² + (dx/tol)² + (dy/tol)²)/2): t
 the crossing's time from the nominal contact (the ±60 ms window), dx, dy from the next kick's
-ball target, tol `--kick-tolerance`. A kick sent far too high completes a juggle and then
+ball target, tol `--kick-tolerance` (heights and target from the graph's first node). A kick sent far too high completes a juggle and then
 loses the ball; it games the juggle count but not this. Each
 generation's new mean is half the old plus half the mean of its best `--elite`; the spread
 follows the elite's, never below a floor. Deterministic for --seed.
@@ -97,11 +97,31 @@ def write_config(path, base_config, graph_path, values, name):
                 % (values["hip_per_m"], values["abduction_per_m"]))
 
 
-APEX, CONTACT, TARGET_X, TARGET_Y, GRAVITY = 1.4, 0.5, 0.6, -0.1, 9.81
+GRAVITY = 9.81
+
+
+def read_geometry(graph_text):
+    """The first node's contact height, apex height and ball target (x, y), with the schema's
+    defaults (proto/control_graph.proto) where the node leaves them out."""
+    node = re.search(r"node\s*\{(.*?)\n\}", graph_text, re.S)
+    body = node.group(1) if node else ""
+    def number(pattern, default):
+        found = re.search(pattern, body, re.S)
+        return float(found.group(1)) if found else default
+    target = re.search(r"ball_target\s*\{([^}]*)\}", body)
+    target = target.group(1) if target else ""
+    def coordinate(name, default):
+        found = re.search(r"\b%s:\s*(-?[0-9.eE+-]+)" % name, target)
+        return float(found.group(1)) if found else default
+    return (number(r"\bapex_height:\s*(-?[0-9.eE+-]+)", 1.4),
+            number(r"\bcontact_height:\s*(-?[0-9.eE+-]+)", 0.5),
+            coordinate("x", 0.6), coordinate("y", 0.0))
 
 
 def kick_quality(args, trajectory):
-    """The summed quality of every kick (see the module doc) per episode."""
+    """The summed quality of every kick (see the module doc) per episode, against the graph's
+    first node's heights and ball target (args.geometry)."""
+    APEX, CONTACT, TARGET_X, TARGET_Y = args.geometry
     channels, records, header = kick_stats.load(trajectory)
     dt, nq = float(header["control_dt"]), int(header["nq"])
     c, q0, ball = kick_stats.columns(channels, nq)
@@ -192,6 +212,7 @@ def main():
     with open(args.graph) as f:
         graph_text = f.read()
     swing = read_swing(graph_text)
+    args.geometry = read_geometry(graph_text)
     feedback = {"hip_per_m": 0.0, "abduction_per_m": 0.0}
     with open(args.config) as f:  # the gains, when the config names them itself
         for k, v in re.findall(r"(hip_per_m|abduction_per_m):\s*(-?[0-9.eE+-]+)", f.read()):

@@ -40,10 +40,15 @@ class JuggleEnvTest : public ::testing::Test {
   // The fixture's spec with every node's leg swing shaped by `profile` (null on failure, with
   // the test failed).
   std::shared_ptr<const JuggleSpec> SpecWithSwingProfile(config::SwingProfile profile) {
+    return SpecWithSwing([profile](config::LegSwing* swing) { swing->set_profile(profile); });
+  }
+  // The fixture's spec with every node's leg swing changed by `change`.
+  template <typename Change>
+  std::shared_ptr<const JuggleSpec> SpecWithSwing(Change change) {
     LoadedConfig config = spec_->config();
     config::ControlGraph* graph = config.run.mutable_soccer_juggle()->mutable_graph();
     for (config::NodeSpec& node : *graph->mutable_node()) {
-      node.mutable_pose()->mutable_leg_swing()->set_profile(profile);
+      change(node.mutable_pose()->mutable_leg_swing());
     }
     absl::StatusOr<ControlGraph> built = ControlGraph::Build(*graph, config.graph_locator);
     EXPECT_TRUE(built.ok()) << built.status();
@@ -322,6 +327,28 @@ TEST_F(JuggleEnvTest, RaisedCosineSwingIsSineSquaredAndComesToRestWhereTheCycleW
   const double raised_speed = std::abs(knee_at(*raised, kDelta) - knee_at(*raised, 0)) / kDelta;
   EXPECT_NEAR(sine_speed, swing.knee_amplitude() * M_PI, 1e-3);
   EXPECT_LT(raised_speed, 0.005);
+}
+
+TEST_F(JuggleEnvTest, ASwingWithARestPoseMovesBetweenItAndTheAmplitudes) {
+  const std::shared_ptr<const JuggleSpec> raised = SpecWithSwing([](config::LegSwing* swing) {
+    swing->set_hip_rest(1.0);
+    swing->set_knee_rest(1.2);
+  });
+  ASSERT_NE(raised, nullptr);
+  const config::LegSwing& swing = spec_->graph().node(down_).spec.pose().leg_swing();
+  ASSERT_EQ(swing.phase_lead(), 0);
+  ASSERT_EQ(swing.hip_abduction(), 0);  // the hip is a pure pitch: its angle reads back
+  const ActuatedJoint& hip = spec_->joint(kRightHip);
+  const int knee = spec_->joint(kRightKnee).qpos_adr;
+  for (double phase : {0.0, 0.1, 0.25, 0.5}) {
+    CharacterPose pose;
+    ComputeReferencePose(*raised, down_, phase, &pose);
+    const double s = std::sin(M_PI * phase);  // the release's SINE profile
+    const double* q = pose.data() + hip.qpos_adr;
+    const double flexion = 2 * std::atan2(q[3], q[0]);  // (w, x, y, z) about z
+    EXPECT_NEAR(flexion, 1.0 + (swing.hip_amplitude() - 1.0) * s, 1e-12) << phase;
+    EXPECT_NEAR(pose[knee], -(1.2 + (swing.knee_amplitude() - 1.2) * s), 1e-12) << phase;
+  }
 }
 
 TEST_F(JuggleEnvTest, FlatTopSwingIsOneMinusCosineToTheFourthAndFlatAtItsPeak) {

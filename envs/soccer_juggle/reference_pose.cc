@@ -73,7 +73,8 @@ void LegSwingPose(const JuggleSpec& spec, const config::LegSwing& g, const Swing
   const JointId hip = left ? kLeftHip : kRightHip;
   const JointId knee = left ? kLeftKnee : kRightKnee;
   const JointId ankle = left ? kLeftAnkle : kRightAnkle;
-  double flexion = hip_amplitude * s, outward = abduction * s, knee_bend = 0;
+  double flexion = g.hip_rest() + (hip_amplitude - g.hip_rest()) * s;
+  double outward = abduction * s, knee_bend = 0;
   if (adjust.placing && phase >= 0.5) {
     // The follow-through puts the foot down where the stance changes to it (stance_change.h).
     const double u = (phase - 0.5) / 0.5;
@@ -89,7 +90,8 @@ void LegSwingPose(const JuggleSpec& spec, const config::LegSwing& g, const Swing
   } else {
     SetBallJointAxisRotation(spec, hip, kZ, flexion, pose);
   }
-  SetHinge(spec, knee, -(g.knee_amplitude() + adjust.knee) * s - knee_bend, pose);
+  const double knee_amplitude = g.knee_amplitude() + adjust.knee;
+  SetHinge(spec, knee, -(g.knee_rest() + (knee_amplitude - g.knee_rest()) * s) - knee_bend, pose);
   if (const double ankle_amplitude = g.ankle_amplitude() + adjust.ankle; ankle_amplitude != 0) {
     SetBallJointAxisRotation(spec, ankle, kZ, ankle_amplitude * s, pose);
   }

@@ -117,8 +117,9 @@ TEST_P(SkillRescueTest, RescuesAKickTheBaseControllerMissesExactlyAsPredicted) {
 
 INSTANTIATE_TEST_SUITE_P(
     Skills, SkillRescueTest,
-    // The knee's state: 6 cm ahead (start seeds 3-4 with 4-8 cm ahead or 5 cm sideways were
-    // scanned; a ball 5 cm left on seed 3 the base controller already returns).
+    // The knee's state: 6 cm ahead, scanned among 4-8 cm ahead and 5 cm sideways on start
+    // seeds 3-4 (some of which the base controller already returns, or the small search
+    // here does not rescue).
     ::testing::Values(Skill{"configs/knees_planner.textproto", "right_knee_down", 0.06, 0, 3},
                       Skill{"configs/headers_planner.textproto", "head_down", 0.08, 0, 3}),
     [](const ::testing::TestParamInfo<Skill>& info) {

@@ -1,6 +1,5 @@
-// Issue 44's skills by search, each on a hand-made state its base controller misses: a knee
-// kick and a header, rescued by the planner and executed exactly as predicted (as
-// SoccerPlannerTest.RescuesAKickTheBaseControllerMissesExactlyAsPredicted does for the foot).
+// Each skill by search on a hand-made state its base controller misses: a foot kick, a knee
+// kick and a header, rescued by the planner and executed exactly as predicted.
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -13,6 +12,7 @@
 #include "planner/receding_horizon.h"
 #include "planner/soccer_juggle/cost.h"
 #include "planner/soccer_juggle/task.h"
+#include "planner/soccer_juggle/test_kicks.h"
 
 namespace juggle::planner {
 namespace {
@@ -68,18 +68,6 @@ class SkillRescueTest : public ::testing::TestWithParam<Skill> {
   int down_ = -1;
 };
 
-// The kick leaving the contact body with zero action (invalid if none).
-KickOutcome ZeroActionKick(JuggleEnv* env, const AdaptiveWalk& walk) {
-  const float zero[kNumActions] = {0};
-  for (int t = 0; t < 60; ++t) {
-    if (env->Step(zero, walk).outcome != Outcome::kRunning) return {};
-    if (env->state().kick_touched && !env->state().touched_this_step) {
-      return PredictKickOutcome(*env);
-    }
-  }
-  return {};
-}
-
 TEST_P(SkillRescueTest, RescuesAKickTheBaseControllerMissesExactlyAsPredicted) {
   const KickOutcome base = ZeroActionKick(Start().get(), *walk_);
   ASSERT_TRUE(!base.valid || std::abs(base.timing) > 0.06 || std::hypot(base.dx, base.dy) > 0.3)
@@ -113,6 +101,7 @@ TEST_P(SkillRescueTest, RescuesAKickTheBaseControllerMissesExactlyAsPredicted) {
   EXPECT_LT(std::abs(executed.timing), 0.06);
   EXPECT_LT(std::hypot(executed.dx, executed.dy), 0.15);
   EXPECT_EQ(planner.totals().prediction_mismatches, 0);
+  EXPECT_GT(planner.totals().prediction_checks, 5);
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -120,7 +109,9 @@ INSTANTIATE_TEST_SUITE_P(
     // The knee's state: 6 cm ahead, scanned among 4-8 cm ahead and 5 cm sideways on start
     // seeds 3-4 (some of which the base controller already returns, or the small search
     // here does not rescue).
-    ::testing::Values(Skill{"configs/knees_planner.textproto", "right_knee_down", 0.06, 0, 3},
+    // The foot's state: 12 cm too far forward, its base kick flies off.
+    ::testing::Values(Skill{"configs/right_foot_planner.textproto", "right_foot_down", 0.12, 0, 3},
+                      Skill{"configs/knees_planner.textproto", "right_knee_down", 0.06, 0, 3},
                       Skill{"configs/headers_planner.textproto", "head_down", 0.08, 0, 3}),
     [](const ::testing::TestParamInfo<Skill>& info) {
       return info.param.node.substr(0, info.param.node.find("_down"));

@@ -35,12 +35,7 @@ class SkillRescueTest : public ::testing::TestWithParam<Skill> {
     absl::StatusOr<LoadedConfig> config = LoadRunConfig(testing::RepoPath(GetParam().config));
     ASSERT_TRUE(config.ok()) << config.status();
     config_ = *config;
-    config::PlannerConfig& p = *config_.run.mutable_planner();
-    p.set_samples(16);
-    p.set_iterations(4);
-    p.set_horizon_steps(32);
-    p.set_replan_every(4);
-    p.set_body_knot_steps(0);
+    UseSmallPlanner(&config_);
     absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(config_);
     ASSERT_TRUE(spec.ok()) << spec.status();
     spec_ = std::dynamic_pointer_cast<const JuggleSpec>(*spec);

@@ -1,12 +1,25 @@
-// Test helper: the kick the base controller makes with zero action (planner tests).
+// Test helpers of the soccer planner's tests: a small, quick planner config and the kick the
+// base controller makes with zero action.
 #ifndef JUGGLE_PLANNER_SOCCER_JUGGLE_TEST_KICKS_H_
 #define JUGGLE_PLANNER_SOCCER_JUGGLE_TEST_KICKS_H_
 
 #include "common/adaptive_walk.h"
+#include "common/config_loader.h"
 #include "envs/soccer_juggle/env.h"
 #include "planner/soccer_juggle/cost.h"
 
 namespace juggle::planner {
+
+// A small, quick planner on `config`: kick variables only, 16 samples × 4 iterations, a
+// 32-step horizon re-planned every 4 steps.
+inline void UseSmallPlanner(LoadedConfig* config) {
+  config::PlannerConfig& p = *config->run.mutable_planner();
+  p.set_samples(16);
+  p.set_iterations(4);
+  p.set_horizon_steps(32);
+  p.set_replan_every(4);
+  p.set_body_knot_steps(0);
+}
 
 // Steps `env` with zero action until its kick leaves the contact body (or the episode ends, or
 // 60 steps pass); returns the kick's outcome (invalid if there was none).

@@ -21,7 +21,8 @@ absl::StatusOr<std::unique_ptr<Controller>> MakeController(const ControllerChoic
     }
     if (choice.proposal != nullptr) with_settings.run.mutable_planner()->set_policy_prior(true);
     absl::StatusOr<std::unique_ptr<planner::PlannerController>> p =
-        planner::PlannerController::Create(std::move(spec), with_settings);
+        planner::PlannerController::Create(std::move(spec), with_settings,
+                                           choice.planner_stream_base);
     if (!p.ok()) return p.status();
     if (choice.proposal != nullptr) {
       if (absl::Status s = (*p)->SetProposal(choice.proposal); !s.ok()) return s;

@@ -29,6 +29,9 @@ struct ControllerChoice {
   // "planner": a policy whose mean action is the plans' prior (sets planner.policy_prior), or
   // none.
   std::shared_ptr<const EigenPolicy> proposal;
+  // "planner": the planner stream of the first env seen (PlannerController::Create); eval's
+  // --first-episode, so that a part of an evaluation plans as the whole did.
+  uint64_t planner_stream_base = 0;
 };
 
 // The controller `choice` names for envs of `spec` (made from `config`). Errors: an unknown

@@ -50,6 +50,7 @@ struct EvalFlags {
   int episodes = 50;
   int64_t seed = kHeldOutSeed;
   int first_episode = 0;
+  int planner_stream_base = -1;  // -1: first_episode
   double max_seconds = 60;
   std::string record;
   std::string json;
@@ -152,6 +153,8 @@ int Evaluate(EvalFlags f) {
   choice.kind = f.controller;
   if (source) choice.policy = source->policy;
   choice.keep_gates = true;
+  choice.planner_stream_base =
+      static_cast<uint64_t>(f.planner_stream_base >= 0 ? f.planner_stream_base : f.first_episode);
   if (!f.proposal.empty()) {
     absl::StatusOr<PolicySource> proposal = LoadPolicySource(f.proposal, f.config);
     if (!proposal.ok()) return Fail(proposal.status());
@@ -299,6 +302,7 @@ int Evaluate(EvalFlags f) {
     swept_choice.kind = f.controller;
     if (source) swept_choice.policy = source->policy;
     swept_choice.proposal = choice.proposal;
+    swept_choice.planner_stream_base = choice.planner_stream_base;
     const int episodes = f.episodes;
     const bool trace = f.planner_trace;
     const std::shared_ptr<const EnvSpec> swept_spec = *spec;
@@ -375,8 +379,16 @@ CommandBody AddEvalCommand(CLI::App* cmd) {
       ->capture_default_str();
   cmd->add_option("--first-episode", f->first_episode,
                   "index of the first episode: one evaluation split into parts (e.g. "
-                  "--episodes=5 --first-episode=5 is episodes 5-9 of --episodes=10)")
+                  "--episodes=5 --first-episode=5 is episodes 5-9 of --episodes=10; with "
+                  "--controller=planner episode i also plans from planner stream first-episode + i)")
       ->check(Between(0, 100000000))
+      ->capture_default_str();
+  cmd->add_option("--planner-stream-base", f->planner_stream_base,
+                  "with --controller=planner: the planner stream of the run's first episode "
+                  "(-1: --first-episode, so a part plans as in the whole run; 0: every part "
+                  "from stream 0, as evaluations split into parts did before 2026-12-01 and "
+                  "scripts/experiments/planner_eval.sh still does)")
+      ->check(Between(-1, 100000000))
       ->capture_default_str();
   cmd->add_option("--max_seconds", f->max_seconds,
                   "episode length limit in simulated seconds (0: the config's)")

@@ -5,10 +5,10 @@
 namespace juggle::planner {
 
 absl::StatusOr<std::unique_ptr<PlannerController>> PlannerController::Create(
-    std::shared_ptr<const EnvSpec> spec, const LoadedConfig& config) {
+    std::shared_ptr<const EnvSpec> spec, const LoadedConfig& config, uint64_t stream_base) {
   if (absl::Status s = RequirePlannerBlock(config); !s.ok()) return s;
   absl::StatusOr<std::unique_ptr<PlannerSet>> planners =
-      PlannerSet::Create(std::move(spec), config, /*stream_base=*/0);
+      PlannerSet::Create(std::move(spec), config, stream_base);
   if (!planners.ok()) return planners.status();
   return std::unique_ptr<PlannerController>(new PlannerController(*std::move(planners)));
 }

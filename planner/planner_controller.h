@@ -23,9 +23,11 @@ namespace juggle::planner {
 class PlannerController final : public Controller {
  public:
   // Refuses a config without a planner block (RequirePlannerBlock) and validates its settings
-  // for `spec` (made from `config`; PlannerSet::Create).
+  // for `spec` (made from `config`; PlannerSet::Create). The k-th env seen plans from stream
+  // stream_base + k: an evaluation split into parts passes its first episode's index, so an
+  // episode planned in a part (or alone) plans as it did in the whole batch.
   static absl::StatusOr<std::unique_ptr<PlannerController>> Create(
-      std::shared_ptr<const EnvSpec> spec, const LoadedConfig& config);
+      std::shared_ptr<const EnvSpec> spec, const LoadedConfig& config, uint64_t stream_base = 0);
 
   // REQUIRES: envs of the spec given to Create (a foreign env aborts: programmer error).
   void Act(const Env* const* envs, const float* obs, int n, float* actions) override;

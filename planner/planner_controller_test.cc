@@ -52,5 +52,47 @@ TEST(PlannerControllerTest, AnEnvKeepsItsPlannerWhenTheBatchIsCompacted) {
   EXPECT_EQ(b_actions[0], b_actions[1]);
 }
 
+TEST(PlannerControllerTest, AnEpisodeRunAloneWithItsIndexAsStreamBasePlansAsInItsBatch) {
+  absl::StatusOr<LoadedConfig> config =
+      LoadRunConfig(testing::RepoPath("configs/right_foot_planner.textproto"));
+  ASSERT_TRUE(config.ok()) << config.status();
+  config::PlannerConfig& p = *config->run.mutable_planner();
+  p.set_samples(8);
+  p.set_iterations(2);
+  p.set_horizon_steps(24);
+  p.set_replan_every(3);
+  p.set_body_knot_steps(0);
+  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*config);
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  const AdaptiveWalk walk(&(*spec)->graph());
+  const int act = (*spec)->act_dim();
+  // Episode 1's actions over 9 steps: in the batch [0, 1] (stream base 0), then alone as
+  // `juggle eval --first-episode=1 --episodes=1` runs it (stream base 1), then alone from
+  // stream base 0 (the old behaviour), which must differ for the test to mean anything.
+  std::vector<std::vector<float>> runs;
+  for (auto [with_episode_0, base] : {std::pair{true, 0}, std::pair{false, 1}, std::pair{false, 0}}) {
+    absl::StatusOr<std::unique_ptr<PlannerController>> controller =
+        PlannerController::Create(*spec, *config, base);
+    ASSERT_TRUE(controller.ok()) << controller.status();
+    std::unique_ptr<Env> e0 = (*spec)->NewEnv(Rng::ForStream(1000000, 0, 0));
+    std::unique_ptr<Env> e1 = (*spec)->NewEnv(Rng::ForStream(1000000, 0, 1));
+    e0->Reset(walk);
+    e1->Reset(walk);
+    std::vector<float> actions(2 * act), seen;
+    for (int t = 0; t < 9; ++t) {
+      const Env* batch[2] = {with_episode_0 ? e0.get() : e1.get(), e1.get()};
+      const int n = with_episode_0 ? 2 : 1;
+      (*controller)->Act(batch, nullptr, n, actions.data());
+      const float* for_e1 = actions.data() + (n - 1) * act;
+      seen.insert(seen.end(), for_e1, for_e1 + act);
+      if (with_episode_0) e0->Step(actions.data(), walk);
+      e1->Step(for_e1, walk);
+    }
+    runs.push_back(seen);
+  }
+  EXPECT_EQ(runs[0], runs[1]);
+  EXPECT_NE(runs[0], runs[2]);
+}
+
 }  // namespace
 }  // namespace juggle::planner

@@ -29,8 +29,10 @@ part() {
   local flags=${EVAL_FLAGS:-}
   flags=${flags//\{i\}/$i}
   if [ -s "$json" ] && grep -q '"table":"episode"' "$json"; then return 0; fi
+  # --planner-stream-base=0: every part plans from stream 0, as the documented runs of this
+  # protocol did (docs/performance.md), so they reproduce.
   "$juggle" eval --controller=planner --config="$config" --episodes=1 --first-episode="$i" \
-    --max_seconds="$seconds" --planner-set="threads: 1 $extra" --json="$json.part" \
+    --planner-stream-base=0 --max_seconds="$seconds" --planner-set="threads: 1 $extra" --json="$json.part" \
     --record="$out/ep_$i.traj" $flags > "$out/ep_$i.log" 2>&1
   mv "$json.part" "$json"
   echo "episode $i: $(grep -o 'juggles=[0-9.]*' "$out/ep_$i.log" | head -1) $(tail -1 "$out/ep_$i.log" | grep -o 'wall_s=[0-9.]*')"

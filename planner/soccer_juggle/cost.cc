@@ -45,6 +45,28 @@ bool MissedThisCycle(const JuggleEnv& env) {
          env.spec().graph().node(env.node()).stage == config::UP;
 }
 
+bool InStall(const JuggleEnv& env) {
+  const CursorState& c = env.cursor();
+  const ControlGraph& graph = env.spec().graph();
+  const config::Stage stage = graph.node(c.current).stage;
+  return stage == config::STALL ||
+         (stage == config::DOWN && c.next >= 0 && graph.node(c.next).stage == config::STALL);
+}
+
+double StallCost(const JuggleEnv& env, const config::PlannerCost& w) {
+  const JuggleSpec& spec = env.spec();
+  const CursorState& c = env.cursor();
+  if (spec.graph().node(c.current).stage != config::STALL) return 0;
+  const soccer_juggle::BallReference ref = spec.cursor().DesiredBall(c, c.phase);
+  const mjData* d = env.data();
+  const double* ball = d->qpos + spec.ball_qpos();
+  const double* vel = d->qvel + spec.ball_dof();
+  const double error2 = Square(ball[0] - d->qpos[0] - ref.x) +
+                        Square(ball[1] - d->qpos[1] - ref.y) + Square(ball[2] - ref.z);
+  const double speed2 = Square(vel[0]) + Square(vel[1]) + Square(vel[2]);
+  return w.stall() * (error2 / Square(w.stall_scale()) + speed2 / Square(w.stall_speed_scale()));
+}
+
 KickOutcome PredictKickOutcome(const JuggleEnv& env) {
   const JuggleSpec& spec = env.spec();
   const CursorState& c = env.cursor();
@@ -143,7 +165,7 @@ std::vector<std::string> KickOutcomeNames() {
 }
 
 std::vector<std::string> SoccerTermNames() {
-  return {"failure", "miss", "kick", "impact", "effort", "body", "terminal", "approach"};
+  return {"failure", "miss", "kick", "impact", "effort", "body", "terminal", "approach", "stall"};
 }
 
 SoccerRolloutScorer::SoccerRolloutScorer(const config::PlannerCost& cost, int horizon,
@@ -154,7 +176,8 @@ void SoccerRolloutScorer::Begin(const Env& base) {
   const auto& env = static_cast<const JuggleEnv&>(base);
   // A kick whose ball is already on its way was scored by an earlier plan; one whose ball is
   // still on the body is this plan's to score.
-  scored_this_cycle_ = env.state().kick_touched && !env.state().touched_this_step;
+  scored_this_cycle_ =
+      env.state().kick_touched && !env.state().touched_this_step && !InStall(env);
   impact_.Begin(env);
 }
 
@@ -162,7 +185,7 @@ bool SoccerRolloutScorer::RunsOn(const Env& base) const {
   const auto& env = static_cast<const JuggleEnv&>(base);
   const bool in_contact =
       env.state().kick_touched && env.state().touched_this_step && !scored_this_cycle_;
-  return in_contact && (run_on_every_kick_ || kicks_ == 0);
+  return in_contact && !InStall(env) && (run_on_every_kick_ || kicks_ == 0);
 }
 
 void SoccerRolloutScorer::AfterStep(const Env& base, const float* action, const StepResult& r) {
@@ -202,9 +225,10 @@ void SoccerRolloutScorer::AfterStep(const Env& base, const float* action, const 
     return;
   }
   body_ += BodyCost(env, cost_);
+  stall_ += StallCost(env, cost_);
   // The kick is scored at the first step the ball is off the body after a touch (a weak kick
-  // that sends it down scores its early crossing).
-  if (s.kick_touched && !s.touched_this_step && !scored_this_cycle_) {
+  // that sends it down scores its early crossing); a ball off the body in a stall is not one.
+  if (s.kick_touched && !s.touched_this_step && !scored_this_cycle_ && !InStall(env)) {
     scored_this_cycle_ = true;
     KickOutcome k = PredictKickOutcome(env);
     k.impact_acceleration = cycle_impact_;
@@ -226,7 +250,7 @@ void SoccerRolloutScorer::AfterStep(const Env& base, const float* action, const 
 double SoccerRolloutScorer::Finish(const Env& base) {
   const auto& env = static_cast<const JuggleEnv&>(base);
   double total = failure_ + kick_cost_ + impact_cost_ + effort_;
-  total += body_ / horizon_;
+  total += (body_ + stall_) / horizon_;
   if (failed_) return total;
   terminal_ = cost_.terminal() * BodyCost(env, cost_);
   total += terminal_;
@@ -253,7 +277,7 @@ double SoccerRolloutScorer::Finish(const Env& base) {
 
 std::vector<double> SoccerRolloutScorer::terms() const {
   return {failure_part_, miss_part_, kick_cost_, impact_cost_, effort_, body_ / horizon_,
-          terminal_, approach_};
+          terminal_, approach_, stall_ / horizon_};
 }
 
 }  // namespace juggle::planner

@@ -44,6 +44,15 @@ KickOutcome KickOutcomeOf(const std::vector<double>& outcome);
 // (UP) and the ball was not touched in this cycle.
 bool MissedThisCycle(const soccer_juggle::JuggleEnv& env);
 
+// The ball's touches in `env`'s current node are a catch or a hold, not a kick: the node is a
+// STALL node, or the DOWN node whose contact hands the ball to one.
+bool InStall(const soccer_juggle::JuggleEnv& env);
+
+// The stall term at one state (weight × (error/scale)² per PlannerCost.stall): the ball against
+// the current STALL node's stall position (the node's ball target from the root, its stall ball
+// height) and the ball's speed. 0 outside a STALL node.
+double StallCost(const soccer_juggle::JuggleEnv& env, const config::PlannerCost& cost);
+
 // How far (m) the ball's surface is from the nearest geom of a body the current node allows to
 // touch it (geom centres less their bounding radii: a ranking, not a collision distance).
 double BallClearance(const soccer_juggle::JuggleEnv& env);
@@ -52,7 +61,7 @@ double BallClearance(const soccer_juggle::JuggleEnv& env);
 double BodyCost(const soccer_juggle::JuggleEnv& env, const config::PlannerCost& cost);
 
 // The cost of a soccer rollout as the driver's scorer. Terms, in order (SoccerTermNames()):
-// failure, miss, kick, impact, effort, body, terminal, approach.
+// failure, miss, kick, impact, effort, body, terminal, approach, stall.
 class SoccerRolloutScorer final : public RolloutScorer {
  public:
   // `run_on_every_kick`: PlannerConfig.run_on_every_kick (RunsOn).
@@ -66,7 +75,7 @@ class SoccerRolloutScorer final : public RolloutScorer {
   // The cost so far: never more than the total (every term is non-negative and the per-step
   // body terms are summed over the horizon).
   double partial() const override {
-    return failure_ + kick_cost_ + impact_cost_ + effort_ + body_ / horizon_;
+    return failure_ + kick_cost_ + impact_cost_ + effort_ + (body_ + stall_) / horizon_;
   }
   // A touch that has not yet released the ball runs on (the kick is scored at its release):
   // for any kick, or only for the rollout's first.
@@ -86,6 +95,7 @@ class SoccerRolloutScorer final : public RolloutScorer {
   bool run_on_every_kick_;
   int steps_ = 0;
   double body_ = 0, effort_ = 0, kick_cost_ = 0, failure_ = 0;
+  double stall_ = 0;  // the stall terms summed over the steps
   bool scored_this_cycle_ = false;
   // The closest the ball came to an allowed body in the current cycle before a touch.
   double clearance_ = 1e9;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -181,13 +182,16 @@ void KickReferences(const JuggleEnv& env, const double* kick, double cycle_s, Ch
   }
 }
 
-// Adds the kick variables' torque (in action units) at `env`'s state to `out`.
+// Adds the kick variables' torque (in action units) at `env`'s state to `out`. In a stall (the
+// phase held at the contact) the angles hold the pose moved at full envelope and the timing
+// moves nothing.
 void AddKickAction(const JuggleEnv& env, const double* kick, double* out) {
   const JuggleSpec& spec = env.spec();
   const soccer_juggle::CursorState& c = env.cursor();
-  if (c.phase_speed <= 0) return;
+  const double cycle_s = c.phase_speed > 0 ? spec.control_dt() / c.phase_speed
+                                           : std::numeric_limits<double>::infinity();
   CharacterPose from, to;
-  KickReferences(env, kick, spec.control_dt() / c.phase_speed, &from, &to);
+  KickReferences(env, kick, cycle_s, &from, &to);
   AddPoseChangeAction(spec.joints(), from, to, spec.env().action_torque(), out);
 }
 

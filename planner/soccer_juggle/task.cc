@@ -62,8 +62,9 @@ std::vector<std::vector<double>> SoccerJuggleTask::Seeds(const std::vector<doubl
 }
 
 bool SoccerJuggleTask::Released(const Env& env) {
-  const auto& s = static_cast<const JuggleEnv&>(env).state();
-  return s.kick_touched && !s.touched_this_step;
+  const auto& juggle = static_cast<const JuggleEnv&>(env);
+  const auto& s = juggle.state();
+  return s.kick_touched && !s.touched_this_step && !InStall(juggle);
 }
 
 void SoccerJuggleTask::Restrict(const Env& env, const std::vector<double>& shifted,
@@ -230,13 +231,6 @@ absl::Status ValidateSoccerJuggleTask(const LoadedConfig& config) {
     const ControlGraph& graph = *config.graph;
     for (int n = 0; n < graph.num_nodes(); ++n) {
       const GraphNode& node = graph.node(n);
-      if (node.stage == config::STALL) {
-        return absl::InvalidArgumentError(absl::StrCat(
-            config.graph_locator.Where({{"node", n}, {"stage"}}), ": node '", node.name,
-            "' is a STALL node, and the planner has no cost for a stall yet (it scores kicks); "
-            "drive this graph with a policy or the base controller (docs/planner.md, \"Kick "
-            "variables per node\")"));
-      }
       if (node.spec.pose().has_keyframes() && node.spec.kick_variable_size() == 0) {
         return absl::InvalidArgumentError(absl::StrCat(
             config.graph_locator.Where({{"node", n}, {"pose"}, {"keyframes"}}), ": node '",

@@ -106,13 +106,13 @@ TEST_F(StallTest, TouchesInAStallAndInTheDownNodeBeforeItAreNotKicks) {
   EXPECT_TRUE(InStall(*StartIn("right_foot_stall")));
   EXPECT_TRUE(InStall(*StartIn("right_foot_stall_exit")));
   EXPECT_FALSE(InStall(*StartIn("right_foot_up")));
-  // The DOWN node is a stall's catch when its sampled next node is the stall: a graph whose
-  // only edge from the DOWN node leads to the stall, and the juggle's graph without stalls.
+  // A DOWN node is a stall's catch when its sampled next node is the stall (the catch node of
+  // the stall-only graph), and a kick's otherwise (the juggle's graph without stalls).
   LoadedConfig other;
   std::shared_ptr<const JuggleSpec> to_stall = StallSpec(&other, "configs/graphs/right_foot_stall_only.textproto");
   JuggleEnv catching(to_stall, Rng(5));
   AdaptiveWalk walk(&to_stall->graph());
-  catching.ResetAt(*to_stall->graph().FindNode("right_foot_down"), walk);
+  catching.ResetAt(*to_stall->graph().FindNode("right_foot_catch"), walk);
   EXPECT_TRUE(InStall(catching));
   std::shared_ptr<const JuggleSpec> juggle =
       StallSpec(&other, "configs/graphs/right_foot_smooth.textproto");

@@ -12,6 +12,7 @@
 #include "envs/testing/test_configs.h"
 #include "gtest/gtest.h"
 #include "planner/soccer_juggle/cost.h"
+#include "planner/planner_config.h"
 
 namespace juggle::planner {
 namespace {
@@ -170,6 +171,13 @@ TEST_F(StallTest, ARolloutScoresAStallsStepsAndNoKickUntilTheBallLeavesTheFootFr
   EXPECT_GT(stall_sum, 0);
   EXPECT_NEAR(terms.back(), stall_sum / kHorizon, 1e-9 * stall_sum);
   EXPECT_GT(terms[2], 0.0) << "kick term";
+}
+
+TEST(StallConfigTest, TheShippedStallPlannerPassesThePlannersLoadChecks) {
+  absl::StatusOr<LoadedConfig> config =
+      LoadRunConfig(testing::RepoPath("configs/stall_planner.textproto"));
+  ASSERT_TRUE(config.ok()) << config.status();
+  EXPECT_TRUE(ValidatePlannerConfig(*config).ok()) << ValidatePlannerConfig(*config);
 }
 
 }  // namespace

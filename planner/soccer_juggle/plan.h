@@ -13,7 +13,8 @@
 //   shares with the previous plan where they were and the shifted plan acts exactly as before.
 // At a visited state the plan's action is the kick variables' change of the PD target turned
 // into the feed-forward torque it makes (kp × the target's change, per joint and axis, divided
-// by the action's torque unit) plus the spline's value, clamped to [−1, 1]: a plan is an action
+// by the action's torque unit; in a STALL node, whose phase is held, the angles move the held
+// pose and the timing nothing) plus the spline's value, clamped to [−1, 1]: a plan is an action
 // sequence the learned policy could produce, so its labels are exact. Pure functions;
 // allocation-free.
 #ifndef JUGGLE_PLANNER_SOCCER_JUGGLE_PLAN_H_

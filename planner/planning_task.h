@@ -77,6 +77,9 @@ class RolloutScorer {
   // The value of every cost term (PlanningTask::term_names() order) after Finish: they add up to
   // the total, up to rounding.
   virtual std::vector<double> terms() const = 0;
+  // A copy of this scorer with everything it has seen (PlannerConfig.share_prefix continues
+  // every candidate from one scored prefix), or null: the task's rollouts share no prefix.
+  virtual std::unique_ptr<RolloutScorer> Clone() const { return nullptr; }
 };
 
 class PlanningTask {
@@ -134,6 +137,13 @@ class PlanningTask {
   // or null for zero) plus the plan's offsets, clamped. REQUIRES: theta holds dim() values.
   virtual void Action(const Env& env, const double* theta, PlanClock clock, const double* prior,
                       float* action) const = 0;
+  // Whether any decision variable can change Action at `env`'s state and `clock` (theta's fixed
+  // variables, which every candidate of a re-plan shares, may decide it). When false, Action
+  // must not depend on theta's searched variables: the driver then simulates the steps up to
+  // the first where the plan acts once for all candidates (PlannerConfig.share_prefix).
+  virtual bool PlanActs(const Env& env, const double* theta, PlanClock clock) const {
+    return true;
+  }
 
   // --- Cost.
   virtual std::unique_ptr<RolloutScorer> NewScorer() const = 0;

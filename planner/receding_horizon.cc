@@ -96,8 +96,10 @@ RecedingHorizonPlanner::RecedingHorizonPlanner(std::shared_ptr<const PlanningTas
 RecedingHorizonPlanner::RolloutResult RecedingHorizonPlanner::Rollout(
     Env* env, const double* theta, const RolloutOptions& o) const {
   RolloutResult result;
-  const std::unique_ptr<RolloutScorer> scorer = task_->NewScorer();
-  scorer->Begin(*env);
+  const SharedPrefix* prefix = o.prefix;
+  const std::unique_ptr<RolloutScorer> scorer =
+      prefix != nullptr ? prefix->scorer->Clone() : task_->NewScorer();
+  if (prefix == nullptr) scorer->Begin(*env);
   // PlanningModel.exact_within_m: the state moves to the executed model's twin near a contact
   // and back to the planning model away from it.
   const double exact_within = config_.planning_model().exact_within_m();
@@ -111,11 +113,15 @@ RecedingHorizonPlanner::RolloutResult RecedingHorizonPlanner::Rollout(
   };
   std::vector<float> action(act_dim_);
   std::vector<double> prior(prior_ != nullptr ? act_dim_ : 0);
-  PlanClock clock = o.clock;
+  PlanClock clock = prefix != nullptr ? prefix->clock : o.clock;
   const int horizon = task_->horizon();
-  int node = env->node();
-  int t = 0;
+  int node = prefix != nullptr ? prefix->node : env->node();
+  int t = prefix != nullptr ? prefix->steps : 0;
   int end = horizon;
+  if (prefix != nullptr) {
+    result.shared_steps = prefix->steps;
+    if (o.trace != nullptr) o.trace->insert(o.trace->end(), prefix->trace.begin(), prefix->trace.end());
+  }
   for (; t < end; ++t, ++clock.step) {
     if (exact_env != nullptr) {
       const bool near = task_->ContactClearance(*env) < exact_within;
@@ -178,6 +184,58 @@ absl::StatusOr<double> RecedingHorizonPlanner::Evaluate(const Env& env,
   return r.cost;
 }
 
+const RecedingHorizonPlanner::SharedPrefix* RecedingHorizonPlanner::PrefixFor(
+    const EnvSnapshot& snapshot, PlanClock clock, const double* theta, double bound) {
+  if (!config_.share_prefix() || config_.robust().draws() > 0 ||
+      config_.planning_model().exact_within_m() > 0) {
+    return nullptr;
+  }
+  if (prefix_ == nullptr) {
+    prefix_ = std::make_shared<SharedPrefix>();
+    SharedPrefix& p = *prefix_;
+    std::unique_ptr<RolloutScorer> scorer = task_->NewScorer();
+    if (scorer->Clone() == nullptr) return nullptr;
+    const absl::Status run = pool_->Run(snapshot, 1, [&](int, Env* env) {
+      // The steps Rollout would take while no variable acts, stopping before the horizon's last
+      // step (where a rollout may run on) and abandoned if the episode ends inside them.
+      scorer->Begin(*env);
+      std::vector<float> action(act_dim_);
+      std::vector<double> prior(prior_ != nullptr ? act_dim_ : 0);
+      PlanClock c = clock;
+      int node = env->node();
+      int t = 0;
+      for (; t + 1 < task_->horizon() && !task_->PlanActs(*env, theta, c); ++t, ++c.step) {
+        if (prior_ != nullptr) prior_->Write(*env, prior.data());
+        task_->Action(*env, theta, c, prior_ != nullptr ? prior.data() : nullptr, action.data());
+        const StepResult r = env->Step(action.data(), walk_);
+        p.trace.push_back(StateFingerprint(*env, pool_->spec().model()));
+        scorer->AfterStep(*env, action.data(), r);
+        p.max_partial = std::max(p.max_partial, scorer->partial());
+        if (r.outcome != Outcome::kRunning) {
+          t = 0;
+          break;
+        }
+        if (env->node() != node) {
+          node = env->node();
+          if (task_->StartsCycle(*env, node)) ++c.cycle;
+        }
+      }
+      totals_.rollout_steps += p.trace.size();
+      if (t == 0) return;
+      p.steps = t;
+      p.clock = c;
+      p.node = node;
+      p.state = env->Snapshot();
+      p.scorer = std::move(scorer);
+    });
+    JUGGLE_CHECK(run.ok(), "a re-plan's snapshot failed to restore");
+  }
+  if (prefix_->state == nullptr) return nullptr;
+  // A rollout bounded below the prefix's cost would have stopped inside it.
+  if (config_.prune() && prefix_->max_partial >= bound) return nullptr;
+  return prefix_.get();
+}
+
 absl::StatusOr<std::vector<RecedingHorizonPlanner::RolloutResult>>
 RecedingHorizonPlanner::RolloutBatch(const EnvSnapshot& snapshot, PlanClock clock,
                                      const std::vector<double>& candidates, int n, double bound) {
@@ -190,14 +248,16 @@ RecedingHorizonPlanner::RolloutBatch(const EnvSnapshot& snapshot, PlanClock cloc
   options.clock = clock;
   options.bound = draws == 0 ? bound : std::numeric_limits<double>::infinity();
   std::vector<RolloutResult> all(size_t(n) * per);
-  RETURN_IF_ERROR(pool_->Run(snapshot, n * per, [&](int j, Env* copy) {
+  options.prefix = PrefixFor(snapshot, clock, candidates.data(), options.bound);
+  const EnvSnapshot& start = options.prefix != nullptr ? *options.prefix->state : snapshot;
+  RETURN_IF_ERROR(pool_->Run(start, n * per, [&](int j, Env* copy) {
     RolloutOptions job = options;
     const int draw = j % per;
     job.noise = draw > 0 ? RobustNoise(draw) : nullptr;
     all[j] = Rollout(copy, candidates.data() + (j / per) * dim, job);
   }));
   for (const RolloutResult& r : all) {
-    totals_.rollout_steps += r.steps - r.exact_steps;
+    totals_.rollout_steps += r.steps - r.exact_steps - r.shared_steps;
     totals_.exact_rollout_steps += r.exact_steps;
   }
   if (per == 1) return all;
@@ -226,6 +286,7 @@ absl::Status RecedingHorizonPlanner::ScoreBatch(const ReplanState& r,
 
 RecedingHorizonPlanner::ReplanState RecedingHorizonPlanner::WarmStart(const Env& env) {
   ReplanState r;
+  prefix_ = nullptr;  // a new state: its prefix is computed on first use
   r.knot0 = task_->KnotAtOrBefore(env.steps());
   r.clock = {env.steps() - r.knot0, 0};
   r.snapshot = env.Snapshot();
@@ -281,12 +342,12 @@ absl::StatusOr<bool> RecedingHorizonPlanner::InTrouble(const ReplanState& r,
   // Trouble that only later decisions make is left to the re-plans after the first one.
   RolloutOptions plain;
   plain.clock = r.clock;
+  plain.prefix = PrefixFor(*r.snapshot, r.clock, result.best.data(), plain.bound);
   RolloutResult best;
-  RETURN_IF_ERROR(pool_->Run(*r.snapshot, 1, [&](int, Env* copy) {
-    best = Rollout(copy, result.best.data(), plain);
-  }));
+  RETURN_IF_ERROR(pool_->Run(plain.prefix != nullptr ? *plain.prefix->state : *r.snapshot, 1,
+                             [&](int, Env* copy) { best = Rollout(copy, result.best.data(), plain); }));
   ++totals_.rollouts;
-  totals_.rollout_steps += best.steps;
+  totals_.rollout_steps += best.steps - best.shared_steps;
   if (measure != nullptr) *measure = best.cost - best.later;
   return best.cost - best.later > above;
 }
@@ -514,11 +575,11 @@ absl::Status RecedingHorizonPlanner::Commit(const Env& env, const ReplanState& r
     options.clock = r.clock;
     options.trace = &predicted_;
     options.terms = true;
-    status = pool_->Run(*r.snapshot, 1, [&](int, Env* copy) {
-      chosen = Rollout(copy, theta_.data(), options);
-    });
+    options.prefix = PrefixFor(*r.snapshot, r.clock, theta_.data(), options.bound);
+    status = pool_->Run(options.prefix != nullptr ? *options.prefix->state : *r.snapshot, 1,
+                        [&](int, Env* copy) { chosen = Rollout(copy, theta_.data(), options); });
     ++totals_.rollouts;
-    totals_.rollout_steps += chosen.steps;
+    totals_.rollout_steps += chosen.steps - chosen.shared_steps;
   }
   has_plan_ = true;
   origin_step_ = env.steps();
@@ -526,6 +587,7 @@ absl::Status RecedingHorizonPlanner::Commit(const Env& env, const ReplanState& r
   origin_cycle_ = cycle_;
   ++totals_.replans;
   last_.env_step = env.steps();
+  last_.node = env.node();
   last_.incumbent_cost = result.incumbent_cost;
   last_.best_cost = result.best_cost;
   last_.evaluations = result.evaluations;

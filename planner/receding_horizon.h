@@ -31,6 +31,7 @@ namespace juggle::planner {
 // What the last re-plan found (tools, tests, the planner's progress lines).
 struct ReplanReport {
   int env_step = 0;            // the env's step count when it re-planned
+  int node = 0;                // the env's graph node then (Env::node)
   double incumbent_cost = 0;   // the warm start's cost
   double best_cost = 0;
   int evaluations = 0;         // rollouts simulated
@@ -130,6 +131,7 @@ class RecedingHorizonPlanner {
     Outcome end = Outcome::kRunning;
     bool missed = false;  // RolloutScorer::predicts_miss
     int exact_steps = 0;  // of `steps`, simulated on the executed model (exact_within_m)
+    int shared_steps = 0;  // of `steps`, the shared prefix's (simulated once per re-plan)
     std::vector<double> first_outcome;
     std::vector<double> terms;  // only when asked for (the chosen plan's rollout)
     double later = 0;  // RolloutScorer::later_cost
@@ -138,12 +140,26 @@ class RecedingHorizonPlanner {
   // the state after every step is appended to it; with config.prune it stops once the cost so far
   // reaches `bound`; `noise`: added to the action of step t from noise[t·act_dim] on
   // (robust_rows() steps), or none.
+  struct SharedPrefix;  // below
   struct RolloutOptions {
     PlanClock clock;
     std::vector<uint64_t>* trace = nullptr;
     double bound = std::numeric_limits<double>::infinity();
     const float* noise = nullptr;
     bool terms = false;
+    // Continue from this prefix's end (the env already holds its state) instead of the start.
+    const SharedPrefix* prefix = nullptr;
+  };
+  // PlannerConfig.share_prefix: the steps from a re-plan's state up to the first where the plan
+  // acts (PlanningTask::PlanActs), simulated once; `state` null when there are none to share.
+  struct SharedPrefix {
+    std::unique_ptr<EnvSnapshot> state;
+    std::unique_ptr<RolloutScorer> scorer;
+    int steps = 0;
+    PlanClock clock;              // at its end
+    int node = 0;                 // the env's node at its end
+    double max_partial = 0;       // the largest cost so far after any of its steps
+    std::vector<uint64_t> trace;  // the state fingerprints of its steps
   };
   // What one re-plan works on: the snapshot of the state, its clock, the previous plan shifted
   // to now, the search's seeds and space, and its random stream.
@@ -157,6 +173,11 @@ class RecedingHorizonPlanner {
   absl::StatusOr<std::vector<RolloutResult>> RolloutBatch(
       const EnvSnapshot& snapshot, PlanClock clock, const std::vector<double>& candidates, int n,
       double bound = std::numeric_limits<double>::infinity());
+  // The re-plan's shared prefix from `snapshot` at `clock` (computed on first use, simulating
+  // `theta`'s actions, which no variable changes there), or null: none, or not usable for a
+  // bound of `bound` (a rollout would stop inside it).
+  const SharedPrefix* PrefixFor(const EnvSnapshot& snapshot, PlanClock clock,
+                                const double* theta, double bound);
   // The search's cost: each candidate's rollout plus the task's plan cost.
   absl::Status ScoreBatch(const ReplanState& r, const std::vector<double>& candidates, int n,
                           double bound, std::vector<double>* costs);
@@ -212,6 +233,9 @@ class RecedingHorizonPlanner {
   config::PlannerConfig config_;
   RolloutPool* pool_;
   RolloutPool* exact_pool_;  // null: the rollouts run on the executed model
+  // The current re-plan's shared prefix once computed (reset by WarmStart; a Fork shares it
+  // until its own next re-plan).
+  std::shared_ptr<SharedPrefix> prefix_;
   uint64_t stream_;
   const ActionPrior* prior_;
   int act_dim_;

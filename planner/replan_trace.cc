@@ -23,9 +23,9 @@ std::string PlanningTask::DescribeDecision(const std::vector<double>& decision,
 
 std::string FormatReplanTrace(const PlanningTask& task, const EnvSpec& spec, int slot,
                               const ReplanReport& r) {
-  std::string line = absl::StrFormat("  re-plan slot %d step %d: cost %.4g -> %.4g (%d rollouts)",
-                                     slot, r.env_step, r.incumbent_cost, r.best_cost,
-                                     r.evaluations);
+  std::string line =
+      absl::StrFormat("  re-plan slot %d step %d node %d: cost %.4g -> %.4g (%d rollouts)", slot,
+                      r.env_step, r.node, r.incumbent_cost, r.best_cost, r.evaluations);
   if (r.rescued) absl::StrAppend(&line, " rescue");
   if (r.refined_out) absl::StrAppend(&line, " refined");
   if (r.predicts_failure) {

@@ -12,7 +12,7 @@
 
 namespace juggle::planner {
 
-// "  re-plan slot S step N: cost A -> B (R rollouts)[ rescue][ ends ...]<decision>  terms:
+// "  re-plan slot S step N node K: cost A -> B (R rollouts)[ rescue][ ends ...]<decision>  terms:
 // name=value ..." without a newline.
 std::string FormatReplanTrace(const PlanningTask& task, const EnvSpec& spec, int slot,
                               const ReplanReport& r);

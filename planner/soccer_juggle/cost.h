@@ -84,6 +84,9 @@ class SoccerRolloutScorer final : public RolloutScorer {
   double later_cost() const override { return later_cost_; }
   std::vector<double> first_outcome() const override { return OutcomeValues(first_kick_); }
   std::vector<double> terms() const override;
+  std::unique_ptr<RolloutScorer> Clone() const override {
+    return std::make_unique<SoccerRolloutScorer>(*this);
+  }
 
   const KickOutcome& first_kick() const { return first_kick_; }
   int kicks() const { return kicks_; }

@@ -73,6 +73,8 @@ SoccerPlanLayout MakeSoccerPlanLayout(const config::PlannerConfig& config,
   if (actions.ok()) layout.body_actions = *std::move(actions);
   layout.kick_sets = kick.enabled() ? kick.cycles() : 0;
   layout.later_kicks_by_base = kick.later_kicks_by_base();
+  layout.hold_follow_through = kick.enabled() && kick.hold_follow_through();
+  layout.hold_after = kick.hold_after_replans();
   layout.horizon = config.horizon_steps();
   layout.knot_steps = config.body_knot_steps();
   if (layout.knot_steps > 0) {
@@ -99,6 +101,7 @@ SearchSpace MakeSoccerSearchSpace(const SoccerPlanLayout& layout,
   for (int i = 0; i < layout.body_knots * layout.knot_size(); ++i) {
     add(config.body_limit(), config.body_sigma());
   }
+  for (int i = 0; i < layout.held_dim(); ++i) add(0, 0);  // set by the task, never searched
   return space;
 }
 
@@ -201,7 +204,9 @@ void SoccerPlanAction(const JuggleEnv& env, const SoccerPlanLayout& layout, cons
                       PlanClock clock, float* action, const double* prior) {
   double a[kNumActions] = {0};
   if (prior != nullptr) std::copy_n(prior, kNumActions, a);
-  if (const int set = layout.acting_kick_set(clock.cycle); set >= 0) {
+  if (layout.follows_held(theta, clock.cycle)) {
+    AddKickAction(env, theta + layout.held(), a);
+  } else if (const int set = layout.acting_kick_set(clock.cycle); set >= 0) {
     AddKickAction(env, theta + layout.kick(set), a);
   }
   if (layout.body_knots > 0) {
@@ -233,6 +238,9 @@ std::vector<double> ShiftSoccerPlan(const SoccerPlanLayout& layout, const std::v
     const int from = std::min(k + std::max(knots, 0), layout.body_knots - 1);
     std::copy_n(theta.begin() + layout.knot(from), layout.knot_size(),
                 out.begin() + layout.knot(k));
+  }
+  if (layout.hold_follow_through && cycles <= 0) {  // a new cycle ends the hold (zeros)
+    std::copy_n(theta.begin() + layout.held(), layout.held_dim(), out.begin() + layout.held());
   }
   return out;
 }

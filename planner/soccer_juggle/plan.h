@@ -11,6 +11,10 @@
 //   knot every knot_steps control steps of the episode, on a grid fixed to the episode (knot 0
 //   of a plan is the grid knot at or before its origin), so a re-plan keeps the knots it
 //   shares with the previous plan where they were and the shifted plan acts exactly as before.
+//   with KickVariables.hold_follow_through, the held kick: kKickVariables values the current
+//   cycle's follow-through uses instead of its set, and a count (0: the kick had not left
+//   before the plan; k: the plan is the k-th re-plan since it left, holding once k passes
+//   KickVariables.hold_after_replans), never searched (the task sets both at each re-plan).
 // At a visited state the plan's action is the kick variables' change of the PD target turned
 // into the feed-forward torque it makes (kp × the target's change, per joint and axis, divided
 // by the action's torque unit; in a STALL node, whose phase is held, the angles move the held
@@ -40,13 +44,24 @@ struct SoccerPlanLayout {
   int kick_sets = 0;     // 0 when KickVariables.enabled is false
   // Cycles past the last set kick with no variables (KickVariables.later_kicks_by_base).
   bool later_kicks_by_base = false;
+  bool hold_follow_through = false;  // KickVariables.hold_follow_through
+  int hold_after = 0;                // KickVariables.hold_after_replans
   int knot_steps = 0;    // 0: no whole-body corrections
   int body_knots = 0;    // enough to span a horizon from anywhere between two grid knots
   int horizon = 1;
   std::vector<int> body_actions;  // the action indices a knot holds, in order
   int knot_size() const { return static_cast<int>(body_actions.size()); }
   int kick_dim() const { return kick_sets * kKickVariables; }
-  int dim() const { return kick_dim() + body_knots * knot_size(); }
+  int held_dim() const { return hold_follow_through ? kKickVariables + 1 : 0; }
+  int dim() const { return kick_dim() + body_knots * knot_size() + held_dim(); }
+  // Index of the held kick's first value and of its count (hold_follow_through only).
+  int held() const { return kick_dim() + body_knots * knot_size(); }
+  int held_count() const { return held() + kKickVariables; }
+  // Whether a plan's cycle `cycle` acts through the held kick (the follow-through of a kick that
+  // left before the plan, once held).
+  bool follows_held(const double* theta, int cycle) const {
+    return hold_follow_through && cycle == 0 && theta[held_count()] > hold_after;
+  }
   // Index of the first variable of kick set `set` / body knot `knot`.
   int kick(int set) const { return set * kKickVariables; }
   // The kick set that acts in plan cycle `cycle` (the last set for cycles past it), or -1: none

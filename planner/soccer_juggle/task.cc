@@ -71,6 +71,7 @@ void SoccerJuggleTask::Restrict(const Env& env, const std::vector<double>& shift
                                 SearchSpace* space,
                                 std::vector<std::vector<double>>* seeds) const {
   if (memory_.has_value()) AddRememberedKicks(env, seeds);
+  if (layout_.hold_follow_through) HoldFollowThrough(env, shifted, space, seeds);
   // After the current cycle's release its kick set is held where it is.
   if (!(settings_.kick().freeze_after_release() && Released(env) && layout_.kick_sets > 0)) return;
   for (int v = 0; v < kKickVariables; ++v) {
@@ -80,6 +81,35 @@ void SoccerJuggleTask::Restrict(const Env& env, const std::vector<double>& shift
   for (std::vector<double>& seed : *seeds) {
     std::copy_n(shifted.begin(), kKickVariables, seed.begin());
   }
+}
+
+void SoccerJuggleTask::HoldFollowThrough(const Env& env, const std::vector<double>& shifted,
+                                         SearchSpace* space,
+                                         std::vector<std::vector<double>>* seeds) const {
+  // Released now: this re-plan's count since the release, and once it passes hold_after the
+  // kick the previous plan left with (its first set then, or the hold it already had); else
+  // nothing held. Every candidate carries the same values.
+  double held[kKickVariables + 1] = {0};
+  if (Released(env)) {
+    const double count = shifted[layout_.held_count()] + 1;
+    const bool had = shifted[layout_.held_count()] > layout_.hold_after;
+    if (count > layout_.hold_after) {
+      std::copy_n(shifted.begin() + (had ? layout_.held() : layout_.kick(0)), kKickVariables, held);
+    }
+    held[kKickVariables] = count;
+  }
+  for (int i = 0; i <= kKickVariables; ++i) {
+    const int v = layout_.held() + i;
+    space->lower[v] = space->upper[v] = held[i];
+    space->sigma[v] = 0;
+    for (std::vector<double>& seed : *seeds) seed[v] = held[i];
+  }
+}
+
+bool SoccerJuggleTask::PlanActs(const Env& env, const double* theta, PlanClock clock) const {
+  if (layout_.body_knots > 0) return true;
+  if (layout_.follows_held(theta, clock.cycle)) return false;
+  return layout_.acting_kick_set(clock.cycle) >= 0;
 }
 
 void SoccerJuggleTask::AddRememberedKicks(const Env& env,

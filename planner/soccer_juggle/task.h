@@ -49,6 +49,9 @@ class SoccerJuggleTask final : public PlanningTask {
   double ContactClearance(const Env& env) const override;
   void Action(const Env& env, const double* theta, PlanClock clock, const double* prior,
               float* action) const override;
+  // False while a held follow-through acts (KickVariables.hold_follow_through), without body
+  // knots.
+  bool PlanActs(const Env& env, const double* theta, PlanClock clock) const override;
   std::unique_ptr<RolloutScorer> NewScorer() const override;
   std::vector<std::string> term_names() const override;
   std::vector<std::string> outcome_names() const override;
@@ -74,6 +77,10 @@ class SoccerJuggleTask final : public PlanningTask {
   // While the ball flies to the next contact: the first seed with the next kick's set replaced by
   // each of the kick memory's nearest decisions, appended to `seeds`.
   void AddRememberedKicks(const Env& env, std::vector<std::vector<double>>* seeds) const;
+  // KickVariables.hold_follow_through: the held kick and its flag fixed in `space` and every
+  // seed for `env`'s state.
+  void HoldFollowThrough(const Env& env, const std::vector<double>& shifted, SearchSpace* space,
+                         std::vector<std::vector<double>>* seeds) const;
 
   std::shared_ptr<const soccer_juggle::JuggleSpec> spec_;
   config::SoccerJugglePlanning settings_;

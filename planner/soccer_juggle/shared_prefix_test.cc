@@ -1,0 +1,196 @@
+// A held follow-through (KickVariables.hold_follow_through) and the shared prefix it allows
+// (PlannerConfig.share_prefix): after a release the leg's way back follows the kick it left
+// with, whatever the plan's set becomes; the set acts again from the next cycle; and simulating
+// the steps where no variable acts once per re-plan chooses the same plans, predicted bit for
+// bit, from fewer rollout steps.
+#include <memory>
+#include <vector>
+
+#include "envs/registry.h"
+#include "envs/testing/test_configs.h"
+#include "gtest/gtest.h"
+#include "planner/receding_horizon.h"
+#include "planner/soccer_juggle/plan.h"
+#include "planner/soccer_juggle/task.h"
+#include "planner/soccer_juggle/test_kicks.h"
+
+namespace juggle::planner {
+namespace {
+
+using soccer_juggle::JuggleEnv;
+using soccer_juggle::JuggleSpec;
+using soccer_juggle::kNumActions;
+
+class SharedPrefixTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    absl::StatusOr<LoadedConfig> config =
+        LoadRunConfig(testing::RepoPath("configs/right_foot_planner.textproto"));
+    ASSERT_TRUE(config.ok()) << config.status();
+    config_ = *config;
+    UseSmallPlanner(&config_);
+    config_.run.mutable_planner()->mutable_soccer_juggle()->mutable_kick()->set_hold_follow_through(
+        true);
+    absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(config_);
+    ASSERT_TRUE(spec.ok()) << spec.status();
+    spec_ = std::dynamic_pointer_cast<const JuggleSpec>(*spec);
+    walk_ = std::make_unique<AdaptiveWalk>(&spec_->graph());
+    pool_ = std::make_unique<RolloutPool>(spec_, 2);
+  }
+
+  // An env at the apex of right_foot_down with the ball 3 cm ahead of its target.
+  std::unique_ptr<JuggleEnv> Start() {
+    auto env = std::make_unique<JuggleEnv>(spec_, Rng(3));
+    env->ResetAt(*spec_->graph().FindNode("right_foot_down"), *walk_);
+    env->data()->qpos[spec_->ball_qpos()] += 0.03;
+    mj_forward(spec_->model(), env->data());
+    return env;
+  }
+
+  SoccerJuggleTask Task() const { return SoccerJuggleTask(spec_, config_.run.planner()); }
+
+  LoadedConfig config_;
+  std::shared_ptr<const JuggleSpec> spec_;
+  std::unique_ptr<AdaptiveWalk> walk_;
+  std::unique_ptr<RolloutPool> pool_;
+};
+
+// A plan with kick set 0 = `kick` and the held kick `held` (flag 1), zero elsewhere.
+std::vector<double> PlanWith(const SoccerPlanLayout& layout, const std::vector<double>& kick,
+                             const std::vector<double>& held) {
+  std::vector<double> theta(layout.dim(), 0.0);
+  std::copy(kick.begin(), kick.end(), theta.begin() + layout.kick(0));
+  std::copy(held.begin(), held.end(), theta.begin() + layout.held());
+  theta[layout.held_count()] = 1;
+  return theta;
+}
+
+std::vector<float> ActionOf(const JuggleEnv& env, const SoccerPlanLayout& layout,
+                            const std::vector<double>& theta, PlanClock clock) {
+  std::vector<float> action(kNumActions);
+  SoccerPlanAction(env, layout, theta.data(), clock, action.data());
+  return action;
+}
+
+TEST_F(SharedPrefixTest, AHeldFollowThroughIgnoresTheKickSetUntilTheNextCycle) {
+  const SoccerJuggleTask task = Task();
+  const SoccerPlanLayout& layout = task.layout();
+  ASSERT_EQ(layout.dim(), 2 * kKickVariables + 1);
+  std::unique_ptr<JuggleEnv> env = Start();
+  ASSERT_TRUE(ZeroActionKick(env.get(), *walk_).valid);  // the kick has left the foot
+  const std::vector<double> held = {0.01, 0.1, -0.05, 0.08, 0.04};
+  const std::vector<double> a = PlanWith(layout, {0, 0, 0, 0, 0}, held);
+  const std::vector<double> b = PlanWith(layout, {-0.02, 0.3, 0.2, -0.3, 0.2}, held);
+  // Cycle 0 after the release: the held kick acts, the set does not.
+  EXPECT_FALSE(task.PlanActs(*env, b.data(), {0, 0}));
+  EXPECT_EQ(ActionOf(*env, layout, a, {0, 0}), ActionOf(*env, layout, b, {0, 0}));
+  std::vector<double> other_held = a;
+  other_held[layout.held() + 1] += 0.2;
+  EXPECT_NE(ActionOf(*env, layout, other_held, {0, 0}), ActionOf(*env, layout, a, {0, 0}));
+  // The next cycle: the set acts.
+  EXPECT_TRUE(task.PlanActs(*env, b.data(), {0, 1}));
+  EXPECT_NE(ActionOf(*env, layout, a, {0, 1}), ActionOf(*env, layout, b, {0, 1}));
+  // Without the flag the set acts in cycle 0 as before.
+  std::vector<double> unflagged = b;
+  unflagged[layout.held_count()] = 0;
+  EXPECT_TRUE(task.PlanActs(*env, unflagged.data(), {0, 0}));
+  EXPECT_NE(ActionOf(*env, layout, unflagged, {0, 0}), ActionOf(*env, layout, b, {0, 0}));
+}
+
+TEST_F(SharedPrefixTest, ARestrictionHoldsTheKickThePreviousPlanLeftWith) {
+  const SoccerJuggleTask task = Task();
+  const SoccerPlanLayout& layout = task.layout();
+  std::unique_ptr<JuggleEnv> env = Start();
+  std::vector<double> shifted(layout.dim(), 0.0);
+  const std::vector<double> left_with = {0.01, 0.1, -0.05, 0.08, 0.04};
+  std::copy(left_with.begin(), left_with.end(), shifted.begin() + layout.kick(0));
+  auto restrict = [&](const std::vector<double>& from) {
+    SearchSpace space = task.space();
+    std::vector<std::vector<double>> seeds = task.Seeds(from);
+    task.Restrict(*env, from, &space, &seeds);
+    for (int i = 0; i <= kKickVariables; ++i) {
+      const int v = layout.held() + i;
+      EXPECT_EQ(space.sigma[v], 0);
+      EXPECT_EQ(space.lower[v], space.upper[v]);
+      for (const std::vector<double>& seed : seeds) EXPECT_EQ(seed[v], space.lower[v]);
+    }
+    EXPECT_GT(space.sigma[layout.kick(0) + 1], 0);  // the set is still searched
+    return std::vector<double>(space.lower.begin() + layout.held(), space.lower.end());
+  };
+  // Before the release nothing is held.
+  EXPECT_EQ(restrict(shifted), std::vector<double>(kKickVariables + 1, 0.0));
+  ASSERT_TRUE(ZeroActionKick(env.get(), *walk_).valid);
+  // The first re-plan after it holds the set the previous plan left with ...
+  std::vector<double> expected = left_with;
+  expected.push_back(1);
+  EXPECT_EQ(restrict(shifted), expected);
+  // ... and later ones keep that hold whatever the set has become, counting on.
+  std::vector<double> later = PlanWith(layout, {0, 0.3, 0, 0, 0}, left_with);
+  expected.back() = 2;
+  EXPECT_EQ(restrict(later), expected);
+  // A new cycle ends the hold.
+  const std::vector<double> next_cycle = task.Shift(later, 0, 1);
+  EXPECT_EQ(next_cycle[layout.held_count()], 0);
+}
+
+// hold_after_replans: the first re-plan after the release still moves the follow-through; the
+// next holds what it left with.
+TEST_F(SharedPrefixTest, AHoldAfterOneReplanLetsTheFirstReplanAfterTheReleaseMoveTheFollowThrough) {
+  config_.run.mutable_planner()->mutable_soccer_juggle()->mutable_kick()->set_hold_after_replans(1);
+  const SoccerJuggleTask task = Task();
+  const SoccerPlanLayout& layout = task.layout();
+  std::unique_ptr<JuggleEnv> env = Start();
+  ASSERT_TRUE(ZeroActionKick(env.get(), *walk_).valid);
+  std::vector<double> shifted(layout.dim(), 0.0);
+  const std::vector<double> first_after = {0.01, 0.1, -0.05, 0.08, 0.04};
+  std::copy(first_after.begin(), first_after.end(), shifted.begin() + layout.kick(0));
+  auto restrict = [&](const std::vector<double>& from) {
+    SearchSpace space = task.space();
+    std::vector<std::vector<double>> seeds = task.Seeds(from);
+    task.Restrict(*env, from, &space, &seeds);
+    return seeds.front();
+  };
+  const std::vector<double> first = restrict(std::vector<double>(layout.dim(), 0.0));
+  EXPECT_EQ(first[layout.held_count()], 1);
+  EXPECT_TRUE(task.PlanActs(*env, first.data(), {0, 0}));  // the set still moves it
+  shifted[layout.held_count()] = 1;  // the first re-plan's plan, shifted
+  const std::vector<double> second = restrict(shifted);
+  EXPECT_EQ(second[layout.held_count()], 2);
+  EXPECT_EQ(std::vector<double>(second.begin() + layout.held(), second.begin() + layout.held_count()),
+            first_after);
+  EXPECT_FALSE(task.PlanActs(*env, second.data(), {0, 0}));
+}
+
+// The same episode with and without the shared prefix: every action and rescue alike, every
+// visited state as predicted, fewer rollout steps; a rescue at every re-plan covers its path.
+TEST_F(SharedPrefixTest, SharingThePrefixChoosesTheSamePlansFromFewerRolloutSteps) {
+  config::PlannerConfig& p = *config_.run.mutable_planner();
+  ASSERT_TRUE(p.prune());
+  p.mutable_rescue()->set_cost_above(1e-9);
+  p.mutable_rescue()->set_samples(16);
+  p.mutable_rescue()->set_iterations(2);
+  std::vector<float> actions[2];
+  PlannerTotals totals[2];
+  for (int arm = 0; arm < 2; ++arm) {
+    p.set_share_prefix(arm == 1);
+    RecedingHorizonPlanner planner(std::make_shared<SoccerJuggleTask>(spec_, p), p, pool_.get(), 0);
+    std::unique_ptr<JuggleEnv> env = Start();
+    float action[kNumActions];
+    for (int t = 0; t < 44; ++t) {  // the kick at about step 20, then its follow-through
+      ASSERT_TRUE(planner.Act(*env, action).ok());
+      actions[arm].insert(actions[arm].end(), action, action + kNumActions);
+      ASSERT_EQ(env->Step(action, *walk_).outcome, Outcome::kRunning) << "step " << t;
+    }
+    totals[arm] = planner.totals();
+  }
+  EXPECT_EQ(actions[1], actions[0]);
+  EXPECT_EQ(totals[1].rollouts, totals[0].rollouts);
+  EXPECT_EQ(totals[1].rescues, totals[0].rescues);
+  EXPECT_GE(totals[1].prediction_checks, 40);
+  EXPECT_EQ(totals[1].prediction_mismatches, 0);
+  EXPECT_LT(totals[1].rollout_steps, totals[0].rollout_steps * 0.9)
+      << totals[1].rollout_steps << " against " << totals[0].rollout_steps;
+}
+
+}  // namespace
+}  // namespace juggle::planner

@@ -74,6 +74,23 @@ TEST(PlannerConfigTest, ARescueOfBodyKnotsWithoutBodyKnotsIsRefused) {
   EXPECT_THAT(std::string(s.message()), HasSubstr("body_knot_steps is 0"));
 }
 
+TEST(PlannerConfigTest, AHoldAfterReplansWithoutAHeldFollowThroughIsRefusedAtTheField) {
+  const std::string text =
+      Config("soccer_juggle { kick { hold_after_replans: 2 } }");
+  LoadedConfig config;
+  ASSERT_TRUE(Load("hold_after.textproto", text, &config).ok());
+  const absl::Status s = ValidatePlannerConfig(config);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()),
+              StartsWith(::juggle::testing::Loc(config.config_path, text, "hold_after_replans: 2")));
+  EXPECT_THAT(std::string(s.message()), HasSubstr("hold_follow_through is false"));
+  ASSERT_TRUE(Load("hold_after_ok.textproto",
+                   Config("soccer_juggle { kick { hold_follow_through: true hold_after_replans: 2 } }"),
+                   &config)
+                  .ok());
+  EXPECT_TRUE(ValidatePlannerConfig(config).ok());
+}
+
 TEST(PlannerConfigTest, ARescueStoppingAboveItsTroubleThresholdIsRefusedAtTheField) {
   const std::string text = Config("rescue { cost_above: 500 stop_below: 600 }");
   LoadedConfig config;

@@ -289,6 +289,12 @@ absl::Status ValidateSoccerJuggleTask(const LoadedConfig& config) {
           ": their variables move different joints; set cycles: 2 or more"));
     }
   }
+  if (kick.hold_after_replans() > 0 && !kick.hold_follow_through()) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where({{"planner"}, {"soccer_juggle"}, {"kick"}, {"hold_after_replans"}}),
+        ": ", kick.hold_after_replans(), " re-plans before a hold, and hold_follow_through is "
+        "false: nothing is held; set hold_follow_through: true or remove the field"));
+  }
   if (p.soccer_juggle().has_kick_memory()) {
     const config::KickMemoryConfig& memory = p.soccer_juggle().kick_memory();
     const std::string where_file = config.root.Where(

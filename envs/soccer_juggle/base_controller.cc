@@ -21,7 +21,9 @@ void BaseController::UpdateSwingAdjust(const mjData& data, const CursorState& cu
   if (adjust->placing) {
     PlaceKickingFoot(spec_, data, node.spec.pose().leg_swing().side() == config::LEFT, adjust);
   }
-  if (!spec_.env().has_kick_feedback()) return;
+  // A node's own feedback, else the env's (proto/control_graph.proto, NodeSpec.kick_feedback).
+  const bool own = node.spec.has_kick_feedback();
+  if (!own && !spec_.env().has_kick_feedback()) return;
   if (node.stage != config::DOWN || kick_touched || !node.spec.pose().has_leg_swing()) return;
   const double* qpos = data.qpos;
   const double* ball = qpos + spec_.ball_qpos();
@@ -32,7 +34,7 @@ void BaseController::UpdateSwingAdjust(const mjData& data, const CursorState& cu
   const double ex = c.x - qpos[0] - node.spec.ball_target().x();
   const double ey = c.y - qpos[1] - node.spec.ball_target().y();
   const double late = c.t + spec_.cursor().SecondsFromContact(cursor, cursor.phase);
-  const config::KickFeedback& f = spec_.env().kick_feedback();
+  const config::KickFeedback& f = own ? node.spec.kick_feedback() : spec_.env().kick_feedback();
   const bool left = node.spec.pose().leg_swing().side() == config::LEFT;
   adjust->hip = f.hip_per_m() * ex;
   adjust->knee = f.knee_per_m() * ex;

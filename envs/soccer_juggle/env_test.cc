@@ -376,45 +376,112 @@ TEST_F(JuggleEnvTest, FlatTopSwingIsOneMinusCosineToTheFourthAndFlatAtItsPeak) {
   EXPECT_LT(std::abs(knee_at(1e-4) - knee_at(0)) / 1e-4, 0.005);
 }
 
-TEST_F(JuggleEnvTest, KickFeedbackMovesTheSwingByTheGainsTimesThePredictedBallOffset) {
-  LoadedConfig config = spec_->config();
-  config::KickFeedback* f = config.run.mutable_soccer_juggle()->mutable_env()->mutable_kick_feedback();
-  f->set_hip_per_m(3);
-  f->set_knee_per_m(-2);
-  f->set_abduction_per_m(1.5);
-  auto spec = JuggleSpec::Create(config);
-  ASSERT_TRUE(spec.ok()) << spec.status();
-  JuggleEnv env(*spec, Rng(3));
-  env.ResetAt(down_, *walk_);
+// Steps `spec`'s env from right_foot_down with the ball 2 cm ahead of and 1 cm left of its apex
+// and expects the reference swing moved by `gains` times the predicted ball offset.
+void ExpectSwingMovedByFeedback(const std::shared_ptr<const JuggleSpec>& spec_ptr,
+                                const config::KickFeedback& gains) {
+  const JuggleSpec& spec = *spec_ptr;
+  const int down = *spec.graph().FindNode("right_foot_down");
+  AdaptiveWalk walk(&spec.graph());
+  JuggleEnv env(spec_ptr, Rng(3));
+  env.ResetAt(down, walk);
   // A ball at rest 2 cm ahead of and 1 cm left of its apex falls straight down: the predicted
   // offset at the contact height is (0.02, 0.01).
   mjData* d = env.data();
-  d->qpos[(*spec)->ball_qpos() + 0] += 0.02;
-  d->qpos[(*spec)->ball_qpos() + 1] += 0.01;
-  mj_forward((*spec)->model(), d);
+  d->qpos[spec.ball_qpos() + 0] += 0.02;
+  d->qpos[spec.ball_qpos() + 1] += 0.01;
+  mj_forward(spec.model(), d);
   // Into the swing (at φ = 0 the swing is at rest and every amplitude change is 0).
-  for (int i = 0; i < 10; ++i) ASSERT_EQ(env.Step(kZeroAction, *walk_).outcome, Outcome::kRunning);
+  for (int i = 0; i < 10; ++i) ASSERT_EQ(env.Step(kZeroAction, walk).outcome, Outcome::kRunning);
   // The ball falls straight down, so the predicted offset is where it is now (relative to the
   // root, which has swayed since the start).
-  const config::NodeSpec& node = (*spec)->graph().node(down_).spec;
-  const double* ball = d->qpos + (*spec)->ball_qpos();
+  const config::NodeSpec& node = spec.graph().node(down).spec;
+  const double* ball = d->qpos + spec.ball_qpos();
   const double ex = ball[0] - d->qpos[0] - node.ball_target().x();
   const double ey = ball[1] - d->qpos[1] - node.ball_target().y();
   const double phase0 = env.cursor().phase;
-  env.Step(kZeroAction, *walk_);
+  env.Step(kZeroAction, walk);
   SwingAdjust expected;
-  expected.hip = 3 * ex;
-  expected.knee = -2 * ex;
-  expected.abduction = 1.5 * ey * -1;  // right leg: toward −y is outward
+  expected.hip = gains.hip_per_m() * ex;
+  expected.knee = gains.knee_per_m() * ex;
+  expected.abduction = gains.abduction_per_m() * ey * -1;  // right leg: toward −y is outward
   CharacterPose pose;
-  ComputeReferencePose(**spec, down_, phase0, &pose, expected);
+  ComputeReferencePose(spec, down, phase0, &pose, expected);
   for (int i = 0; i < kCharacterNq; ++i) EXPECT_NEAR(env.reference_pose()[i], pose[i], 1e-9) << i;
   // The same swing without feedback differs (the adjustment is not zero).
   CharacterPose plain;
-  ComputeReferencePose(**spec, down_, phase0, &plain);
+  ComputeReferencePose(spec, down, phase0, &plain);
   double diff = 0;
   for (int i = 0; i < kCharacterNq; ++i) diff += std::abs(plain[i] - pose[i]);
   EXPECT_GT(diff, 1e-4);
+}
+
+config::KickFeedback Gains(double hip, double knee, double abduction) {
+  config::KickFeedback f;
+  f.set_hip_per_m(hip);
+  f.set_knee_per_m(knee);
+  f.set_abduction_per_m(abduction);
+  return f;
+}
+
+// `config` with node `name`'s own kick feedback set to `gains`, its graph rebuilt.
+void SetNodeKickFeedback(LoadedConfig* config, const std::string& name,
+                         const config::KickFeedback& gains) {
+  config::ControlGraph* graph = config->run.mutable_soccer_juggle()->mutable_graph();
+  bool found = false;
+  for (config::NodeSpec& node : *graph->mutable_node()) {
+    if (node.name() != name) continue;
+    *node.mutable_kick_feedback() = gains;
+    found = true;
+  }
+  ASSERT_TRUE(found) << name;
+  absl::StatusOr<ControlGraph> built = ControlGraph::Build(*graph, config->graph_locator);
+  ASSERT_TRUE(built.ok()) << built.status();
+  config->graph = std::make_shared<const ControlGraph>(*std::move(built));
+}
+
+TEST_F(JuggleEnvTest, KickFeedbackMovesTheSwingByTheGainsTimesThePredictedBallOffset) {
+  LoadedConfig config = spec_->config();
+  *config.run.mutable_soccer_juggle()->mutable_env()->mutable_kick_feedback() = Gains(3, -2, 1.5);
+  auto spec = JuggleSpec::Create(config);
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  ExpectSwingMovedByFeedback(*spec, Gains(3, -2, 1.5));
+}
+
+TEST_F(JuggleEnvTest, ANodesOwnKickFeedbackReplacesTheEnvsAndActsWithoutIt) {
+  for (const bool env_feedback : {true, false}) {
+    SCOPED_TRACE(env_feedback ? "env feedback set" : "no env feedback");
+    LoadedConfig config = spec_->config();
+    if (env_feedback) {
+      *config.run.mutable_soccer_juggle()->mutable_env()->mutable_kick_feedback() =
+          Gains(3, -2, 1.5);
+    }
+    SetNodeKickFeedback(&config, "right_foot_down", Gains(-1, 0.5, 6));
+    auto spec = JuggleSpec::Create(config);
+    ASSERT_TRUE(spec.ok()) << spec.status();
+    ExpectSwingMovedByFeedback(*spec, Gains(-1, 0.5, 6));
+  }
+}
+
+TEST_F(JuggleEnvTest, ANodesZeroKickFeedbackTurnsTheEnvsOffThere) {
+  LoadedConfig config = spec_->config();
+  *config.run.mutable_soccer_juggle()->mutable_env()->mutable_kick_feedback() = Gains(3, -2, 1.5);
+  SetNodeKickFeedback(&config, "right_foot_down", Gains(0, 0, 0));  // present, every gain 0
+  auto spec = JuggleSpec::Create(config);
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  const int down = *(*spec)->graph().FindNode("right_foot_down");
+  AdaptiveWalk walk(&(*spec)->graph());
+  JuggleEnv env(*spec, Rng(3));
+  env.ResetAt(down, walk);
+  mjData* d = env.data();
+  d->qpos[(*spec)->ball_qpos() + 0] += 0.02;
+  mj_forward((*spec)->model(), d);
+  for (int i = 0; i < 10; ++i) ASSERT_EQ(env.Step(kZeroAction, walk).outcome, Outcome::kRunning);
+  const double phase0 = env.cursor().phase;
+  env.Step(kZeroAction, walk);
+  CharacterPose plain;
+  ComputeReferencePose(**spec, down, phase0, &plain);
+  for (int i = 0; i < kCharacterNq; ++i) EXPECT_NEAR(env.reference_pose()[i], plain[i], 1e-12) << i;
 }
 
 // The start variation of the recipe's config: within its ranges, different per seed, the same

@@ -329,6 +329,13 @@ absl::Status JuggleSpecBuilder::ResolveNodes(JuggleSpec* s) {
     }
     if (spec.pose().has_keyframes()) RETURN_IF_ERROR(ResolveKeyframes(s, n));
     RETURN_IF_ERROR(ResolveKickVariables(s, n));
+    if (spec.has_kick_feedback() &&
+        (spec.stage() != config::DOWN || !spec.pose().has_leg_swing())) {
+      return Invalid(where, {{"node", n}, {"kick_feedback"}},
+                     absl::StrCat("node '", graph.node(n).name,
+                                  "': kick_feedback acts only in a DOWN node with a leg swing "
+                                  "(the base controller's swing before the contact)"));
+    }
     if (spec.has_stall()) {
       ASSIGN_OR_RETURN(rt.stall_body,
                        body_id(spec.stall().body(), {{"node", n}, {"stall"}, {"body"}}));

@@ -184,6 +184,29 @@ INSTANTIATE_TEST_SUITE_P(
                        "kick_variable { move { joint: \"neck\" axis: \"y\"",
                        "declares 5 kick variables; the planner searches at most 4"}));
 
+TEST(NodeKickFeedbackTest, OutsideADownNodeWithALegSwingIsAConfigErrorAtItsLine) {
+  const std::string feedback = "  kick_feedback { abduction_per_m: 6 }\n";
+  const std::string foot = "contact_body: \"right_ankle\" contact_height: 0.5 apex_height: 1.4";
+  const std::string swing = "leg_swing { side: RIGHT hip_amplitude: 1 }";
+  std::string up_only = Graph(swing, "", foot);
+  up_only.insert(up_only.find("  contact_body", up_only.find("name: \"up\"")), feedback);
+  for (const std::string& graph_text : {Graph(kHeader, feedback), up_only}) {
+    absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SpecWithGraph(graph_text);
+    ASSERT_FALSE(spec.ok());
+    EXPECT_EQ(spec.status().code(), absl::StatusCode::kInvalidArgument);
+    const std::string at =
+        testing::Loc(testing::WriteTemp("graph.textproto", graph_text), graph_text,
+                     "kick_feedback");
+    EXPECT_THAT(std::string(spec.status().message()), HasSubstr(at.substr(0, at.rfind(':'))));
+    EXPECT_THAT(std::string(spec.status().message()),
+                HasSubstr("kick_feedback acts only in a DOWN node with a leg swing"));
+  }
+  // In the swing's DOWN node it loads.
+  std::string down_only = Graph(swing, "", foot);
+  down_only.insert(down_only.find("  contact_body"), feedback);
+  EXPECT_TRUE(SpecWithGraph(down_only).ok()) << SpecWithGraph(down_only).status();
+}
+
 TEST(NodeKickVariablesTest, OneKickSetForNodesWhoseDeclarationsDifferIsRefusedAtCycles) {
   // The header set declared on one node and a neck-only variable on the other.
   std::string graph_text = Graph(kHeader, kHeaderSetDeclared);

@@ -16,6 +16,7 @@
 #include "envs/testing/test_configs.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "planner/planner_config.h"
 #include "planner/soccer_juggle/plan.h"
 #include "planner/soccer_juggle/task.h"
 
@@ -205,6 +206,23 @@ TEST(NodeKickFeedbackTest, OutsideADownNodeWithALegSwingIsAConfigErrorAtItsLine)
   std::string down_only = Graph(swing, "", foot);
   down_only.insert(down_only.find("  contact_body"), feedback);
   EXPECT_TRUE(SpecWithGraph(down_only).ok()) << SpecWithGraph(down_only).status();
+}
+
+TEST(NodeKickFeedbackTest, TheKneesFromTheFootConfigGivesTheKneeItsOwnGainsAndLoadsForThePlanner) {
+  absl::StatusOr<LoadedConfig> config =
+      LoadRunConfig(testing::RepoPath("configs/knees_from_foot_planner.textproto"));
+  ASSERT_TRUE(config.ok()) << config.status();
+  EXPECT_TRUE(ValidatePlannerConfig(*config).ok()) << ValidatePlannerConfig(*config);
+  const ControlGraph& graph = *config->graph;
+  const config::NodeSpec& foot = graph.node(*graph.FindNode("right_foot_down")).spec;
+  const config::NodeSpec& knee = graph.node(*graph.FindNode("right_knee_down")).spec;
+  EXPECT_FALSE(foot.has_kick_feedback());  // the env's, the foot's gains
+  EXPECT_GT(config->run.soccer_juggle().env().kick_feedback().hip_per_m(), 0);
+  ASSERT_TRUE(knee.has_kick_feedback());
+  EXPECT_EQ(knee.kick_feedback().hip_per_m(), 0);
+  EXPECT_GT(knee.kick_feedback().abduction_per_m(), 0);
+  EXPECT_TRUE(graph.node(*graph.FindNode("right_foot_down")).spec.initial());
+  EXPECT_FALSE(knee.initial());
 }
 
 TEST(NodeKickVariablesTest, OneKickSetForNodesWhoseDeclarationsDifferIsRefusedAtCycles) {

@@ -54,11 +54,9 @@ KickOutcome PredictedKick(const ReplanReport& r) { return KickOutcomeOf(r.predic
 class SoccerPlannerTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    absl::StatusOr<LoadedConfig> config =
-        LoadRunConfig(testing::RepoPath("configs/right_foot_planner.textproto"));
+    absl::StatusOr<LoadedConfig> config = SmallRightFootPlanner();
     ASSERT_TRUE(config.ok()) << config.status();
     config_ = *config;
-    UseSmallPlanner(&config_);
     absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(config_);
     ASSERT_TRUE(spec.ok()) << spec.status();
     spec_ = std::dynamic_pointer_cast<const JuggleSpec>(*spec);

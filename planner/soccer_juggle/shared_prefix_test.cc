@@ -24,11 +24,9 @@ using soccer_juggle::kNumActions;
 class SharedPrefixTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    absl::StatusOr<LoadedConfig> config =
-        LoadRunConfig(testing::RepoPath("configs/right_foot_planner.textproto"));
+    absl::StatusOr<LoadedConfig> config = SmallRightFootPlanner();
     ASSERT_TRUE(config.ok()) << config.status();
     config_ = *config;
-    UseSmallPlanner(&config_);
     config_.run.mutable_planner()->mutable_soccer_juggle()->mutable_kick()->set_hold_follow_through(
         true);
     absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(config_);

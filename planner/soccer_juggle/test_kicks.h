@@ -6,6 +6,7 @@
 #include "common/adaptive_walk.h"
 #include "common/config_loader.h"
 #include "envs/soccer_juggle/env.h"
+#include "envs/testing/test_configs.h"
 #include "planner/soccer_juggle/cost.h"
 
 namespace juggle::planner {
@@ -19,6 +20,14 @@ inline void UseSmallPlanner(LoadedConfig* config) {
   p.set_horizon_steps(32);
   p.set_replan_every(4);
   p.set_body_knot_steps(0);
+}
+
+// configs/right_foot_planner.textproto with UseSmallPlanner's settings.
+inline absl::StatusOr<LoadedConfig> SmallRightFootPlanner() {
+  absl::StatusOr<LoadedConfig> config =
+      LoadRunConfig(testing::RepoPath("configs/right_foot_planner.textproto"));
+  if (config.ok()) UseSmallPlanner(&*config);
+  return config;
 }
 
 // Steps `env` with zero action until its kick leaves the contact body (or the episode ends, or

@@ -22,6 +22,12 @@ absl::StatusOr<PitchBall> FindPitchBall(const mjModel* m) {
     return absl::InvalidArgumentError(
         "the pitch model needs a contact pair \"ball_on_turf\" with a direct solref (-K -D)");
   }
+  if (m->geom_solref[mjNREF * b.geom] >= 0 || m->geom_solref[mjNREF * b.geom + 1] >= 0 ||
+      m->geom_priority[b.geom] <= 0) {
+    return absl::InvalidArgumentError(
+        "the pitch model's ball geom needs a direct solref (-K -D) and a priority above the "
+        "character's, so that its contacts with the body use it");
+  }
   const int joint = m->body_jntadr[b.body];
   b.qpos = m->jnt_qposadr[joint];
   b.dof = m->jnt_dofadr[joint];
@@ -43,5 +49,4 @@ double TurfRestitution(const mjModel* m, const PitchBall& b) {
   const double zeta = damping / (2 * std::sqrt(k));
   return std::exp(-M_PI * zeta / std::sqrt(1 - zeta * zeta));
 }
-
 }  // namespace juggle::football

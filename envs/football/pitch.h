@@ -19,7 +19,8 @@ struct PitchBall {
 };
 
 // INVALID_ARGUMENT naming what the model lacks: a body "ball" with a free joint and a sphere
-// geom "ball", a geom "pitch", a pair "ball_on_turf" with a direct (negative) solref.
+// geom "ball" with a direct (negative) solref and a positive priority (its contacts with the
+// character use its parameters), a geom "pitch", a pair "ball_on_turf" with a direct solref.
 absl::StatusOr<PitchBall> FindPitchBall(const mjModel* m);
 
 // The rolling ball's deceleration on the turf (m/s²): a ball rolling without slipping under the

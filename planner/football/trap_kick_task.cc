@@ -170,9 +170,8 @@ LegChange FootballTrapKickTask::SecondTouchChange(const Env& env, const double* 
   if (second_ == 0) return out;
   const double* v = theta + kTrapVariables;
   const football::TrapEpisode& t = AsFootballEnv(env).state().trap;
-  // After the touch, from it; before it, from the pass's meeting time.
-  const double anchor = t.first_touch_s >= 0 ? t.first_touch_s : t.pass.meet_s;
-  const double w = ReachWeight(anchor + v[0], v[5], AsFootballEnv(env).time_s(),
+  if (t.first_touch_s < 0) return out;  // its own decision, after the touch
+  const double w = ReachWeight(t.first_touch_s + v[0], v[5], AsFootballEnv(env).time_s(),
                                settings_.trap().ramp_s());
   if (w <= 0) return out;
   out.hip = w * v[1];
@@ -203,14 +202,25 @@ std::vector<double> FootballTrapKickTask::Shift(const std::vector<double>& theta
 void FootballTrapKickTask::Restrict(const Env& env, const std::vector<double>& shifted,
                                     SearchSpace* space,
                                     std::vector<std::vector<double>>* seeds) const {
-  if (!AsFootballEnv(env).kicking()) return;
-  // The trap is over: its reach (and the second touch) are held.
-  for (int v = 0; v < kick_offset(); ++v) {
+  const FootballEnv& e = AsFootballEnv(env);
+  // After the switch the trap is over: its reach and the second touch are held. With a second
+  // touch the search before the designated part's touch is the trap's alone (the second touch
+  // held at no change), and after it the second touch's (the trap's reach held).
+  int first = 0, end = 0;
+  if (e.kicking()) {
+    end = kick_offset();
+  } else if (second_ > 0 && e.state().trap.first_touch_s < 0) {
+    first = kTrapVariables;
+    end = kick_offset();
+  } else if (second_ > 0) {
+    end = kTrapVariables;
+  }
+  for (int v = first; v < end; ++v) {
     space->lower[v] = space->upper[v] = shifted[v];
     space->sigma[v] = 0;
   }
   for (std::vector<double>& seed : *seeds) {
-    std::copy_n(shifted.begin(), kick_offset(), seed.begin());
+    std::copy(shifted.begin() + first, shifted.begin() + end, seed.begin() + first);
   }
 }
 

@@ -9,7 +9,9 @@
 // FootballPlanning.second_touch the plan has a second decision between the two
 // (kSecondTouchVariables): a reach of the right leg complete a searched time after the trap's
 // touch, added to the trap's pose — a stop or a tap that steers the bounced ball into the
-// zone. Immutable; thread-safe.
+// zone. It is a decision of its own: until the first touch only the trap's reach is searched
+// (the second touch held at no change, acting nothing), from the touch on only the second
+// touch (the reach held). Immutable; thread-safe.
 #ifndef JUGGLE_PLANNER_FOOTBALL_TRAP_KICK_TASK_H_
 #define JUGGLE_PLANNER_FOOTBALL_TRAP_KICK_TASK_H_
 

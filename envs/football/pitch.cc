@@ -49,4 +49,5 @@ double TurfRestitution(const mjModel* m, const PitchBall& b) {
   const double zeta = damping / (2 * std::sqrt(k));
   return std::exp(-M_PI * zeta / std::sqrt(1 - zeta * zeta));
 }
+
 }  // namespace juggle::football

@@ -5,6 +5,9 @@
 
 #include <mujoco/mujoco.h>
 
+#include <algorithm>
+#include <optional>
+
 #include "envs/football/pitch.h"
 #include "envs/mujoco_model.h"
 #include "envs/testing/test_configs.h"
@@ -53,6 +56,23 @@ class PitchFixture : public ::testing::Test {
     v[1] = vy;
     v[3] = -vy / radius_;
     v[4] = vx / radius_;
+  }
+  // Steps a ball dropped from rest until it has rebounded and starts to fall again: the height
+  // of its lowest point above `surface_z` at that apex, or nullopt when it never rose within
+  // 10 simulated seconds.
+  std::optional<double> ReboundApex(double surface_z) {
+    bool rising = false;
+    double apex = 0;
+    for (int i = 0; i < 4000; ++i) {
+      mj_step(m_, d_);
+      if (ball_vel()[2] > 0) rising = true;
+      if (rising) {
+        apex = std::max(apex, ball_pos()[2] - radius_ - surface_z);
+        if (ball_vel()[2] < 0) break;
+      }
+    }
+    if (!rising) return std::nullopt;
+    return apex;
   }
   double* ball_pos() { return d_->qpos + ball_.qpos; }
   double* ball_vel() { return d_->qvel + ball_.dof; }

@@ -221,6 +221,12 @@ absl::Status ValidateFootballTask(const LoadedConfig& config) {
         config.root.Where({{"planner"}, {"football"}, {"second_touch"}, {"earliest_s"}}), ": ",
         second.earliest_s(), " s is after latest_s (", second.latest_s(), " s)"));
   }
+  if (p.football().trap().keep_margin_m() >= config.run.football().trap().reach_m()) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where({{"planner"}, {"football"}, {"trap"}, {"keep_margin_m"}}), ": ",
+        p.football().trap().keep_margin_m(), " m leaves no room inside football.trap.reach_m (",
+        config.run.football().trap().reach_m(), " m)"));
+  }
   if (config.run.football().task() == config::TRAP) return absl::OkStatus();  // trap_task.h
   // KICK and TRAP_KICK (trap_kick_task.h) plan the kick variables.
   if (absl::StatusOr<std::vector<int>> a = BodyActionIndices(p.body_actions()); !a.ok()) {

@@ -99,6 +99,16 @@ TEST_F(FootballKickTaskTest, RunsItCannotPlanAreRefusedNamingFileLineAndField) {
   ASSERT_TRUE(c.ok()) << c.status();
   s = ValidatePlannerConfig(*c);
   EXPECT_THAT(std::string(s.message()), StartsWith(Loc(path2, two_kicks, "cycles")));
+
+  const std::string no_room = absl::StrCat(
+      "base_config: \"", RepoPath(kShipped),
+      "\"\nplanner {\n  football { trap { keep_margin_m: 1 } }\n}\n");
+  const std::string path3 = WriteTemp("football_no_room.textproto", no_room);
+  c = LoadRunConfig(path3);
+  ASSERT_TRUE(c.ok()) << c.status();
+  s = ValidatePlannerConfig(*c);
+  EXPECT_THAT(std::string(s.message()), StartsWith(Loc(path3, no_room, "keep_margin_m")));
+  EXPECT_THAT(s.message(), HasSubstr("reach_m"));
 }
 
 }  // namespace

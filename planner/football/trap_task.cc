@@ -22,7 +22,8 @@ using football::TrapEpisode;
 constexpr int kRunOnSteps = football::kRelativeSpeedFrames;
 // How far the ball's path is followed past the horizon (s) and how finely.
 constexpr double kPathSeconds = 1.0, kPathStep = 0.01;
-// The keep term's scale: reach × (metres beyond trap.reach_m at the trap's end / kKeepScale)².
+// The keep term's scale: lost + reach × (metres beyond trap.reach_m − keep_margin_m at the
+// trap's end / kKeepScale)².
 constexpr double kKeepScale = 0.5;
 
 const FootballEnv& AsFootballEnv(const Env& env) { return static_cast<const FootballEnv&>(env); }
@@ -114,8 +115,8 @@ class TrapScorer final : public RolloutScorer {
       relative_term_ = p.relative_speed() * std::pow(relative_ / p.relative_speed_scale_mps(), 2);
       // Whether the ball will still be within reach when the trap ends.
       const double beyond = (t.settled ? t.end_distance_m : DistanceAtSettle(e)) -
-                            e.spec().football().trap().reach_m();
-      if (beyond > 0) keep_ = p.reach() * std::pow(beyond / kKeepScale, 2);
+                            (e.spec().football().trap().reach_m() - p.keep_margin_m());
+      if (beyond > 0) keep_ = p.lost() + p.reach() * std::pow(beyond / kKeepScale, 2);
     }
     if (t.arms_touched && !arms_at_begin_) handball_ = p.handball();
     const mjData* d = e.data();

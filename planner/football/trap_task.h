@@ -71,7 +71,7 @@ class FootballTrapTask final : public PlanningTask {
   void ActionWithLeg(const Env& env, const double* theta, const LegChange& extra,
                      const double* prior, float* action) const;
   std::unique_ptr<RolloutScorer> NewScorer() const override;
-  // reach, relative_speed, keep (the ball's free path beyond trap.reach_m at the trap's end),
+  // reach, relative_speed, keep (the ball beyond trap.reach_m − keep_margin_m at the trap's end),
   // miss, handball, failure, upright.
   std::vector<std::string> term_names() const override;
   // The designated part's touch: the mean relative speed over the frames recorded (m/s).

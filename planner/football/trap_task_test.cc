@@ -33,6 +33,8 @@ constexpr char kShipped[] = "configs/football_trap.textproto";
 // meets 5 of the 8 foot lobs among seeds 1000001-1000030 with the foot first; 1000001, used
 // with the box foot, is now met by the shin first, and 1000022 took its place.
 constexpr uint64_t kSeeds[] = {1000017, 1000022};
+// A pass that standing still traps with its designated part, the ball ending 0.55 m away.
+constexpr uint64_t kStillTrapSeed = 1000015;
 
 class FootballTrapTaskTest : public testing::ShippedTaskTest {
  protected:
@@ -97,6 +99,36 @@ TEST_F(FootballTrapTaskTest, TheReachPoseIsStandingBeforeItsRampAndMovesTheNamed
     EXPECT_NE(after[joints[j].qpos_adr], before[joints[j].qpos_adr]) << j;
   }
   EXPECT_EQ(after[joints[humanoid::kLeftKnee].qpos_adr], before[joints[humanoid::kLeftKnee].qpos_adr]);
+}
+
+// The keep term (trap.keep_margin_m, trap.lost): zero for a ball that ends inside the reach less
+// the margin; past it by b, lost + reach × (b / 0.5 m)², on a pass that standing still
+// traps with its part (its end distance from the same episode run by the fixture).
+TEST_F(FootballTrapTaskTest, TheKeepTermAimsInsideTheReachByItsMarginAndStepsOncePastIt) {
+  const testing::Episode still = Run(kStillTrapSeed, nullptr);
+  ASSERT_EQ(still.end, football::kTrapped);
+  const double end = still.Metric("trap_end_distance_m", -1);
+  const double reach_m = config_.run.football().trap().reach_m();
+  ASSERT_GT(end, 0.2);
+  ASSERT_LT(end, reach_m);
+  const std::vector<double> standing(task_->dim(), 0.0);
+  const int keep = 2;
+  ASSERT_EQ(task_->term_names()[keep], "keep");
+  const LoadedConfig shipped = config_;
+  // The standing plan's keep term with `margin` and `lost`.
+  auto keep_with = [&](double margin, double lost) {
+    LoadedConfig c = shipped;
+    config::TrapPlanning* trap = c.run.mutable_planner()->mutable_football()->mutable_trap();
+    trap->set_keep_margin_m(margin);
+    trap->set_lost(lost);
+    Use(c);
+    return ExpectTermsAddUpToTheCost(kStillTrapSeed, standing, 200)->terms()[keep];
+  };
+  EXPECT_EQ(keep_with(0, 7), 0);
+  EXPECT_EQ(keep_with(reach_m - end - 0.01, 7), 0);
+  // The ball ends 0.1 m past the aim.
+  EXPECT_NEAR(keep_with(reach_m - end + 0.1, 7),
+              7 + shipped.run.planner().football().trap().reach() * std::pow(0.1 / 0.5, 2), 1e-6);
 }
 
 // A LegChange (trap then kick's second touch) adds to the right leg what the trap's own hip,

@@ -33,6 +33,8 @@ constexpr char kShipped[] = "configs/football_trap.textproto";
 // meets 5 of the 8 foot lobs among seeds 1000001-1000030 with the foot first; 1000001, used
 // with the box foot, is now met by the shin first, and 1000022 took its place.
 constexpr uint64_t kSeeds[] = {1000017, 1000022};
+// A foot lob the regular search lets reach the turf first and the rescue keeps.
+constexpr uint64_t kRescueSeed = 1000002;
 // A pass that standing still traps with its designated part, the ball ending 0.55 m away.
 constexpr uint64_t kStillTrapSeed = 1000015;
 
@@ -69,6 +71,24 @@ TEST_F(FootballTrapTaskTest, MeetsALobWithTheFootWhereStandingStillDoesNotAndAsP
     EXPECT_EQ(replayed.final_qpos, planned.final_qpos);
     EXPECT_EQ(replayed.end, planned.end);
   }
+}
+
+// The shipped rescue (a wider search for a re-plan that predicts a miss): on a foot lob that the
+// regular search alone lets reach the turf first, it meets the ball with the foot and keeps it,
+// every prediction exact.
+TEST_F(FootballTrapTaskTest, TheRescueKeepsAFootLobThatTheRegularSearchLetsReachTheTurf) {
+  ASSERT_GT(Settings().rescue().cost_above(), 0);
+  RolloutPool pool(spec_, 2);
+  config::PlannerConfig regular = Settings();
+  regular.mutable_rescue()->set_cost_above(0);
+  RecedingHorizonPlanner without(task_, regular, &pool, kRescueSeed);
+  EXPECT_EQ(Run(kRescueSeed, &without).end, football::kGroundFirst);
+  RecedingHorizonPlanner with(task_, Settings(), &pool, kRescueSeed);
+  const testing::Episode rescued = Run(kRescueSeed, &with);
+  EXPECT_EQ(rescued.end, football::kTrapped);
+  EXPECT_EQ(rescued.Metric("trap_success"), 1);
+  EXPECT_GT(with.totals().rescues, 0);
+  EXPECT_EQ(with.totals().prediction_mismatches, 0);
 }
 
 TEST_F(FootballTrapTaskTest, TheSameSeedGivesTheSameTrapOnAnyThreadCountAndAnotherSeedAnother) {

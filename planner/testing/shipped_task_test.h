@@ -79,12 +79,15 @@ class ShippedTaskTest : public ::testing::Test {
     return p;
   }
 
-  // A small search from env seed `seed`: the same planner seed gives the same actions on 1 and 2
-  // threads, another planner seed other actions.
+  // A small search (and a small rescue, where the config has one) from env seed `seed`: the same
+  // planner seed gives the same actions on 1 and 2 threads, another planner seed other actions.
   void ExpectActionsDependOnlyOnTheSeed(uint64_t seed) {
     config::PlannerConfig small = Settings(1);
     small.set_samples(6);
     small.set_iterations(2);
+    // A config's rescue stays on, as small (the small search is often in trouble).
+    small.mutable_rescue()->set_samples(8);
+    small.mutable_rescue()->set_iterations(2);
     RolloutPool one(spec_, 1), two(spec_, 2);
     RecedingHorizonPlanner a(task_, small, &one, 0), b(task_, small, &two, 0);
     config::PlannerConfig other = small;

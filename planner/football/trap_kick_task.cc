@@ -172,7 +172,7 @@ LegChange FootballTrapKickTask::SecondTouchChange(const Env& env, const double* 
   const football::TrapEpisode& t = AsFootballEnv(env).state().trap;
   if (t.first_touch_s < 0) return out;  // its own decision, after the touch
   const double w = ReachWeight(t.first_touch_s + v[0], v[5], AsFootballEnv(env).time_s(),
-                               settings_.trap().ramp_s());
+                               ReachRampsOf(settings_.trap()));
   if (w <= 0) return out;
   out.hip = w * v[1];
   out.abduction = w * v[2];

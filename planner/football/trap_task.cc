@@ -159,18 +159,22 @@ class TrapScorer final : public RolloutScorer {
 
 }  // namespace
 
-double ReachWeight(double reached, double give, double t, double ramp_s) {
-  return t <= reached ? Smoothstep((t - (reached - ramp_s)) / ramp_s)
-                      : 1 - give * Smoothstep((t - reached) / ramp_s);
+ReachRamps ReachRampsOf(const config::TrapPlanning& p) {
+  return {p.ramp_s(), p.give_ramp_s() > 0 ? p.give_ramp_s() : p.ramp_s()};
+}
+
+double ReachWeight(double reached, double give, double t, const ReachRamps& ramps) {
+  return t <= reached ? Smoothstep((t - (reached - ramps.rise_s)) / ramps.rise_s)
+                      : 1 - give * Smoothstep((t - reached) / ramps.give_s);
 }
 
 void TrapReachPose(const football::FootballSpec& spec, const double* theta, double meet_s,
-                   double t, double ramp_s, humanoid::CharacterPose* pose,
+                   double t, const ReachRamps& ramps, humanoid::CharacterPose* pose,
                    const LegChange& extra) {
   *pose = spec.standing_pose();
-  const double w = ReachWeight(meet_s + theta[0], theta[8], t, ramp_s);
+  const double w = ReachWeight(meet_s + theta[0], theta[8], t, ramps);
   const bool leg = extra.hip != 0 || extra.abduction != 0 || extra.knee != 0 || extra.ankle != 0;
-  if (w <= 0 && !leg) return;
+  if (w == 0 && !leg) return;  // before the ramp (or a give of exactly 1 completed)
   const humanoid::Joints& joints = spec.joints();
   // Flexion about z and abduction about x (−x moves the right limb outward), as the kick's; the
   // trunk's lean flexes both hips (with the feet on the turf it tilts the pelvis forward).
@@ -190,7 +194,7 @@ void TrapReachPose(const football::FootballSpec& spec, const double* theta, doub
 }
 
 SearchSpace ReachSpace(double earliest_s, double latest_s, double timing_sigma_s, int angles,
-                       double angle_limit, double angle_sigma) {
+                       double angle_limit, double angle_sigma, double give_max) {
   SearchSpace out;
   out.lower = {earliest_s};
   out.upper = {latest_s};
@@ -200,9 +204,9 @@ SearchSpace ReachSpace(double earliest_s, double latest_s, double timing_sigma_s
     out.upper.push_back(angle_limit);
     out.sigma.push_back(angle_sigma);
   }
-  // The give: the share of the reach taken back after it (a cushion), in [0, 1].
+  // The give: the share of the reach taken back after it (a cushion), in [0, give_max].
   out.lower.push_back(0);
-  out.upper.push_back(1);
+  out.upper.push_back(give_max);
   out.sigma.push_back(0.3);
   return out;
 }
@@ -212,7 +216,7 @@ FootballTrapTask::FootballTrapTask(std::shared_ptr<const football::FootballSpec>
     : spec_(std::move(spec)), settings_(config.football()), horizon_(config.horizon_steps()) {
   const config::TrapPlanning& p = settings_.trap();
   space_ = ReachSpace(-p.timing_limit_s(), p.timing_limit_s(), p.timing_sigma_s(),
-                      kTrapVariables - 2, p.angle_limit(), p.angle_sigma());
+                      kTrapVariables - 2, p.angle_limit(), p.angle_sigma(), p.give_max());
 }
 
 int FootballTrapTask::max_run_on_steps() const { return kRunOnSteps; }
@@ -228,8 +232,8 @@ void FootballTrapTask::ActionWithLeg(const Env& env, const double* theta, const 
   double a[football::kNumActions] = {0};
   if (prior != nullptr) std::copy_n(prior, football::kNumActions, a);
   humanoid::CharacterPose to;
-  TrapReachPose(*spec_, theta, e.state().trap.pass.meet_s, e.time_s(), settings_.trap().ramp_s(),
-                &to, extra);
+  TrapReachPose(*spec_, theta, e.state().trap.pass.meet_s, e.time_s(),
+                ReachRampsOf(settings_.trap()), &to, extra);
   AddPoseChangeAction(spec_->joints(), spec_->standing_pose(), to,
                       spec_->football().action_torque(), a);
   for (int i = 0; i < football::kNumActions; ++i) {

@@ -34,21 +34,30 @@ struct LegChange {
   double hip = 0, abduction = 0, knee = 0, ankle = 0;
 };
 
+// How a reach rises to its pose and is given back after it (s).
+struct ReachRamps {
+  double rise_s = 0.3, give_s = 0.3;
+};
+
+// TrapPlanning's ramps: ramp_s, and give_ramp_s where set (else ramp_s).
+ReachRamps ReachRampsOf(const config::TrapPlanning& p);
+
 // The reach pose of plan `theta` (kTrapVariables values) at episode time `t` for a pass that
 // meets its point at `meet_s`: the standing pose plus w × the changes, w rising as
-// smoothstep((t − (reach − ramp_s)) / ramp_s) up to reach = meet_s + timing, then falling as
-// 1 − give × smoothstep((t − reach) / ramp_s); `extra` added to the right leg's.
+// smoothstep((t − (reach − rise_s)) / rise_s) up to reach = meet_s + timing, then falling as
+// 1 − give × smoothstep((t − reach) / give_s) (below 0 for a give above 1: past the standing
+// pose, away from the reach); `extra` added to the right leg's.
 void TrapReachPose(const football::FootballSpec& spec, const double* theta, double meet_s,
-                   double t, double ramp_s, humanoid::CharacterPose* pose,
+                   double t, const ReachRamps& ramps, humanoid::CharacterPose* pose,
                    const LegChange& extra = {});
 
-// The weight of a reach complete at `reached` that rises and gives back over `ramp_s`, at `t`.
-double ReachWeight(double reached, double give, double t, double ramp_s);
+// The weight of a reach complete at `reached` that rises and gives back by `ramps`, at `t`.
+double ReachWeight(double reached, double give, double t, const ReachRamps& ramps);
 
 // A reach's search space: its timing in [earliest_s, latest_s], `angles` joint changes within
-// ±angle_limit, then its give in [0, 1].
+// ±angle_limit, then its give in [0, give_max].
 SearchSpace ReachSpace(double earliest_s, double latest_s, double timing_sigma_s, int angles,
-                       double angle_limit, double angle_sigma);
+                       double angle_limit, double angle_sigma, double give_max = 1);
 
 class FootballTrapTask final : public PlanningTask {
  public:

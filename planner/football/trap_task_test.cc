@@ -105,20 +105,53 @@ TEST_F(FootballTrapTaskTest, TheReachPoseIsStandingBeforeItsRampAndMovesTheNamed
   const auto& spec = static_cast<const football::FootballSpec&>(*spec_);
   const double theta[kTrapVariables] = {0.05, 0.4, 0.1, 0.3, -0.2, 0.2, 0.1, 0.3, 0.5};
   humanoid::CharacterPose before, after;
-  TrapReachPose(spec, theta, 1.0, 1.0 + 0.05 - 0.3 - 1e-6, 0.3, &before);
+  TrapReachPose(spec, theta, 1.0, 1.0 + 0.05 - 0.3 - 1e-6, {0.3, 0.3}, &before);
   EXPECT_EQ(before, spec.standing_pose());
   // Reached at 1.05 s; given back by half 0.3 s later.
-  TrapReachPose(spec, theta, 1.0, 1.05, 0.3, &after);
+  TrapReachPose(spec, theta, 1.0, 1.05, {0.3, 0.3}, &after);
   const humanoid::Joints& joints = spec.joints();
   EXPECT_DOUBLE_EQ(after[joints[humanoid::kRightKnee].qpos_adr], -0.3);
   humanoid::CharacterPose given;
-  TrapReachPose(spec, theta, 1.0, 1.35 + 1e-9, 0.3, &given);
+  TrapReachPose(spec, theta, 1.0, 1.35 + 1e-9, {0.3, 0.3}, &given);
   EXPECT_NEAR(given[joints[humanoid::kRightKnee].qpos_adr], -0.15, 1e-6);
   for (humanoid::JointId j : {humanoid::kRightHip, humanoid::kRightAnkle, humanoid::kChest,
                               humanoid::kNeck}) {
     EXPECT_NE(after[joints[j].qpos_adr], before[joints[j].qpos_adr]) << j;
   }
   EXPECT_EQ(after[joints[humanoid::kLeftKnee].qpos_adr], before[joints[humanoid::kLeftKnee].qpos_adr]);
+}
+
+// trap.give_ramp_s and trap.give_max: the give runs on its own ramp, and a give above 1 takes
+// the joints past the standing pose, away from the reach.
+TEST_F(FootballTrapTaskTest, TheGiveRunsOnItsOwnRampAndAboveOneMovesPastTheStandingPose) {
+  const auto& spec = static_cast<const football::FootballSpec&>(*spec_);
+  // A hip flexion of 0.3 rad given back by 1.5 over a 0.1-s give ramp: the same pose as a
+  // reach of w × 0.3 with no give, w = 1 − 1.5 × smoothstep.
+  const double theta[kTrapVariables] = {0.0, 0.3, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.5};
+  const ReachRamps ramps{0.3, 0.1};
+  const auto reach_of = [&](double hip) {
+    const double plain[kTrapVariables] = {0.0, hip, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    humanoid::CharacterPose out;
+    TrapReachPose(spec, plain, 1.0, 1.0, ramps, &out);
+    return out;
+  };
+  const auto expect_pose = [](const humanoid::CharacterPose& got,
+                              const humanoid::CharacterPose& want) {
+    for (size_t i = 0; i < want.size(); ++i) EXPECT_NEAR(got[i], want[i], 1e-9) << i;
+  };
+  humanoid::CharacterPose pose;
+  TrapReachPose(spec, theta, 1.0, 1.05, ramps, &pose);  // half the give's ramp: w = 0.25
+  expect_pose(pose, reach_of(0.3 * 0.25));
+  TrapReachPose(spec, theta, 1.0, 1.1 + 1e-9, ramps, &pose);  // given: w = −0.5
+  expect_pose(pose, reach_of(-0.15));
+  EXPECT_NE(pose, spec.standing_pose());
+
+  config::TrapPlanning p;
+  p.set_ramp_s(0.25);
+  EXPECT_EQ(ReachRampsOf(p).give_s, 0.25);  // unset: the reach's own ramp
+  p.set_give_ramp_s(0.08);
+  EXPECT_EQ(ReachRampsOf(p).give_s, 0.08);
+  EXPECT_EQ(ReachSpace(-0.2, 0.2, 0.05, 7, 1.2, 0.3, 2.0).upper.back(), 2.0);
 }
 
 // The keep term (trap.keep_margin_m, trap.lost): zero for a ball that ends inside the reach less
@@ -158,13 +191,13 @@ TEST_F(FootballTrapTaskTest, ALegChangeAddsToTheRightLegAsTheTrapsOwnChangesAtFu
   const double own[kTrapVariables] = {0.05, 0.4, 0.1, 0.3, -0.2, 0, 0, 0, 0.5};
   const double none[kTrapVariables] = {0.05, 0, 0, 0, 0, 0, 0, 0, 0.5};
   humanoid::CharacterPose by_theta, by_extra;
-  TrapReachPose(spec, own, 1.0, 1.05, 0.3, &by_theta);  // reached: full weight
-  TrapReachPose(spec, none, 1.0, 1.05, 0.3, &by_extra, LegChange{0.4, 0.1, 0.3, -0.2});
+  TrapReachPose(spec, own, 1.0, 1.05, {0.3, 0.3}, &by_theta);  // reached: full weight
+  TrapReachPose(spec, none, 1.0, 1.05, {0.3, 0.3}, &by_extra, LegChange{0.4, 0.1, 0.3, -0.2});
   EXPECT_EQ(by_extra, by_theta);
   EXPECT_NE(by_extra, spec.standing_pose());
   // Before the trap's ramp the change still applies: it has its own weight.
   humanoid::CharacterPose early;
-  TrapReachPose(spec, none, 1.0, 0.1, 0.3, &early, LegChange{0.4, 0.1, 0.3, -0.2});
+  TrapReachPose(spec, none, 1.0, 0.1, {0.3, 0.3}, &early, LegChange{0.4, 0.1, 0.3, -0.2});
   EXPECT_EQ(early, by_theta);
 }
 

@@ -36,7 +36,7 @@ struct LegChange {
 
 // How a reach rises to its pose and is given back after it (s).
 struct ReachRamps {
-  double rise_s = 0.3, give_s = 0.3;
+  double rise_s, give_s;
 };
 
 // TrapPlanning's ramps: ramp_s, and give_ramp_s where set (else ramp_s).

@@ -92,6 +92,9 @@ class PlanningTask {
   // The regular search's box and spreads (dim() variables), and the rescue search's.
   virtual const SearchSpace& space() const = 0;
   virtual const SearchSpace& rescue_space() const = 0;
+  // The rescue search's space at `env`'s state (football's trap: the pass's part's settings).
+  // Default: rescue_space().
+  virtual SearchSpace RescueSpaceAt(const Env& env) const { return rescue_space(); }
   int dim() const { return space().dim(); }
   // Control steps a rollout simulates, and at most how many more RolloutScorer::RunsOn may add.
   virtual int horizon() const = 0;

@@ -24,6 +24,10 @@ ProposalTrustTask::ProposalTrustTask(std::shared_ptr<const PlanningTask> inner, 
       space_(WithTrust(inner_->space(), sigma)),
       rescue_space_(WithTrust(inner_->rescue_space(), std::min(1.0, 2 * sigma))) {}
 
+SearchSpace ProposalTrustTask::RescueSpaceAt(const Env& env) const {
+  return WithTrust(inner_->RescueSpaceAt(env), rescue_space_.sigma.back());  // the trust's
+}
+
 std::vector<double> ProposalTrustTask::Shift(const std::vector<double>& theta, int grid_steps,
                                              int cycles) const {
   return With(inner_->Shift(Inner(theta), grid_steps, cycles), trust(theta.data()));

@@ -26,6 +26,7 @@ class ProposalTrustTask final : public PlanningTask {
   std::string family() const override { return inner_->family(); }
   const SearchSpace& space() const override { return space_; }
   const SearchSpace& rescue_space() const override { return rescue_space_; }
+  SearchSpace RescueSpaceAt(const Env& env) const override;
   int horizon() const override { return inner_->horizon(); }
   int max_run_on_steps() const override { return inner_->max_run_on_steps(); }
   int KnotAtOrBefore(int step) const override { return inner_->KnotAtOrBefore(step); }

@@ -380,7 +380,7 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
   }
   // In trouble: search again, wider, from the best plan found (its incumbent), so the answer is
   // never worse than the regular search's. Variables the state holds stay held.
-  SearchSpace wide = task_->rescue_space();
+  SearchSpace wide = task_->RescueSpaceAt(env);
   for (int v = 0; v < wide.dim(); ++v) {
     if (r.space.sigma[v] == 0 && r.space.lower[v] == r.space.upper[v]) {
       wide.lower[v] = wide.upper[v] = r.space.lower[v];

@@ -221,11 +221,39 @@ absl::Status ValidateFootballTask(const LoadedConfig& config) {
         config.root.Where({{"planner"}, {"football"}, {"second_touch"}, {"earliest_s"}}), ": ",
         second.earliest_s(), " s is after latest_s (", second.latest_s(), " s)"));
   }
-  if (p.football().trap().keep_margin_m() >= config.run.football().trap().reach_m()) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        config.root.Where({{"planner"}, {"football"}, {"trap"}, {"keep_margin_m"}}), ": ",
-        p.football().trap().keep_margin_m(), " m leaves no room inside football.trap.reach_m (",
-        config.run.football().trap().reach_m(), " m)"));
+  const config::TrapPlanning& trap = p.football().trap();
+  // The trap's settings and each part's (TrapPlanning.foot, ...), by their field names.
+  const std::pair<const char*, const config::TrapPlanning*> parts[] = {
+      {nullptr, &trap},
+      {"foot", &trap.foot()},
+      {"lower_leg", &trap.lower_leg()},
+      {"torso", &trap.torso()},
+      {"head", &trap.head()}};
+  for (const auto& [name, part] : parts) {
+    auto where_in = [&](const char* field) {
+      if (name == nullptr) return config.root.Where({{"planner"}, {"football"}, {"trap"}, {field}});
+      return config.root.Where({{"planner"}, {"football"}, {"trap"}, {name}, {field}});
+    };
+    if (name != nullptr && part->ByteSizeLong() > 0 &&
+        config.run.football().task() != config::TRAP) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          config.root.Where({{"planner"}, {"football"}, {"trap"}, {name}}),
+          ": a part's own trap settings are for the TRAP task; this config's football.task is ",
+          config::FootballTask_Name(config.run.football().task())));
+    }
+    if (name != nullptr && (part->has_foot() || part->has_lower_leg() || part->has_torso() ||
+                            part->has_head())) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          config.root.Where({{"planner"}, {"football"}, {"trap"}, {name}}),
+          ": a part's settings cannot hold part settings of their own"));
+    }
+    if ((name == nullptr || part->has_keep_margin_m()) &&
+        part->keep_margin_m() >= config.run.football().trap().reach_m()) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          where_in("keep_margin_m"), ": ", part->keep_margin_m(),
+          " m leaves no room inside football.trap.reach_m (", config.run.football().trap().reach_m(),
+          " m)"));
+    }
   }
   if (config.run.football().task() == config::TRAP) return absl::OkStatus();  // trap_task.h
   // KICK and TRAP_KICK (trap_kick_task.h) plan the kick variables.

@@ -73,10 +73,12 @@ double DistanceAtSettle(const FootballEnv& e) {
 
 class TrapScorer final : public RolloutScorer {
  public:
-  TrapScorer(const config::FootballPlanning& s, int horizon) : s_(s), horizon_(horizon) {}
+  TrapScorer(const config::FootballPlanning& s, const FootballTrapTask& task, int horizon)
+      : s_(s), task_(task), horizon_(horizon) {}
 
   void Begin(const Env& env) override {
     const TrapEpisode& t = AsFootballEnv(env).state().trap;
+    p_ = &task_.Planning(t.part);
     touched_at_begin_ = t.first_body >= 0;
     arms_at_begin_ = t.arms_touched;
     frames_at_begin_ = static_cast<int>(t.attempt.relative_speed_after_touch.size());
@@ -91,7 +93,7 @@ class TrapScorer final : public RolloutScorer {
       closest_gap_ = std::min(closest_gap_, SurfaceGap(e, part, e.data()->qpos + e.spec().ball().qpos));
     }
     if (r.outcome == football::kGroundFirst || r.outcome == football::kWrongPart) {
-      miss_ = s_.trap().miss() * (1 + std::max(0.0, closest_gap_) / s_.trap().reach_scale_m());
+      miss_ = p_->miss() * (1 + std::max(0.0, closest_gap_) / p_->reach_scale_m());
     } else if (r.outcome == football::kFell || r.outcome == Outcome::kDiverged) {
       failure_ = s_.failure() * (2.0 - static_cast<double>(std::min(steps_, horizon_)) / horizon_);
     }
@@ -100,7 +102,7 @@ class TrapScorer final : public RolloutScorer {
   double Finish(const Env& env) override {
     const FootballEnv& e = AsFootballEnv(env);
     const TrapEpisode& t = e.state().trap;
-    const config::TrapPlanning& p = s_.trap();
+    const config::TrapPlanning& p = *p_;
     if (t.first_body < 0 && miss_ == 0 && failure_ == 0) {
       const double gap = std::max(0.0, std::min(closest_gap_, PathGap(e)));
       reach_ = p.reach() * std::pow(gap / p.reach_scale_m(), 2);
@@ -148,6 +150,8 @@ class TrapScorer final : public RolloutScorer {
 
  private:
   const config::FootballPlanning& s_;
+  const FootballTrapTask& task_;
+  const config::TrapPlanning* p_ = nullptr;  // the pass's part's (Begin)
   int horizon_;
   int steps_ = 0, frames_at_begin_ = 0;
   bool touched_at_begin_ = false, arms_at_begin_ = false, scored_ = false;
@@ -158,6 +162,22 @@ class TrapScorer final : public RolloutScorer {
 };
 
 }  // namespace
+
+config::TrapPlanning TrapPlanningFor(const config::TrapPlanning& p, config::TrapPart part) {
+  config::TrapPlanning out = p;
+  out.clear_foot();
+  out.clear_lower_leg();
+  out.clear_torso();
+  out.clear_head();
+  switch (part) {
+    case config::FOOT: out.MergeFrom(p.foot()); break;
+    case config::LOWER_LEG: out.MergeFrom(p.lower_leg()); break;
+    case config::TORSO: out.MergeFrom(p.torso()); break;
+    case config::HEAD: out.MergeFrom(p.head()); break;
+    default: break;
+  }
+  return out;
+}
 
 ReachRamps ReachRampsOf(const config::TrapPlanning& p) {
   return {p.ramp_s(), p.give_ramp_s() > 0 ? p.give_ramp_s() : p.ramp_s()};
@@ -214,9 +234,23 @@ SearchSpace ReachSpace(double earliest_s, double latest_s, double timing_sigma_s
 FootballTrapTask::FootballTrapTask(std::shared_ptr<const football::FootballSpec> spec,
                                    const config::PlannerConfig& config)
     : spec_(std::move(spec)), settings_(config.football()), horizon_(config.horizon_steps()) {
-  const config::TrapPlanning& p = settings_.trap();
-  space_ = ReachSpace(-p.timing_limit_s(), p.timing_limit_s(), p.timing_sigma_s(),
-                      kTrapVariables - 2, p.angle_limit(), p.angle_sigma(), p.give_max());
+  for (int part = 0; part < config::TrapPart_ARRAYSIZE; ++part) {
+    const config::TrapPlanning& p = by_part_[part] =
+        TrapPlanningFor(settings_.trap(), static_cast<config::TrapPart>(part));
+    part_space_[part] = ReachSpace(-p.timing_limit_s(), p.timing_limit_s(), p.timing_sigma_s(),
+                                   kTrapVariables - 2, p.angle_limit(), p.angle_sigma(),
+                                   p.give_max());
+  }
+  space_ = part_space_[config::TRAP_PART_UNSPECIFIED];
+}
+
+SearchSpace FootballTrapTask::RescueSpaceAt(const Env& env) const {
+  return part_space_[AsFootballEnv(env).state().trap.part];
+}
+
+void FootballTrapTask::Restrict(const Env& env, const std::vector<double>&, SearchSpace* space,
+                                std::vector<std::vector<double>>*) const {
+  *space = part_space_[AsFootballEnv(env).state().trap.part];
 }
 
 int FootballTrapTask::max_run_on_steps() const { return kRunOnSteps; }
@@ -233,7 +267,7 @@ void FootballTrapTask::ActionWithLeg(const Env& env, const double* theta, const 
   if (prior != nullptr) std::copy_n(prior, football::kNumActions, a);
   humanoid::CharacterPose to;
   TrapReachPose(*spec_, theta, e.state().trap.pass.meet_s, e.time_s(),
-                ReachRampsOf(settings_.trap()), &to, extra);
+                ReachRampsOf(by_part_[e.state().trap.part]), &to, extra);
   AddPoseChangeAction(spec_->joints(), spec_->standing_pose(), to,
                       spec_->football().action_torque(), a);
   for (int i = 0; i < football::kNumActions; ++i) {
@@ -242,7 +276,7 @@ void FootballTrapTask::ActionWithLeg(const Env& env, const double* theta, const 
 }
 
 std::unique_ptr<RolloutScorer> FootballTrapTask::NewScorer() const {
-  return std::make_unique<TrapScorer>(settings_, horizon_);
+  return std::make_unique<TrapScorer>(settings_, *this, horizon_);
 }
 
 std::vector<std::string> FootballTrapTask::term_names() const {

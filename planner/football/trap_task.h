@@ -12,6 +12,7 @@
 #ifndef JUGGLE_PLANNER_FOOTBALL_TRAP_TASK_H_
 #define JUGGLE_PLANNER_FOOTBALL_TRAP_TASK_H_
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -42,6 +43,10 @@ struct ReachRamps {
 // TrapPlanning's ramps: ramp_s, and give_ramp_s where set (else ramp_s).
 ReachRamps ReachRampsOf(const config::TrapPlanning& p);
 
+// `p` with the settings for passes designated to `part` (TrapPlanning.foot, .lower_leg, .torso,
+// .head) over it, and no part settings of its own.
+config::TrapPlanning TrapPlanningFor(const config::TrapPlanning& p, config::TrapPart part);
+
 // The reach pose of plan `theta` (kTrapVariables values) at episode time `t` for a pass that
 // meets its point at `meet_s`: the standing pose plus w × the changes, w rising as
 // smoothstep((t − (reach − rise_s)) / rise_s) up to reach = meet_s + timing, then falling as
@@ -66,8 +71,12 @@ class FootballTrapTask final : public PlanningTask {
                    const config::PlannerConfig& config);
 
   std::string family() const override { return "football"; }
+  // The space of passes without part settings; Restrict and RescueSpaceAt give the pass's part's.
   const SearchSpace& space() const override { return space_; }
   const SearchSpace& rescue_space() const override { return space_; }
+  SearchSpace RescueSpaceAt(const Env& env) const override;
+  void Restrict(const Env& env, const std::vector<double>& shifted, SearchSpace* space,
+                std::vector<std::vector<double>>* seeds) const override;
   int horizon() const override { return horizon_; }
   int max_run_on_steps() const override;
   std::vector<double> Shift(const std::vector<double>& theta, int grid_steps,
@@ -90,11 +99,17 @@ class FootballTrapTask final : public PlanningTask {
   std::string DescribeDecision(const std::vector<double>& decision,
                                const std::vector<double>& outcome) const override;
 
+  // The trap's settings for passes designated to `part` (TrapPlanningFor).
+  const config::TrapPlanning& Planning(config::TrapPart part) const { return by_part_[part]; }
+
  private:
   std::shared_ptr<const football::FootballSpec> spec_;
   config::FootballPlanning settings_;
   int horizon_;
   SearchSpace space_;
+  // By TrapPart number (0: the settings without a part's).
+  std::array<config::TrapPlanning, config::TrapPart_ARRAYSIZE> by_part_;
+  std::array<SearchSpace, config::TrapPart_ARRAYSIZE> part_space_;
 };
 
 }  // namespace juggle::planner

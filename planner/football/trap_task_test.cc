@@ -15,6 +15,7 @@
 #include "envs/football/env.h"
 #include "envs/football/outcomes.h"
 #include "envs/testing/test_configs.h"
+#include "planner/football/kick_task.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "planner/planner_config.h"
@@ -152,6 +153,98 @@ TEST_F(FootballTrapTaskTest, TheGiveRunsOnItsOwnRampAndAboveOneMovesPastTheStand
   p.set_give_ramp_s(0.08);
   EXPECT_EQ(ReachRampsOf(p).give_s, 0.08);
   EXPECT_EQ(ReachSpace(-0.2, 0.2, 0.05, 7, 1.2, 0.3, 2.0).upper.back(), 2.0);
+}
+
+// trap.foot (and .lower_leg, .torso, .head): a part's own settings replace the trap's for the
+// passes designated to it and for no other: its give's bound in the regular and the rescue
+// search's space, its give's ramp in the actions, its weights in the cost.
+TEST_F(FootballTrapTaskTest, APartsOwnSettingsReplaceTheTrapsForItsPassesOnly) {
+  const LoadedConfig shipped = config_;
+  const config::TrapPlanning& base = shipped.run.planner().football().trap();
+  LoadedConfig c = shipped;
+  config::TrapPlanning* foot = c.run.mutable_planner()->mutable_football()->mutable_trap()->mutable_foot();
+  foot->set_give_max(2);
+  foot->set_give_ramp_s(0.1);
+  foot->set_miss(5 * base.miss());
+  const config::TrapPlanning for_foot = TrapPlanningFor(c.run.planner().football().trap(), config::FOOT);
+  EXPECT_EQ(for_foot.give_max(), 2);
+  EXPECT_EQ(ReachRampsOf(for_foot).give_s, 0.1);
+  EXPECT_EQ(for_foot.ramp_s(), base.ramp_s());
+  EXPECT_EQ(for_foot.keep_margin_m(), base.keep_margin_m());
+  EXPECT_FALSE(for_foot.has_foot());
+  const config::TrapPlanning for_chest = TrapPlanningFor(c.run.planner().football().trap(), config::TORSO);
+  EXPECT_EQ(for_chest.give_max(), base.give_max());
+  EXPECT_EQ(for_chest.miss(), base.miss());
+
+  // The first chest lob among the env seeds after the foot lob kSeeds[0].
+  auto part_of = [&](uint64_t seed) {
+    const std::unique_ptr<Env> env = spec_->NewEnv(Rng(seed));
+    env->Reset(*walk_);
+    return static_cast<const football::FootballEnv&>(*env).state().trap.part;
+  };
+  uint64_t chest_seed = kSeeds[0] + 1;
+  while (part_of(chest_seed) != config::TORSO) ++chest_seed;
+  ASSERT_EQ(part_of(kSeeds[0]), config::FOOT);
+
+  // Standing still meets the foot lob with the shin: the miss term, with and without the foot's.
+  const std::vector<double> standing(task_->dim(), 0.0);
+  const int miss = 3;
+  ASSERT_EQ(task_->term_names()[miss], "miss");
+  const double shipped_miss = ExpectTermsAddUpToTheCost(kSeeds[0], standing, 200)->terms()[miss];
+  ASSERT_GT(shipped_miss, 0);
+  const double shipped_chest_cost = ExpectTermsAddUpToTheCost(chest_seed, standing, 200)->partial();
+  Use(c);
+  EXPECT_NEAR(ExpectTermsAddUpToTheCost(kSeeds[0], standing, 200)->terms()[miss], 5 * shipped_miss,
+              1e-9 * shipped_miss);
+  EXPECT_EQ(ExpectTermsAddUpToTheCost(chest_seed, standing, 200)->partial(), shipped_chest_cost);
+
+  // The spaces: the foot's give up to 2 in the regular and the rescue search, the chest's as
+  // the trap's.
+  for (uint64_t seed : {kSeeds[0], chest_seed}) {
+    const std::unique_ptr<Env> env = spec_->NewEnv(Rng(seed));
+    env->Reset(*walk_);
+    SearchSpace space = task_->space();
+    std::vector<std::vector<double>> seeds = {standing};
+    task_->Restrict(*env, standing, &space, &seeds);
+    const double want = seed == chest_seed ? base.give_max() : 2.0;
+    EXPECT_EQ(space.upper.back(), want) << seed;
+    EXPECT_EQ(task_->RescueSpaceAt(*env).upper.back(), want) << seed;
+    EXPECT_EQ(space.upper.front(), base.timing_limit_s()) << seed;
+  }
+
+  // The foot's give ramp in its actions: a plan that gives 1 over 0.1 s is back at the standing
+  // pose 0.1 s after its reach, where over the trap's ramp it is not.
+  std::vector<double> plan(task_->dim(), 0.0);
+  plan[1] = 0.5;  // hip flexion
+  plan[8] = 1.0;  // the give
+  const std::unique_ptr<Env> env = spec_->NewEnv(Rng(kSeeds[0]));
+  env->Reset(*walk_);
+  const auto& e = static_cast<const football::FootballEnv&>(*env);
+  const double meet = e.state().trap.pass.meet_s;
+  const auto& spec = static_cast<const football::FootballSpec&>(*spec_);
+  humanoid::CharacterPose at;
+  TrapReachPose(spec, plan.data(), meet, meet + 0.1 + 1e-9, ReachRampsOf(for_foot), &at);
+  EXPECT_EQ(at, spec.standing_pose());
+  TrapReachPose(spec, plan.data(), meet, meet + 0.1 + 1e-9, ReachRampsOf(base), &at);
+  EXPECT_NE(at, spec.standing_pose());
+}
+
+// A part's settings are for TRAP alone (trap then kick plans the trap inside its own space) and
+// cannot nest; a part's keep margin is checked as the trap's.
+TEST_F(FootballTrapTaskTest, APartsSettingsOutsideTheTrapTaskOrNestedAreConfigErrors) {
+  LoadedConfig c = config_;
+  config::TrapPlanning* trap = c.run.mutable_planner()->mutable_football()->mutable_trap();
+  trap->mutable_head()->mutable_foot()->set_give_max(2);
+  EXPECT_THAT(ValidateFootballTask(c).message(), ::testing::HasSubstr("trap.head"));
+  EXPECT_THAT(ValidateFootballTask(c).message(), ::testing::HasSubstr("cannot hold part settings"));
+  trap->clear_head();
+  trap->mutable_torso()->set_keep_margin_m(c.run.football().trap().reach_m());
+  EXPECT_THAT(ValidateFootballTask(c).message(), ::testing::HasSubstr("torso.keep_margin_m"));
+  trap->clear_torso();
+  trap->mutable_foot()->set_give_max(2);
+  EXPECT_TRUE(ValidateFootballTask(c).ok());
+  c.run.mutable_football()->set_task(config::TRAP_KICK);
+  EXPECT_THAT(ValidateFootballTask(c).message(), ::testing::HasSubstr("for the TRAP task"));
 }
 
 // The keep term (trap.keep_margin_m, trap.lost): zero for a ball that ends inside the reach less

@@ -77,10 +77,11 @@ std::function<void(int, const planner::ReplanReport&)> PlannerProgress(
     const auto now = std::chrono::steady_clock::now();
     if (now - *last < std::chrono::seconds(10)) return;
     *last = now;
-    std::printf("  planner: %.0f s wall, episode slot %d/%d at %.2f s simulated, last re-plan "
-                "cost %.3g -> %.3g%s\n",
-                std::chrono::duration<double>(now - started).count(), slot + 1, episodes,
-                r.env_step * spec->control_dt(), r.incumbent_cost, r.best_cost,
+    // The episodes run side by side (eval/episode_runner.h): progress is the simulated time.
+    std::printf("  planner: %.0f s wall, %d episodes side by side at %.2f s simulated; slot "
+                "%d re-planned: cost %.3g -> %.3g%s\n",
+                std::chrono::duration<double>(now - started).count(), episodes,
+                r.env_step * spec->control_dt(), slot + 1, r.incumbent_cost, r.best_cost,
                 r.predicts_failure ? " (predicts a failure)" : "");
     std::fflush(stdout);
   };

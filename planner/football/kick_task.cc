@@ -230,27 +230,25 @@ absl::Status ValidateFootballTask(const LoadedConfig& config) {
       {"torso", &trap.torso()},
       {"head", &trap.head()}};
   for (const auto& [name, part] : parts) {
-    auto where_in = [&](const char* field) {
-      if (name == nullptr) return config.root.Where({{"planner"}, {"football"}, {"trap"}, {field}});
-      return config.root.Where({{"planner"}, {"football"}, {"trap"}, {name}, {field}});
-    };
+    FieldPath path = {{"planner"}, {"football"}, {"trap"}};
+    if (name != nullptr) path.push_back({name});
     if (name != nullptr && part->ByteSizeLong() > 0 &&
         config.run.football().task() != config::TRAP) {
       return absl::InvalidArgumentError(absl::StrCat(
-          config.root.Where({{"planner"}, {"football"}, {"trap"}, {name}}),
+          config.root.Where(path),
           ": a part's own trap settings are for the TRAP task; this config's football.task is ",
           config::FootballTask_Name(config.run.football().task())));
     }
     if (name != nullptr && (part->has_foot() || part->has_lower_leg() || part->has_torso() ||
                             part->has_head())) {
       return absl::InvalidArgumentError(absl::StrCat(
-          config.root.Where({{"planner"}, {"football"}, {"trap"}, {name}}),
-          ": a part's settings cannot hold part settings of their own"));
+          config.root.Where(path), ": a part's settings cannot hold part settings of their own"));
     }
     if ((name == nullptr || part->has_keep_margin_m()) &&
         part->keep_margin_m() >= config.run.football().trap().reach_m()) {
+      path.push_back({"keep_margin_m"});
       return absl::InvalidArgumentError(absl::StrCat(
-          where_in("keep_margin_m"), ": ", part->keep_margin_m(),
+          config.root.Where(path), ": ", part->keep_margin_m(),
           " m leaves no room inside football.trap.reach_m (", config.run.football().trap().reach_m(),
           " m)"));
     }

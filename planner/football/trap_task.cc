@@ -241,16 +241,17 @@ FootballTrapTask::FootballTrapTask(std::shared_ptr<const football::FootballSpec>
                                    kTrapVariables - 2, p.angle_limit(), p.angle_sigma(),
                                    p.give_max());
   }
-  space_ = part_space_[config::TRAP_PART_UNSPECIFIED];
 }
 
-SearchSpace FootballTrapTask::RescueSpaceAt(const Env& env) const {
+const SearchSpace& FootballTrapTask::PartSpace(const Env& env) const {
   return part_space_[AsFootballEnv(env).state().trap.part];
 }
 
+SearchSpace FootballTrapTask::RescueSpaceAt(const Env& env) const { return PartSpace(env); }
+
 void FootballTrapTask::Restrict(const Env& env, const std::vector<double>&, SearchSpace* space,
                                 std::vector<std::vector<double>>*) const {
-  *space = part_space_[AsFootballEnv(env).state().trap.part];
+  *space = PartSpace(env);
 }
 
 int FootballTrapTask::max_run_on_steps() const { return kRunOnSteps; }

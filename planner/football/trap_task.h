@@ -72,8 +72,8 @@ class FootballTrapTask final : public PlanningTask {
 
   std::string family() const override { return "football"; }
   // The space of passes without part settings; Restrict and RescueSpaceAt give the pass's part's.
-  const SearchSpace& space() const override { return space_; }
-  const SearchSpace& rescue_space() const override { return space_; }
+  const SearchSpace& space() const override { return part_space_[config::TRAP_PART_UNSPECIFIED]; }
+  const SearchSpace& rescue_space() const override { return space(); }
   SearchSpace RescueSpaceAt(const Env& env) const override;
   void Restrict(const Env& env, const std::vector<double>& shifted, SearchSpace* space,
                 std::vector<std::vector<double>>* seeds) const override;
@@ -106,10 +106,12 @@ class FootballTrapTask final : public PlanningTask {
   std::shared_ptr<const football::FootballSpec> spec_;
   config::FootballPlanning settings_;
   int horizon_;
-  SearchSpace space_;
   // By TrapPart number (0: the settings without a part's).
   std::array<config::TrapPlanning, config::TrapPart_ARRAYSIZE> by_part_;
   std::array<SearchSpace, config::TrapPart_ARRAYSIZE> part_space_;
+
+  // The space of `env`'s pass's part.
+  const SearchSpace& PartSpace(const Env& env) const;
 };
 
 }  // namespace juggle::planner

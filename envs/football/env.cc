@@ -402,11 +402,27 @@ void FootballEnv::AppendEpisodeMetrics(std::vector<NamedValue>* out) const {
   if (spec_->trap()) AppendTrapMetrics(out);
   if (spec_->trap_kick()) {
     out->push_back({"trap_kick_switched", kicking() ? 1.0 : 0.0});
-    if (kicking()) out->push_back({"trap_kick_switch_s", s_.kick_origin_s});
+    if (kicking()) {
+      out->push_back({"trap_kick_switch_s", s_.kick_origin_s});
+    } else {
+      AppendUnkickedBall(out);
+    }
     out->push_back({"trap_kick_success", static_cast<double>(completions())});
   }
   if (kicking()) AppendKickMetrics(out);
   out->push_back({"fell", s_.fell ? 1.0 : 0.0});
+}
+
+void FootballEnv::AppendUnkickedBall(std::vector<NamedValue>* out) const {
+  const PitchBall& b = spec_->ball();
+  const double* p = data_->qpos + b.qpos;
+  const double* v = data_->qvel + b.dof;
+  const double* foot = spec_->kick_foot_standing();
+  out->push_back({"trap_kick_ball_ahead_m", p[0] - foot[0]});
+  out->push_back({"trap_kick_ball_across_m", p[1] - foot[1]});
+  out->push_back({"trap_kick_ball_height_m", p[2] - b.radius});
+  out->push_back({"trap_kick_ball_speed_mps", std::hypot(v[0], v[1])});
+  out->push_back({"trap_kick_zone_distance_m", KickZoneDistance(*spec_, p[0], p[1])});
 }
 
 void FootballEnv::AppendKickMetrics(std::vector<NamedValue>* out) const {

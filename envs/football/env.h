@@ -120,6 +120,10 @@ class FootballEnv : public juggle::Env {
   void AfterTrapKickTrapStep(StepResult* result);
   // After a control step of the kick (KICK, or TRAP_KICK after the switch).
   void AfterKickStep(bool touched_before, StepResult* result);
+  // TRAP_KICK without a switch: where the ball is at the end against the kicking foot's
+  // standing centre (ahead, across: + left), its height above resting, its horizontal speed
+  // and its distance from the kick's zone.
+  void AppendUnkickedBall(std::vector<NamedValue>* out) const;
   void AppendKickMetrics(std::vector<NamedValue>* out) const;
   void AppendTrapMetrics(std::vector<NamedValue>* out) const;
   bool Diverged() const;

@@ -138,6 +138,17 @@ TEST_F(FootballTrapKickEnvTest, ABallSentOutOfTheZoneEndsAsOutOfReachWaitSeconds
   EXPECT_EQ(Metric(*env, "trap_kick_success"), 0);
   EXPECT_TRUE(std::isnan(Metric(*env, "kick_success"))) << "no kick was attempted";
   EXPECT_EQ(env->completions(), 0);
+  // Where the unkicked ball ended, against the foot's standing centre, read off the physics.
+  const PitchBall& b = spec_->ball();
+  const double* p = env->data()->qpos + b.qpos;
+  const double* v = env->data()->qvel + b.dof;
+  const double* foot = spec_->kick_foot_standing();
+  EXPECT_DOUBLE_EQ(Metric(*env, "trap_kick_ball_ahead_m"), p[0] - foot[0]);
+  EXPECT_DOUBLE_EQ(Metric(*env, "trap_kick_ball_across_m"), p[1] - foot[1]);
+  EXPECT_DOUBLE_EQ(Metric(*env, "trap_kick_ball_speed_mps"), std::hypot(v[0], v[1]));
+  EXPECT_GT(Metric(*env, "trap_kick_ball_ahead_m"), 0.40) << "sent away ahead, out of the zone";
+  EXPECT_GT(Metric(*env, "trap_kick_zone_distance_m"), 0);
+  EXPECT_NEAR(Metric(*env, "trap_kick_ball_height_m"), p[2] - b.radius, 1e-12);
 }
 
 TEST_F(FootballTrapKickEnvTest, TheZoneDistanceIsZeroInsideAndTheGapOutside) {

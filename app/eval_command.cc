@@ -281,6 +281,9 @@ int Evaluate(EvalFlags f) {
   std::printf("%s", FormatNodeTable(nodes).c_str());
   std::vector<std::string> json = {SummaryJson(summary)};
   for (const NodeRow& row : nodes) json.push_back(NodeRowJson(row));
+  for (const EdgeRow& row : EdgeTable(report->episodes, (*spec)->graph())) {
+    json.push_back(EdgeRowJson(row));
+  }
   for (size_t i = 0; i < report->episodes.size(); ++i) {
     json.push_back(EpisodeJson(f.first_episode + static_cast<int>(i), report->episodes[i],
                                (*spec)->control_dt(), (*spec)->outcome_names()));

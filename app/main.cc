@@ -34,7 +34,7 @@ const Command kCommands[] = {
      juggle::AddPlayCommand},
     {"export-bvh", "write a recording's character motion as BVH (+ the balls as CSV)",
      juggle::AddExportBvhCommand},
-    {"dashboard", "render a run's dashboard (metrics.jsonl) as one self-contained HTML file",
+    {"dashboard", "render a run's dashboard (metrics.jsonl), or an evaluation's graph (--eval), as one self-contained HTML file",
      juggle::AddDashboardCommand},
     {"bench", "benchmarks that print ratios measured in one run (docs/performance.md)",
      juggle::AddBenchCommand},

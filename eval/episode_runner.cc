@@ -68,6 +68,7 @@ absl::StatusOr<EpisodeReport> RunEpisodes(std::shared_ptr<const EnvSpec> spec,
     EpisodeResult& e = report.episodes[i];
     e.node_visits.assign(num_nodes, 0);
     e.node_completions.assign(num_nodes, 0);
+    e.edge_events.Resize(spec->graph().num_edges());
     ++e.node_visits[NodeIndex(envs[i]->node(), num_nodes)];
   }
   // Running envs are compacted into the front of these batches every step.
@@ -95,6 +96,7 @@ absl::StatusOr<EpisodeReport> RunEpisodes(std::shared_ptr<const EnvSpec> spec,
       e.node_completions[node_before] += std::max(0, completed);
       const int node_after = NodeIndex(env.node(), num_nodes);
       if (node_after != node_before || completed > 0) ++e.node_visits[node_after];
+      for (const EdgeEvent& event : env.events()) e.edge_events.Add(event);
       if (o.record) CaptureEnv(env, env.steps() * spec->control_dt(), i, r.outcome, &*recorders[i]);
       if (r.outcome == Outcome::kRunning) {
         still.push_back(i);

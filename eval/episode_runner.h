@@ -31,6 +31,10 @@ struct EpisodeResult {
   // counts for the node the env was in before the step.
   std::vector<int> node_visits;
   std::vector<int> node_completions;
+  // The walk's edge events the env reported (Env::events), per edge of the graph: chosen (the
+  // walk entered the edge's target), completed (the target was completed), failed (the
+  // episode ended in it). Sized to the graph's edges (none without a graph).
+  WalkEventTotals edge_events;
 };
 
 struct EpisodeOptions {

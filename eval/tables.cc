@@ -41,6 +41,22 @@ std::vector<NodeRow> NodeTable(const std::vector<EpisodeResult>& episodes,
   return rows;
 }
 
+std::vector<EdgeRow> EdgeTable(const std::vector<EpisodeResult>& episodes,
+                               const ControlGraph& graph) {
+  std::vector<EdgeRow> rows(graph.num_edges());
+  WalkEventTotals totals;
+  totals.Resize(graph.num_edges());
+  for (const EpisodeResult& e : episodes) totals.Add(e.edge_events);
+  for (int i = 0; i < graph.num_edges(); ++i) {
+    rows[i].from = graph.node(graph.edge(i).from).name;
+    rows[i].to = graph.node(graph.edge(i).to).name;
+    rows[i].chosen = totals.chosen[i];
+    rows[i].completed = totals.completed[i];
+    rows[i].failed = totals.failed[i];
+  }
+  return rows;
+}
+
 std::string FormatNodeTable(const std::vector<NodeRow>& rows) {
   std::set<std::string> outcomes;
   size_t width = 4;
@@ -148,6 +164,15 @@ std::string NodeRowJson(const NodeRow& r) {
                {"completions", r.completions},
                {"success_rate", r.success_rate},
                {"endings", r.endings}});
+}
+
+std::string EdgeRowJson(const EdgeRow& r) {
+  return Line({{"table", "edge"},
+               {"from", r.from},
+               {"to", r.to},
+               {"chosen", r.chosen},
+               {"completed", r.completed},
+               {"failed", r.failed}});
 }
 
 std::string EpisodeJson(int episode, const EpisodeResult& e, double control_dt,

@@ -39,6 +39,15 @@ std::vector<NodeRow> NodeTable(const std::vector<EpisodeResult>& episodes,
 // The table as aligned text, one line per node, with a column per outcome that occurs.
 std::string FormatNodeTable(const std::vector<NodeRow>& rows);
 
+// One edge of the control graph over the episodes' walk events (EpisodeResult::edge_events).
+struct EdgeRow {
+  std::string from, to;  // node names
+  int64_t chosen = 0, completed = 0, failed = 0;
+};
+// One row per graph edge, in graph order (none without a graph).
+std::vector<EdgeRow> EdgeTable(const std::vector<EpisodeResult>& episodes,
+                               const ControlGraph& graph);
+
 struct ForceSweepOptions {
   std::vector<double> magnitudes = {0, 1, 2, 3, 4, 5};  // N, ascending; 0 is the baseline
   double min_median_juggles = 10;
@@ -76,6 +85,9 @@ absl::StatusOr<ForceSweepReport> RunForceSweep(
 // JSON objects (one line each, no trailing newline) for the JSON-lines outputs.
 std::string SummaryJson(const EvalSummary& summary);
 std::string NodeRowJson(const NodeRow& row);
+// {"table": "edge", "from", "to", "chosen", "completed", "failed"}: what `juggle dashboard
+// --eval` colours the graph by.
+std::string EdgeRowJson(const EdgeRow& row);
 // One episode: its index (its env stream), juggles, simulated seconds, return and ending, and
 // the family's metrics of it (Env::AppendEpisodeMetrics, by name: football's kick per attempt).
 std::string EpisodeJson(int episode, const EpisodeResult& e, double control_dt,

@@ -68,6 +68,37 @@ TEST(TablesTest, ZeroActionEpisodesCompleteTheDownNodeAndFailInTheUpNode) {
   EXPECT_EQ(ended, 3);
 }
 
+TEST(TablesTest, TheEdgeTableAgreesWithTheNodeTableForANodeEnteredOnlyByItsEdges) {
+  // The env's walk events counted per edge against the runner's own per-node counting: the
+  // UP node is never a start, so everything in it came through the DOWN -> UP edge.
+  const LoadedConfig config = EvalConfig("right_foot", 10);
+  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(config);
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  ZeroController zero((*spec)->act_dim());
+  EpisodeOptions o;
+  o.episodes = 3;
+  absl::StatusOr<EpisodeReport> report = RunEpisodes(*spec, &zero, o);
+  ASSERT_TRUE(report.ok()) << report.status();
+  const std::vector<NodeRow> nodes =
+      NodeTable(report->episodes, (*spec)->graph(), (*spec)->outcome_names());
+  const std::vector<EdgeRow> edges = EdgeTable(report->episodes, (*spec)->graph());
+  ASSERT_EQ(edges.size(), 2u);
+  const EdgeRow& into_up = edges[0].to == "right_foot_up" ? edges[0] : edges[1];
+  const EdgeRow& into_down = edges[0].to == "right_foot_up" ? edges[1] : edges[0];
+  EXPECT_EQ(into_up.from, "right_foot_down");
+  EXPECT_EQ(into_up.chosen, nodes[1].visits);
+  EXPECT_EQ(into_up.completed, nodes[1].completions);
+  int ended_up = 0;
+  for (const auto& [name, count] : nodes[1].endings) ended_up += count;
+  EXPECT_EQ(into_up.failed, ended_up);
+  EXPECT_EQ(into_down.chosen, 0) << "no episode got back to the DOWN node";
+  const nlohmann::json line = nlohmann::json::parse(EdgeRowJson(into_up));
+  EXPECT_EQ(line["table"], "edge");
+  EXPECT_EQ(line["from"], "right_foot_down");
+  EXPECT_EQ(line["chosen"], 3);
+  EXPECT_EQ(line["failed"], 3);
+}
+
 TEST(TablesTest, NodeTableCountsVisitsCompletionsAndEndingsPerNode) {
   const LoadedConfig config = EvalConfig("foot_and_head", 10);
   const std::vector<std::string> outcomes = {"running", "time_limit", "diverged", "fell"};

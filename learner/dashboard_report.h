@@ -34,6 +34,15 @@ std::unique_ptr<DashboardState> ReplayRunLog(const RunLog& log, const DashboardR
 // the metrics file is missing; INVALID_ARGUMENT naming the line for a malformed record.
 absl::StatusOr<DashboardReport> RenderRunDashboard(const std::string& run_dir);
 
+// `juggle eval --json` output of `config` (its summary, node, edge and episode lines; any
+// controller, the planner's included) as the dashboard page: the control graph coloured by
+// the evaluation's success per node and edge (its edge lines as the walk's events), its
+// juggles as one evaluation. INVALID_ARGUMENT naming file:line for a line that is not JSON or
+// an edge the config's graph lacks; FAILED_PRECONDITION for a file without edge lines (an
+// evaluation written before they existed, or a family without a control graph).
+absl::StatusOr<DashboardReport> RenderEvalDashboard(const std::string& eval_json_path,
+                                                    const LoadedConfig& config);
+
 }  // namespace juggle
 
 #endif  // JUGGLE_LEARNER_DASHBOARD_REPORT_H_

@@ -194,5 +194,31 @@ TEST_F(DashboardBrowserTest, LivePageShowsTheWorkerTheGraphAndTheLearnersNumbers
   EXPECT_THAT(offline, HasSubstr("<figure id=\"loop-figure\">")) << "the loop view of the labels";
 }
 
+TEST_F(DashboardBrowserTest, AnEvaluationsPageShowsItsSummaryAndTheGraphByItsNodeTable) {
+  // Zero action on the right foot: every episode completes its DOWN node and fails in its UP
+  // node, so the node table's success is 100 % and 0 %.
+  ChildProcess eval({"eval", "--controller=zero", "--config=configs/right_foot.textproto",
+                     "--episodes=3", "--max_seconds=10", "--json=" + dir_ + "/eval.jsonl"},
+                    dir_ + "/eval.log");
+  ASSERT_EQ(eval.Wait(120), 0) << ReadAll(dir_ + "/eval.log");
+  EXPECT_THAT(ReadAll(dir_ + "/eval.jsonl"), HasSubstr("\"table\":\"edge\""));
+  ChildProcess report({"dashboard", "--eval=" + dir_ + "/eval.jsonl",
+                       "--config=configs/right_foot.textproto", "--out=" + dir_ + "/eval.html"},
+                      dir_ + "/eval_report.log");
+  ASSERT_EQ(report.Wait(60), 0) << ReadAll(dir_ + "/eval_report.log");
+  const std::string dom = Chromium("file://" + dir_ + "/eval.html", {"--dump-dom"}, "eval");
+  EXPECT_EQ(BodyAttribute(dom, "data-loaded"), "1") << "the page never rendered its data";
+  EXPECT_EQ(BodyAttribute(dom, "data-kind"), "evaluation");
+  EXPECT_THAT(dom, HasSubstr("id=\"js-errors\" hidden")) << "the page caught a JavaScript error";
+  EXPECT_EQ(ConsoleMessages("eval"), "");
+  EXPECT_THAT(dom, HasSubstr("<section id=\"evaluation-section\">")) << "shown, not hidden";
+  EXPECT_THAT(dom, HasSubstr("<dd id=\"eval-episodes\">3</dd>"));
+  EXPECT_EQ(Count(dom, std::regex("<g class=\"node[ \"]")), 2) << "graph nodes drawn";
+  EXPECT_EQ(Count(dom, std::regex("data-name=\"right_foot_down\"[^]*?<text class=\"rate\"[^>]*>100 %</text>")), 1);
+  EXPECT_EQ(Count(dom, std::regex("data-name=\"right_foot_up\"[^]*?<text class=\"rate\"[^>]*>0 %</text>")), 1);
+  Chromium("file://" + dir_ + "/eval.html", {"--screenshot=" + screenshot_dir_ + "/dashboard_eval.png"},
+           "eval_shot");
+}
+
 }  // namespace
 }  // namespace juggle

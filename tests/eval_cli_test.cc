@@ -95,7 +95,7 @@ TEST(EvalCliTest, PrintsTheNodeTableAndWritesItAsJsonLines) {
   EXPECT_THAT(log, ::testing::ContainsRegex("right_foot_up +3 +0 +0.000"));
   const std::string json = ReadAll(dir + "/eval.jsonl");
   const std::vector<nlohmann::json> lines = JsonLines(json);
-  ASSERT_EQ(lines.size(), 6u);  // summary, two nodes, three episodes
+  ASSERT_EQ(lines.size(), 8u);  // summary, two nodes, two edges, three episodes
   EXPECT_EQ(lines[0]["table"], "summary");
   EXPECT_EQ(lines[0]["episodes"], 3);
   EXPECT_EQ(lines[1], nlohmann::json::parse(
@@ -104,13 +104,19 @@ TEST(EvalCliTest, PrintsTheNodeTableAndWritesItAsJsonLines) {
   EXPECT_EQ(lines[2]["node"], "right_foot_up");
   EXPECT_EQ(lines[2]["visits"], 3);
   EXPECT_EQ(lines[2]["completions"], 0);
+  // The edges: every episode went down -> up and ended there.
+  EXPECT_EQ(lines[3], nlohmann::json::parse(
+                          "{\"table\":\"edge\",\"from\":\"right_foot_down\",\"to\":\"right_foot_up\","
+                          "\"chosen\":3,\"completed\":0,\"failed\":3}"));
+  EXPECT_EQ(lines[4]["table"], "edge");
+  EXPECT_EQ(lines[4]["chosen"], 0);
   double mean_juggles = 0;
   for (int i = 0; i < 3; ++i) {
-    EXPECT_EQ(lines[3 + i]["table"], "episode");
-    EXPECT_EQ(lines[3 + i]["episode"], i);
-    EXPECT_GT(lines[3 + i]["seconds"].get<double>(), 0.0);
-    EXPECT_NE(lines[3 + i]["outcome"], "running");
-    mean_juggles += lines[3 + i]["juggles"].get<double>() / 3;
+    EXPECT_EQ(lines[5 + i]["table"], "episode");
+    EXPECT_EQ(lines[5 + i]["episode"], i);
+    EXPECT_GT(lines[5 + i]["seconds"].get<double>(), 0.0);
+    EXPECT_NE(lines[5 + i]["outcome"], "running");
+    mean_juggles += lines[5 + i]["juggles"].get<double>() / 3;
   }
   EXPECT_DOUBLE_EQ(lines[0]["mean_juggles"].get<double>(), mean_juggles);
   std::system(("rm -rf " + dir).c_str());

@@ -374,7 +374,24 @@
     }
   }
 
+  // An evaluation's page (`juggle dashboard --eval`): its summary and the graph, nothing of
+  // training.
+  function renderEvaluation(e) {
+    document.body.dataset.kind = 'evaluation';
+    $('evaluation-section').hidden = false;
+    $('graph-evaluation-caption').hidden = false;
+    text('evaluation-source', e.source);
+    text('eval-episodes', num(e.episodes));
+    text('eval-median', num(e.median_juggles, 1));
+    text('eval-p10-p90', num(e.p10_juggles, 1) + ' – ' + num(e.p90_juggles, 1));
+    text('eval-mean', num(e.mean_juggles, 2));
+    text('eval-ge20', pct(e.frac_juggles_ge_20));
+    text('eval-length', num(e.mean_episode_s, 1) + ' s');
+    text('eval-endings', Object.entries(e.outcomes || {}).map(([k, v]) => k + ' ' + v).join(', ') || '–');
+  }
+
   if (embedded) {
+    if (embedded.evaluation) renderEvaluation(embedded.evaluation);
     mergeHistory(embedded.history);
     evaluations = embedded.evals.evaluations;
     rendered(embedded.status);

@@ -260,8 +260,10 @@
       return;
     }
     const key = g.nodes.map((n) => n.name).join(',') + '|' + g.edges.map((e) => e.from + '>' + e.to).join(',');
-    const width = Math.min(760, Math.max(360, 160 * Math.sqrt(g.nodes.length) + 200));
-    const height = Math.max(260, width * 0.62);
+    // Larger graphs (the full one has 23 nodes) get more room and more repulsion.
+    const width = Math.min(1100, Math.max(360, 180 * Math.sqrt(g.nodes.length) + 200));
+    const height = Math.max(260, width * 0.7);
+    const charge = g.nodes.length > 12 ? -2200 : -900;
     if (graphDrawn !== key) {
       container.html('');
       const nodes = g.nodes.map((n, i) => ({ id: i, name: n.name,
@@ -269,10 +271,15 @@
         y: height / 2 + 0.35 * height * Math.sin(2 * Math.PI * i / g.nodes.length) }));
       const links = g.edges.map((e) => ({ source: e.from, target: e.to }));
       const force = d3.layout.force().nodes(nodes).links(links).size([width, height])
-        .charge(-900).linkDistance(Math.min(180, width / 3)).gravity(0.08);
+        .charge(charge).linkDistance(Math.min(180, width / 3)).gravity(0.08);
       force.start();
       for (let i = 0; i < 300; ++i) force.tick();
       force.stop();
+      // Every node inside the drawing, its name and stage included.
+      for (const n of nodes) {
+        n.x = Math.max(60, Math.min(width - 60, n.x));
+        n.y = Math.max(40, Math.min(height - 40, n.y));
+      }
       const svg = container.append('svg').attr('width', width).attr('height', height)
         .attr('viewBox', '0 0 ' + width + ' ' + height);
       // Arrowheads in pixels, not scaled by the edge's width.

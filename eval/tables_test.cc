@@ -38,14 +38,18 @@ LoadedConfig EvalConfig(const std::string& name, double max_seconds) {
   return *c;
 }
 
-TEST(TablesTest, ZeroActionEpisodesCompleteTheDownNodeAndFailInTheUpNode) {
-  const LoadedConfig config = EvalConfig("right_foot", 10);
-  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(config);
-  ASSERT_TRUE(spec.ok()) << spec.status();
-  ZeroController zero((*spec)->act_dim());
+// Three episodes of `spec` with zero action, streams 0-2.
+absl::StatusOr<EpisodeReport> ThreeZeroActionEpisodes(std::shared_ptr<const EnvSpec> spec) {
+  ZeroController zero(spec->act_dim());
   EpisodeOptions o;
   o.episodes = 3;
-  absl::StatusOr<EpisodeReport> report = RunEpisodes(*spec, &zero, o);
+  return RunEpisodes(spec, &zero, o);
+}
+
+TEST(TablesTest, ZeroActionEpisodesCompleteTheDownNodeAndFailInTheUpNode) {
+  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(EvalConfig("right_foot", 10));
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  absl::StatusOr<EpisodeReport> report = ThreeZeroActionEpisodes(*spec);
   ASSERT_TRUE(report.ok()) << report.status();
   for (const EpisodeResult& e : report->episodes) {
     ASSERT_EQ(e.node_visits.size(), 2u);
@@ -71,13 +75,9 @@ TEST(TablesTest, ZeroActionEpisodesCompleteTheDownNodeAndFailInTheUpNode) {
 TEST(TablesTest, TheEdgeTableAgreesWithTheNodeTableForANodeEnteredOnlyByItsEdges) {
   // The env's walk events counted per edge against the runner's own per-node counting: the
   // UP node is never a start, so everything in it came through the DOWN -> UP edge.
-  const LoadedConfig config = EvalConfig("right_foot", 10);
-  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(config);
+  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(EvalConfig("right_foot", 10));
   ASSERT_TRUE(spec.ok()) << spec.status();
-  ZeroController zero((*spec)->act_dim());
-  EpisodeOptions o;
-  o.episodes = 3;
-  absl::StatusOr<EpisodeReport> report = RunEpisodes(*spec, &zero, o);
+  absl::StatusOr<EpisodeReport> report = ThreeZeroActionEpisodes(*spec);
   ASSERT_TRUE(report.ok()) << report.status();
   const std::vector<NodeRow> nodes =
       NodeTable(report->episodes, (*spec)->graph(), (*spec)->outcome_names());

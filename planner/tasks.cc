@@ -42,7 +42,7 @@ const std::vector<PlanningTaskEntry>& PlanningTasks() {
        /*has_later_kicks=*/true},
       {"toss", &ValidateTossTask, &MakeTossTask, /*refines=*/false,
        /*has_later_kicks=*/false},
-      {"football", &ValidateFootballTask, &MakeFootballTask, /*refines=*/false,
+      {"football", &ValidateFootballTask, &MakeFootballTask, /*refines=*/true,
        /*has_later_kicks=*/false},
   };
   return *kTasks;

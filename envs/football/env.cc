@@ -431,6 +431,13 @@ void FootballEnv::AppendKickMetrics(std::vector<NamedValue>* out) const {
   if (success) {
     out->push_back({"kick_direction_deviation_deg", s_.score.direction_deviation_deg});
     out->push_back({"kick_speed_deviation_mps", s_.score.speed_deviation_mps});
+    const KickFloor floor = KickDeviationFloor(s_.kick, kKickWindowS);
+    out->push_back({"kick_direction_floor_deg", floor.direction_deg});
+    out->push_back({"kick_speed_floor_mps", floor.speed_mps});
+    const KickErrors errors = SignedKickErrors(s_.kick, kKickWindowS);
+    out->push_back({"kick_azimuth_error_deg", errors.azimuth_deg});
+    out->push_back({"kick_elevation_error_deg", errors.elevation_deg});
+    out->push_back({"kick_speed_error_mps", errors.speed_mps});
     double speed = 0;
     for (const BallVelocitySample& sample : s_.kick.after_touch) speed += Norm3(sample.velocity);
     out->push_back({"kick_speed_mps", speed / std::max<size_t>(1, s_.kick.after_touch.size())});

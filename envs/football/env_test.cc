@@ -148,7 +148,7 @@ TEST_F(FootballEnvTest, TheKickMetricsAreThoseRecomputedFromTheBallVelocityAfter
     double target[3];
     env->TargetVelocity(target);
     const double target_speed = std::hypot(target[0], target[1], target[2]);
-    double angles = 0, speeds = 0;
+    double angles = 0, speeds = 0, signed_speeds = 0;
     int samples = 0;
     StepResult r;
     while (r.outcome == Outcome::kRunning) {
@@ -164,6 +164,7 @@ TEST_F(FootballEnvTest, TheKickMetricsAreThoseRecomputedFromTheBallVelocityAfter
                          (speed * target_speed);
       angles += std::acos(std::clamp(dot, -1.0, 1.0)) * 180 / M_PI;
       speeds += std::abs(speed - target_speed);
+      signed_speeds += speed - target_speed;
       ++samples;
     }
     std::vector<NamedValue> metrics;
@@ -183,6 +184,10 @@ TEST_F(FootballEnvTest, TheKickMetricsAreThoseRecomputedFromTheBallVelocityAfter
     EXPECT_NEAR(value("kick_direction_deviation_deg"), angles / samples, 1e-6);
     EXPECT_NEAR(value("kick_speed_deviation_mps"), speeds / samples, 1e-9);
     EXPECT_NEAR(value("kick_target_speed_mps"), target_speed, 1e-9);
+    EXPECT_NEAR(value("kick_speed_error_mps"), signed_speeds / samples, 1e-9);
+    EXPECT_LE(std::abs(value("kick_elevation_error_deg")), value("kick_direction_deviation_deg"));
+    EXPECT_LE(value("kick_direction_floor_deg"), value("kick_direction_deviation_deg"));
+    EXPECT_LE(value("kick_speed_floor_mps"), value("kick_speed_deviation_mps") + 1e-12);
   }
   EXPECT_GT(kicks, 0) << "the scripted kick touched no ball with zero action";
 }

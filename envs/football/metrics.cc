@@ -1,5 +1,6 @@
 #include "envs/football/metrics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -40,6 +41,56 @@ KickScore ScoreKick(const KickAttempt& kick, double window_s) {
   score.direction_deviation_deg = angles / score.samples * 180 / M_PI;
   score.speed_deviation_mps = speeds / score.samples;
   return score;
+}
+
+KickErrors SignedKickErrors(const KickAttempt& kick, double window_s) {
+  KickErrors e;
+  if (!kick.touched) return e;
+  const double* t = kick.target_direction;
+  const double target_azimuth = std::atan2(t[1], t[0]);
+  const double target_elevation = std::atan2(t[2], std::hypot(t[0], t[1]));
+  int samples = 0;
+  for (const BallVelocitySample& s : kick.after_touch) {
+    if (s.t < 0 || s.t > window_s) continue;
+    const double* v = s.velocity;
+    e.azimuth_deg += std::remainder(std::atan2(v[1], v[0]) - target_azimuth, 2 * M_PI);
+    e.elevation_deg += std::atan2(v[2], std::hypot(v[0], v[1])) - target_elevation;
+    e.speed_mps += Norm(v) - kick.target_speed;
+    ++samples;
+  }
+  if (samples == 0) return KickErrors{};
+  e.valid = true;
+  e.azimuth_deg *= 180 / M_PI / samples;
+  e.elevation_deg *= 180 / M_PI / samples;
+  e.speed_mps /= samples;
+  return e;
+}
+
+KickFloor KickDeviationFloor(const KickAttempt& kick, double window_s) {
+  KickFloor floor;
+  if (!kick.touched) return floor;
+  std::vector<const double*> v;
+  for (const BallVelocitySample& s : kick.after_touch) {
+    if (s.t >= 0 && s.t <= window_s) v.push_back(s.velocity);
+  }
+  if (v.empty()) return floor;
+  auto elevation = [](const double* u) { return std::atan2(u[2], std::hypot(u[0], u[1])); };
+  std::vector<const double*> by_elevation = v;
+  std::sort(by_elevation.begin(), by_elevation.end(),
+            [&](const double* a, const double* b) { return elevation(a) < elevation(b); });
+  const double* median = by_elevation[(by_elevation.size() - 1) / 2];
+  std::vector<double> speeds;
+  for (const double* u : v) speeds.push_back(Norm(u));
+  std::vector<double> sorted = speeds;
+  std::sort(sorted.begin(), sorted.end());
+  const double median_speed = sorted[(sorted.size() - 1) / 2];
+  for (size_t i = 0; i < v.size(); ++i) {
+    floor.direction_deg += Angle(v[i], median);
+    floor.speed_mps += std::abs(speeds[i] - median_speed);
+  }
+  floor.direction_deg *= 180 / M_PI / v.size();
+  floor.speed_mps /= v.size();
+  return floor;
 }
 
 TrapScore ScoreTrap(const TrapAttempt& trap, int frames) {

@@ -40,6 +40,31 @@ struct KickScore {
 // window scores as a failure (nothing was measured).
 KickScore ScoreKick(const KickAttempt& kick, double window_s = 1.0 / 6.0);
 
+// A kick's signed errors over the same window, the smooth counterparts of KDD and KSD (the
+// planner's refinement steps on them, planner/football/kick_task.cc): the mean azimuth and
+// elevation of the ball's velocity less the target's (degrees; azimuth about +z, wrapped to
+// ±180, positive to the left) and the mean speed less the target speed (m/s). `valid` is false
+// without a touch or a sample in the window.
+struct KickErrors {
+  bool valid = false;
+  double azimuth_deg = 0;
+  double elevation_deg = 0;
+  double speed_mps = 0;
+};
+KickErrors SignedKickErrors(const KickAttempt& kick, double window_s = 1.0 / 6.0);
+
+// The least KDD and KSD any target could have given this ball's flight over the window (gravity
+// turns and slows the ball inside it, so even a perfect aim keeps some of both): the mean angle
+// of the samples' velocities to the median sample's by elevation, and the mean |speed − the
+// median speed|. The samples' directions lie on one great circle (a velocity under gravity
+// alone stays in the plane of its start and the vertical), where the median minimizes the sum
+// of angular distances. 0 and 0 without a touch or a sample in the window.
+struct KickFloor {
+  double direction_deg = 0;
+  double speed_mps = 0;
+};
+KickFloor KickDeviationFloor(const KickAttempt& kick, double window_s = 1.0 / 6.0);
+
 struct TrapAttempt {
   bool designated_first_before_ground = false;
   bool within_reach_after = false;

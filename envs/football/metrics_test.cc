@@ -1,8 +1,10 @@
 // The trap and kick metrics (envs/football/metrics.h) on hand-made attempts whose values are
 // known: a kick 5° off at 12 m/s against 10 gives KDD 5° and KSD 2 m/s; a kick along its target
-// under gravity gives the angles the law of cosines gives; traps by each rule.
+// under gravity gives the angles the law of cosines gives; the signed errors' sides and signs;
+// traps by each rule.
 #include "envs/football/metrics.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "gmock/gmock.h"
@@ -59,6 +61,75 @@ TEST(KickMetricsTest, AKickAlongItsTargetUnderGravityDeviatesAsTheLawOfCosinesSa
   EXPECT_NEAR(s.direction_deviation_deg, angles / n, 1e-6);
   EXPECT_NEAR(s.speed_deviation_mps, speeds / n, 1e-9);
   EXPECT_GT(s.direction_deviation_deg, 1.0) << "gravity bends a 15 m/s kick by degrees in 1/6 s";
+}
+
+TEST(KickMetricsTest, SignedErrorsGiveTheSideAndTheSignOfTheDeviations) {
+  // 5° to the left (toward +y) and 3° below a target 10° up, 2 m/s slow: each error with its sign.
+  const double left = 5 * M_PI / 180, down = 7 * M_PI / 180, up = 10 * M_PI / 180;
+  const double v[3] = {8 * std::cos(down) * std::cos(left), 8 * std::cos(down) * std::sin(left),
+                       8 * std::sin(down)};
+  const double target[3] = {std::cos(up), 0, std::sin(up)};
+  const KickErrors e = SignedKickErrors(KickWith(v, target, 10, 0));
+  ASSERT_TRUE(e.valid);
+  EXPECT_NEAR(e.azimuth_deg, 5.0, 1e-9);
+  EXPECT_NEAR(e.elevation_deg, -3.0, 1e-9);
+  EXPECT_NEAR(e.speed_mps, -2.0, 1e-12);
+  // Toward −y behind the target's azimuth of 175°: wrapped, −10° rather than 350°.
+  const double back[3] = {std::cos(175 * M_PI / 180), std::sin(175 * M_PI / 180), 0};
+  const double turned[3] = {-std::cos(5 * M_PI / 180), -std::sin(5 * M_PI / 180), 0};
+  EXPECT_NEAR(SignedKickErrors(KickWith(turned, back, 1, 0)).azimuth_deg, 10.0, 1e-9);
+}
+
+TEST(KickMetricsTest, UnderGravityTheMeanElevationErrorIsHalfTheTurnAndKddNoLessThanAQuarter) {
+  // Launched along its target at 15 m/s, 20° up: the elevation error falls from 0 with each
+  // sample's own angle (atan2 of the velocity, an independent path to the law of cosines above),
+  // and no aim does better than a quarter of the window's turn in KDD.
+  const double g = 9.81, speed = 15, up = 20 * M_PI / 180;
+  const double v0[3] = {speed * std::cos(up), 0, speed * std::sin(up)};
+  const KickAttempt k = KickWith(v0, v0, speed, g);
+  double sum = 0;
+  int n = 0;
+  for (int i = 0; 0.02 * i <= 1.0 / 6.0; ++i, ++n) {
+    sum += std::atan2(v0[2] - g * 0.02 * i, v0[0]) - up;
+  }
+  const KickErrors e = SignedKickErrors(k);
+  ASSERT_TRUE(e.valid);
+  EXPECT_NEAR(e.elevation_deg, sum / n * 180 / M_PI, 1e-9);
+  EXPECT_LT(e.elevation_deg, 0);
+  EXPECT_NEAR(e.azimuth_deg, 0, 1e-12);
+  const double turn_deg = (std::atan2(v0[2] - g * 0.16, v0[0]) - up) * -180 / M_PI;
+  EXPECT_NEAR(e.elevation_deg, -turn_deg / 2, 0.05 * turn_deg);
+  EXPECT_GE(ScoreKick(k).direction_deviation_deg, turn_deg / 4);
+  KickAttempt untouched = k;
+  untouched.touched = false;
+  EXPECT_FALSE(SignedKickErrors(untouched).valid);
+}
+
+TEST(KickMetricsTest, TheFloorIsWhatNoAimBeatsUnderGravityAndZeroForAStraightFlight) {
+  const double g = 9.81, speed = 10, up = 15 * M_PI / 180;
+  const double v0[3] = {speed * std::cos(up), 0, speed * std::sin(up)};
+  const KickAttempt k = KickWith(v0, v0, speed, g);
+  const KickFloor floor = KickDeviationFloor(k);
+  // Against a grid of targets in the flight's plane and beside it, none gives less KDD.
+  double best = 1e9;
+  for (double el = 0; el <= 20; el += 0.05) {
+    for (double az : {-0.5, 0.0, 0.5}) {
+      KickAttempt aimed = k;
+      const double e = el * M_PI / 180, a = az * M_PI / 180;
+      aimed.target_direction[0] = std::cos(e) * std::cos(a);
+      aimed.target_direction[1] = std::cos(e) * std::sin(a);
+      aimed.target_direction[2] = std::sin(e);
+      best = std::min(best, ScoreKick(aimed).direction_deviation_deg);
+    }
+  }
+  EXPECT_GT(floor.direction_deg, 1.0) << "a 10 m/s kick turns by about 9 degrees in 1/6 s";
+  EXPECT_LE(floor.direction_deg, best + 1e-9);
+  EXPECT_NEAR(floor.direction_deg, best, 0.01);
+  EXPECT_GT(floor.speed_mps, 0);
+  const double flat[3] = {12, 1, 0};
+  const KickFloor straight = KickDeviationFloor(KickWith(flat, v0, 20, 0));
+  EXPECT_NEAR(straight.direction_deg, 0, 1e-9);
+  EXPECT_NEAR(straight.speed_mps, 0, 1e-12);
 }
 
 TEST(KickMetricsTest, AnUntouchedKickFailsAndAKickWithoutSamplesInTheWindowIsNotMeasured) {

@@ -8,6 +8,7 @@
 #include "absl/strings/str_format.h"
 #include "envs/football/env.h"
 #include "envs/football/kick_motion.h"
+#include "envs/football/metrics.h"
 #include "envs/football/outcomes.h"
 #include "envs/geom_extent.h"
 #include "planner/pose_action.h"
@@ -60,26 +61,19 @@ class KickScorer final : public RolloutScorer {
     } else if (r.outcome == football::kFell || r.outcome == Outcome::kDiverged) {
       failure_ = s_.failure() * (2.0 - static_cast<double>(std::min(steps_, horizon_)) / horizon_);
     }
+    // The window's score so far, so that first_outcome() holds it before Finish too (the driver
+    // reads it first: planner/receding_horizon.cc).
+    ScoreWindow(e.state());
   }
 
   double Finish(const Env& env) override {
     const FootballEnv& e = AsFootballEnv(env);
     const football::FootballEnvState& st = e.state();
-    if (!window_done_at_begin_ && st.kick.touched) {
-      // The window's samples so far (all of them once it is done).
-      const football::KickScore k = st.window_done
-                                        ? st.score
-                                        : football::ScoreKick(st.kick, football::kKickWindowS);
-      if (k.success) {
-        scored_ = true;
-        kdd_ = k.direction_deviation_deg;
-        ksd_ = k.speed_deviation_mps;
-        double speed = 0;
-        for (const football::BallVelocitySample& v : st.kick.after_touch) speed += Norm3(v.velocity);
-        speed_ = speed / std::max<size_t>(1, st.kick.after_touch.size());
-        direction_ = s_.direction() * std::pow(kdd_ / s_.direction_scale_deg(), 2);
-        speed_term_ = s_.speed() * std::pow(ksd_ / s_.speed_scale_mps(), 2);
-      }
+    ScoreWindow(st);
+    if (scored_) {
+      const double p = s_.deviation_power();
+      direction_ = s_.direction() * std::pow(kdd_ / s_.direction_scale_deg(), p);
+      speed_term_ = s_.speed() * std::pow(ksd_ / s_.speed_scale_mps(), p);
     }
     if (!touched_at_begin_ && st.touch_body < 0 && miss_ == 0 && failure_ == 0) {
       const football::KickTimes t = football::KickTimesOf(e.spec().football().motion(), {});
@@ -94,6 +88,23 @@ class KickScorer final : public RolloutScorer {
 
   double partial() const override { return direction_ + speed_term_ + miss_ + failure_ + upright_; }
 
+  // The kick's outcome over its window (the samples so far, all of them once it is done) when
+  // this rollout saw the window open; its cost terms are set by Finish only (partial() stays a
+  // lower bound of the total).
+  void ScoreWindow(const football::FootballEnvState& st) {
+    if (window_done_at_begin_ || !st.kick.touched) return;
+    const football::KickScore k =
+        st.window_done ? st.score : football::ScoreKick(st.kick, football::kKickWindowS);
+    if (!k.success) return;
+    scored_ = true;
+    kdd_ = k.direction_deviation_deg;
+    ksd_ = k.speed_deviation_mps;
+    double speed = 0;
+    for (const football::BallVelocitySample& v : st.kick.after_touch) speed += Norm3(v.velocity);
+    speed_ = speed / std::max<size_t>(1, st.kick.after_touch.size());
+    errors_ = football::SignedKickErrors(st.kick, football::kKickWindowS);
+  }
+
   bool RunsOn(const Env& env) const override {
     const football::FootballEnvState& st = AsFootballEnv(env).state();
     return st.kick.touched && !st.window_done;
@@ -101,7 +112,7 @@ class KickScorer final : public RolloutScorer {
 
   std::vector<double> first_outcome() const override {
     if (!scored_) return {};
-    return {kdd_, ksd_, speed_};
+    return {kdd_, ksd_, speed_, errors_.azimuth_deg, errors_.elevation_deg, errors_.speed_mps};
   }
 
   std::vector<double> terms() const override {
@@ -115,6 +126,7 @@ class KickScorer final : public RolloutScorer {
   bool window_done_at_begin_ = false, touched_at_begin_ = false, scored_ = false;
   double closest_gap_ = std::numeric_limits<double>::infinity();
   double kdd_ = 0, ksd_ = 0, speed_ = 0;
+  football::KickErrors errors_;
   double direction_ = 0, speed_term_ = 0, miss_ = 0, failure_ = 0, upright_ = 0;
 };
 
@@ -183,7 +195,24 @@ std::vector<std::string> FootballKickTask::term_names() const {
 }
 
 std::vector<std::string> FootballKickTask::outcome_names() const {
-  return {"kdd_deg", "ksd_mps", "speed_mps"};
+  return {"kdd_deg", "ksd_mps", "speed_mps", "azimuth_err_deg", "elevation_err_deg",
+          "speed_err_mps"};
+}
+
+std::optional<VariableBlock> FootballKickTask::RefineBlock(const Env& env) const {
+  // The kick set while the ball is still to be kicked (after the touch nothing it moves counts).
+  if (layout_.kick_sets == 0 || AsFootballEnv(env).state().kick.touched) return std::nullopt;
+  return VariableBlock{layout_.kick(0), {0.002, 0.01, 0.01, 0.01, 0.01}};
+}
+
+bool FootballKickTask::Residuals(const std::vector<double>& outcome, double* out) const {
+  if (outcome.size() != 6) return false;
+  // The signed errors in the cost's units and weights: their squares add up as its terms do.
+  const double direction = std::sqrt(settings_.direction()) / settings_.direction_scale_deg();
+  out[0] = direction * outcome[3];
+  out[1] = direction * outcome[4];
+  out[2] = std::sqrt(settings_.speed()) / settings_.speed_scale_mps() * outcome[5];
+  return true;
 }
 
 const float* FootballKickTask::AppliedAction(const Env& env) const {
@@ -193,7 +222,7 @@ const float* FootballKickTask::AppliedAction(const Env& env) const {
 std::string FootballKickTask::DescribeDecision(const std::vector<double>& d,
                                                const std::vector<double>& outcome) const {
   std::string out = FormatKickVariables(d);
-  if (outcome.size() == 3) {
+  if (outcome.size() >= 3) {
     absl::StrAppendFormat(&out, "  kick: kdd %.2f deg, ksd %.2f m/s, speed %.2f m/s", outcome[0],
                           outcome[1], outcome[2]);
   }
@@ -252,6 +281,21 @@ absl::Status ValidateFootballTask(const LoadedConfig& config) {
           " m leaves no room inside football.trap.reach_m (", config.run.football().trap().reach_m(),
           " m)"));
     }
+  }
+  if (config.run.football().task() != config::KICK &&
+      (p.refine_iterations() > 0 || p.rescue().refine_first() > 0 ||
+       p.rescue().refine_after() > 0)) {
+    // Only the kick task has residuals (FootballKickTask::Residuals); elsewhere nothing refines.
+    const char* field = p.refine_iterations() > 0  ? "refine_iterations"
+                        : p.rescue().refine_first() > 0 ? "refine_first"
+                                                        : "refine_after";
+    FieldPath path = {{"planner"}};
+    if (p.refine_iterations() == 0) path.push_back({"rescue"});
+    path.push_back({field});
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where(path), ": the refinement steps on the kick task's residuals; this "
+        "config's football.task is ", config::FootballTask_Name(config.run.football().task()),
+        ", which has none: set it to 0"));
   }
   if (config.run.football().task() == config::TRAP) return absl::OkStatus();  // trap_task.h
   // KICK and TRAP_KICK (trap_kick_task.h) plan the kick variables.

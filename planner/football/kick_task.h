@@ -12,6 +12,7 @@
 #define JUGGLE_PLANNER_FOOTBALL_KICK_TASK_H_
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,8 +46,14 @@ class FootballKickTask final : public PlanningTask {
   std::unique_ptr<RolloutScorer> NewScorerFrom(int first_step) const;
   // direction, speed, miss, failure, upright.
   std::vector<std::string> term_names() const override;
-  // The window's KDD (deg), KSD (m/s) and mean ball speed (m/s).
+  // The window's KDD (deg), KSD (m/s), mean ball speed (m/s) and the signed errors
+  // (football::SignedKickErrors: azimuth and elevation in deg, speed in m/s).
   std::vector<std::string> outcome_names() const override;
+  // PlannerConfig.refine_iterations: Levenberg–Marquardt on the kick set while the ball is
+  // untouched, over the signed errors weighted as the direction and speed terms.
+  std::optional<VariableBlock> RefineBlock(const Env& env) const override;
+  int num_residuals() const override { return 3; }
+  bool Residuals(const std::vector<double>& outcome, double* residuals) const override;
   const float* AppliedAction(const Env& env) const override;
   int decision_size() const override { return kKickVariables; }
   std::string DescribeDecision(const std::vector<double>& decision,

@@ -2,8 +2,9 @@
 // tasks and driven by the generic receding-horizon driver: on held-out starts it kicks closer to
 // the target than the scripted kick with zero action, with every visited state as predicted,
 // bit for bit; its actions replayed as plain actions in a fresh env give the same kick; it is
-// deterministic for a seed across thread counts; its terms add up to its cost; and it refuses
-// football runs it cannot plan, naming file, line and field.
+// deterministic for a seed across thread counts; its terms add up to its cost; a refinement on
+// its signed errors lowers a plan's cost and kicks as predicted; and it refuses football runs it
+// cannot plan, naming file, line and field.
 #include "planner/football/kick_task.h"
 
 #include <cmath>
@@ -82,6 +83,47 @@ TEST_F(FootballKickTaskTest, TheTermsAddUpToTheCost) {
   EXPECT_EQ(scorer->first_outcome().size(), task_->outcome_names().size());
 }
 
+TEST_F(FootballKickTaskTest, TheRefinementLowersAPlansCostOnceTheTouchIsInTheHorizon) {
+  // The same search with and without Levenberg–Marquardt steps on the kick's signed errors, from
+  // the first state whose plan scores the kick (its touch and window inside the horizon): the
+  // refined plan costs less than the searched one (a step is kept only if the cost falls), and
+  // the refined planner's episode kicks exactly as its rollouts said.
+  const uint64_t seed = 1000001;
+  RolloutPool pool(spec_, 2);
+  const std::unique_ptr<Env> env = spec_->NewEnv(Rng(seed));
+  env->Reset(*walk_);
+  std::vector<float> action(spec_->act_dim());
+  RecedingHorizonPlanner driver(task_, Settings(), &pool, seed);
+  for (int step = 0; step < 60; ++step) {
+    ASSERT_TRUE(driver.Act(*env, action.data()).ok());
+    if (!driver.last_replan().predicted_outcome.empty()) break;
+    ASSERT_EQ(env->Step(action.data(), *walk_).outcome, Outcome::kRunning);
+  }
+  ASSERT_EQ(driver.last_replan().predicted_outcome.size(), 6) << "no plan scored the kick";
+  RecedingHorizonPlanner plain(task_, Settings(), &pool, seed);
+  ASSERT_TRUE(plain.Act(*env, action.data()).ok());
+  config::PlannerConfig refined_settings = Settings();
+  refined_settings.set_refine_iterations(3);
+  RecedingHorizonPlanner refined(task_, refined_settings, &pool, seed);
+  ASSERT_TRUE(refined.Act(*env, action.data()).ok());
+  EXPECT_LT(refined.last_replan().best_cost, plain.last_replan().best_cost);
+  EXPECT_GT(refined.totals().rollouts, plain.totals().rollouts);
+  // The residuals are the signed errors in the cost's units.
+  const std::vector<double>& outcome = refined.last_replan().predicted_outcome;
+  ASSERT_EQ(outcome.size(), 6);
+  double residuals[3];
+  ASSERT_TRUE(task_->Residuals(outcome, residuals));
+  const config::FootballPlanning& f = config_.run.planner().football();
+  EXPECT_DOUBLE_EQ(residuals[0], std::sqrt(f.direction()) / f.direction_scale_deg() * outcome[3]);
+  EXPECT_DOUBLE_EQ(residuals[2], std::sqrt(f.speed()) / f.speed_scale_mps() * outcome[5]);
+
+  RecedingHorizonPlanner episode_planner(task_, refined_settings, &pool, seed);
+  const testing::Episode kicked = Run(seed, &episode_planner);
+  EXPECT_EQ(kicked.end, football::kKicked);
+  EXPECT_GT(episode_planner.totals().prediction_checks, 10);
+  EXPECT_EQ(episode_planner.totals().prediction_mismatches, 0);
+}
+
 TEST_F(FootballKickTaskTest, RunsItCannotPlanAreRefusedNamingFileLineAndField) {
   const std::string long_horizon = absl::StrCat(
       "base_config: \"", RepoPath(kShipped), "\"\nplanner {\n  horizon_steps: 5000\n}\n");
@@ -109,6 +151,17 @@ TEST_F(FootballKickTaskTest, RunsItCannotPlanAreRefusedNamingFileLineAndField) {
   s = ValidatePlannerConfig(*c);
   EXPECT_THAT(std::string(s.message()), StartsWith(Loc(path3, no_room, "keep_margin_m")));
   EXPECT_THAT(s.message(), HasSubstr("reach_m"));
+
+  // The trap has no residuals: a refinement there would do nothing.
+  const std::string refined_trap = absl::StrCat(
+      "base_config: \"", RepoPath("configs/football_trap.textproto"),
+      "\"\nplanner {\n  rescue { refine_first: 2 }\n}\n");
+  const std::string path4 = WriteTemp("football_refined_trap.textproto", refined_trap);
+  c = LoadRunConfig(path4);
+  ASSERT_TRUE(c.ok()) << c.status();
+  s = ValidatePlannerConfig(*c);
+  EXPECT_THAT(std::string(s.message()), StartsWith(Loc(path4, refined_trap, "refine_first")));
+  EXPECT_THAT(s.message(), HasSubstr("TRAP"));
 }
 
 }  // namespace

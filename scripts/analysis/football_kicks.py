@@ -6,7 +6,9 @@ and by target-speed band (docs/football.md, "Results").
 
 Per band: attempts, KSR (successes / attempts), KDD and KSD (means over successes, as
 envs/football/metrics.h aggregates them), the measured ball speed (mean and max over successes),
-the kicking foot's speed at the touch, falls. Reads only "table": "episode" lines.
+the kicking foot's speed at the touch, falls, and KDD's floor: the mean over successes of the
+least KDD any aim could have given each ball's flight (`kick_direction_floor_deg`, gravity's turn
+inside the window; nan for files written before it). Reads only "table": "episode" lines.
 """
 import argparse
 import json
@@ -32,12 +34,15 @@ def summarize(rows):
         'speed_max': max([r['kick_speed_mps'] for r in ok], default=math.nan),
         'foot_mean': mean([r['kick_foot_speed_mps'] for r in ok if 'kick_foot_speed_mps' in r]),
         'falls': sum(1 for r in rows if r.get('fell', 0) > 0.5),
+        'kdd_floor': mean([r['kick_direction_floor_deg'] for r in ok
+                           if 'kick_direction_floor_deg' in r]),
     }
 
 
 def row(label, s):
     return (f"{label:<14} {s['n']:>5} {s['ksr']:>6.3f} {s['kdd_deg']:>8.2f} {s['ksd_mps']:>8.2f} "
-            f"{s['speed_mean']:>8.2f} {s['speed_max']:>8.2f} {s['foot_mean']:>8.2f} {s['falls']:>5}")
+            f"{s['speed_mean']:>8.2f} {s['speed_max']:>8.2f} {s['foot_mean']:>8.2f} {s['falls']:>5} "
+            f"{s['kdd_floor']:>9.2f}")
 
 
 def main(argv):
@@ -51,7 +56,7 @@ def main(argv):
         sys.exit(f'{a.jsonl}: no football kick episodes (run juggle eval --json on a KICK config)')
     edges = [float(x) for x in a.bands.split(',')]
     print(f"{'target m/s':<14} {'n':>5} {'ksr':>6} {'kdd_deg':>8} {'ksd_mps':>8} "
-          f"{'speed':>8} {'max':>8} {'foot':>8} {'falls':>5}")
+          f"{'speed':>8} {'max':>8} {'foot':>8} {'falls':>5} {'kdd_floor':>9}")
     print(row('all', summarize(rows)))
     for lo, hi in zip(edges, edges[1:]):
         band = [r for r in rows if lo <= r['kick_target_speed_mps'] < hi or

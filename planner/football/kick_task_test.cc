@@ -124,44 +124,31 @@ TEST_F(FootballKickTaskTest, TheRefinementLowersAPlansCostOnceTheTouchIsInTheHor
   EXPECT_EQ(episode_planner.totals().prediction_mismatches, 0);
 }
 
-TEST_F(FootballKickTaskTest, RunsItCannotPlanAreRefusedNamingFileLineAndField) {
-  const std::string long_horizon = absl::StrCat(
-      "base_config: \"", RepoPath(kShipped), "\"\nplanner {\n  horizon_steps: 5000\n}\n");
-  const std::string path = WriteTemp("football_long_horizon.textproto", long_horizon);
+// Writes `planner_block` over `base` as file `name`, loads it and validates its planner: the
+// error's message must start at `field`'s file:line:col and contain `mentions`.
+void ExpectRefusedAt(const char* name, const char* base, const std::string& planner_block,
+                     const std::string& field, const std::string& mentions) {
+  SCOPED_TRACE(name);
+  const std::string text = absl::StrCat("base_config: \"", RepoPath(base), "\"\nplanner {\n  ",
+                                        planner_block, "\n}\n");
+  const std::string path = WriteTemp(name, text);
   absl::StatusOr<LoadedConfig> c = LoadRunConfig(path);
   ASSERT_TRUE(c.ok()) << c.status();
-  absl::Status s = ValidatePlannerConfig(*c);
-  EXPECT_THAT(std::string(s.message()), StartsWith(Loc(path, long_horizon, "horizon_steps")));
-  EXPECT_THAT(s.message(), HasSubstr("max_episode_steps"));
+  const absl::Status s = ValidatePlannerConfig(*c);
+  EXPECT_THAT(std::string(s.message()), StartsWith(Loc(path, text, field)));
+  EXPECT_THAT(s.message(), HasSubstr(mentions));
+}
 
-  const std::string two_kicks = absl::StrCat(
-      "base_config: \"", RepoPath(kShipped), "\"\nplanner {\n  football { kick { cycles: 2 } }\n}\n");
-  const std::string path2 = WriteTemp("football_two_kicks.textproto", two_kicks);
-  c = LoadRunConfig(path2);
-  ASSERT_TRUE(c.ok()) << c.status();
-  s = ValidatePlannerConfig(*c);
-  EXPECT_THAT(std::string(s.message()), StartsWith(Loc(path2, two_kicks, "cycles")));
-
-  const std::string no_room = absl::StrCat(
-      "base_config: \"", RepoPath(kShipped),
-      "\"\nplanner {\n  football { trap { keep_margin_m: 1 } }\n}\n");
-  const std::string path3 = WriteTemp("football_no_room.textproto", no_room);
-  c = LoadRunConfig(path3);
-  ASSERT_TRUE(c.ok()) << c.status();
-  s = ValidatePlannerConfig(*c);
-  EXPECT_THAT(std::string(s.message()), StartsWith(Loc(path3, no_room, "keep_margin_m")));
-  EXPECT_THAT(s.message(), HasSubstr("reach_m"));
-
+TEST_F(FootballKickTaskTest, RunsItCannotPlanAreRefusedNamingFileLineAndField) {
+  ExpectRefusedAt("football_long_horizon.textproto", kShipped, "horizon_steps: 5000",
+                  "horizon_steps", "max_episode_steps");
+  ExpectRefusedAt("football_two_kicks.textproto", kShipped, "football { kick { cycles: 2 } }",
+                  "cycles", "one kick per episode");
+  ExpectRefusedAt("football_no_room.textproto", kShipped, "football { trap { keep_margin_m: 1 } }",
+                  "keep_margin_m", "reach_m");
   // The trap has no residuals: a refinement there would do nothing.
-  const std::string refined_trap = absl::StrCat(
-      "base_config: \"", RepoPath("configs/football_trap.textproto"),
-      "\"\nplanner {\n  rescue { refine_first: 2 }\n}\n");
-  const std::string path4 = WriteTemp("football_refined_trap.textproto", refined_trap);
-  c = LoadRunConfig(path4);
-  ASSERT_TRUE(c.ok()) << c.status();
-  s = ValidatePlannerConfig(*c);
-  EXPECT_THAT(std::string(s.message()), StartsWith(Loc(path4, refined_trap, "refine_first")));
-  EXPECT_THAT(s.message(), HasSubstr("TRAP"));
+  ExpectRefusedAt("football_refined_trap.textproto", "configs/football_trap.textproto",
+                  "rescue { refine_first: 2 }", "refine_first", "TRAP");
 }
 
 }  // namespace

@@ -94,7 +94,9 @@ TEST_F(FootballKickTaskTest, TheRefinementLowersAPlansCostOnceTheTouchIsInTheHor
   const std::unique_ptr<Env> env = spec_->NewEnv(Rng(seed));
   env->Reset(*walk_);
   std::vector<float> action(spec_->act_dim());
-  RecedingHorizonPlanner driver(task_, Settings(), &pool, seed);
+  config::PlannerConfig plain_settings = Settings();
+  plain_settings.set_refine_iterations(0);
+  RecedingHorizonPlanner driver(task_, plain_settings, &pool, seed);
   config::PlannerConfig refined_settings = Settings();
   refined_settings.set_refine_iterations(3);
   const config::FootballPlanning& f = config_.run.planner().football();
@@ -105,7 +107,7 @@ TEST_F(FootballKickTaskTest, TheRefinementLowersAPlansCostOnceTheTouchIsInTheHor
       SCOPED_TRACE(absl::StrCat("step ", step));
       ++compared;
       std::vector<float> unused(spec_->act_dim());
-      RecedingHorizonPlanner plain(task_, Settings(), &pool, seed);
+      RecedingHorizonPlanner plain(task_, plain_settings, &pool, seed);
       ASSERT_TRUE(plain.Act(*env, unused.data()).ok());
       RecedingHorizonPlanner refined(task_, refined_settings, &pool, seed);
       ASSERT_TRUE(refined.Act(*env, unused.data()).ok());

@@ -1,6 +1,7 @@
 #include "envs/soccer_juggle/base_controller.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "envs/ballistic.h"
 #include "envs/humanoid/reference_dynamics.h"
@@ -21,6 +22,7 @@ void BaseController::UpdateSwingAdjust(const mjData& data, const CursorState& cu
   if (adjust->placing) {
     PlaceKickingFoot(spec_, data, node.spec.pose().leg_swing().side() == config::LEFT, adjust);
   }
+  if (node.spec.has_head_feedback()) UpdateHeadLean(data, cursor, kick_touched, adjust);
   // A node's own feedback, else the env's (proto/control_graph.proto, NodeSpec.kick_feedback).
   const bool own = node.spec.has_kick_feedback();
   if (!own && !spec_.env().has_kick_feedback()) return;
@@ -41,6 +43,42 @@ void BaseController::UpdateSwingAdjust(const mjData& data, const CursorState& cu
   adjust->abduction = f.abduction_per_m() * ey * (left ? 1 : -1);
   const double cycle_s = spec_.control_dt() / cursor.phase_speed;
   adjust->phase = -f.timing() * late / cycle_s;
+}
+
+void BaseController::UpdateHeadLean(const mjData& data, const CursorState& cursor,
+                                    bool kick_touched, SwingAdjust* adjust) const {
+  const config::NodeSpec& node = spec_.graph().node(cursor.current).spec;
+  const config::HeadFeedback& f = node.head_feedback();
+  if (node.stage() == config::DOWN && kick_touched) return;  // hold from the touch on
+  if (node.stage() == config::UP &&
+      !spec_.graph().node(cursor.next).spec.has_head_feedback()) {
+    adjust->lean_pitch = adjust->lean_roll = 0;  // the next touch is not a header: upright
+    return;
+  }
+  const double* qpos = data.qpos;
+  const double* ball = qpos + spec_.ball_qpos();
+  const double* ball_vel = data.qvel + spec_.ball_dof();
+  const double g = spec_.env().gravity();
+  const double h = node.contact_height();
+  if (ball[2] < h && ball_vel[2] <= 0) return;  // below the head and falling: hold
+  const BallisticCrossing c = DescendingCrossing(ball, ball_vel, g, h);
+  // The crossing's offset from the target, and the horizontal speed that brings the ball back
+  // to the target over one cycle (up to the apex and down to the contact height again).
+  const double e[2] = {c.x - qpos[0] - node.ball_target().x(),
+                       c.y - qpos[1] - node.ball_target().y()};
+  const double rise = std::max(cursor.apex_height - h, 0.01);
+  const double cycle_s = 2 * std::sqrt(2 * rise / g);
+  const double w = std::max(g * c.t - ball_vel[2], 0.1);  // downward speed at the crossing
+  double shift[2];
+  for (int i = 0; i < 2; ++i) {
+    const double normal = (-e[i] / cycle_s - ball_vel[i]) / ((1 + f.restitution()) * w);
+    shift[i] = e[i] - f.redirect() * f.contact_radius_m() * normal;
+  }
+  const double norm = std::hypot(shift[0], shift[1]);
+  const double scale = norm > f.max_shift_m() ? f.max_shift_m() / norm : 1.0;
+  // The chest's pitch about its z axis leans it back, its roll about x to the right (−y).
+  adjust->lean_pitch = -f.lean_per_m() * scale * shift[0];
+  adjust->lean_roll = -f.lean_per_m() * scale * shift[1];
 }
 
 void BaseController::AddFeedforward(const CursorState& cursor, const CharacterPose& reference,

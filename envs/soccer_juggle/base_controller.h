@@ -8,6 +8,8 @@
 //     and heading, through the stance leg of a leg-swing node, through both legs elsewhere;
 //   - kick feedback (env.kick_feedback): the leg swing moved with the ball's predicted crossing
 //     of the contact height;
+//   - head feedback (a header node's head_feedback): the chest leans the head under the coming
+//     ball, placed so that the bounce returns the ball to the target;
 //   - stance change (env.stance_change, stance_change.h): the last kick before the other
 //     foot's puts its foot down beside the body and leans onto it; a header before a kick
 //     moves the body over the kick's standing foot.
@@ -44,6 +46,12 @@ class BaseController {
                       const SwingAdjust& adjust, mjData* data, double* feedforward);
 
  private:
+  // A header node's head feedback (NodeSpec.head_feedback): sets adjust->lean_pitch and
+  // lean_roll from the ball's free flight toward the contact height — in a DOWN node until the
+  // touch, in an UP node toward the next crossing if the next node is a header with a head
+  // feedback (else upright); holds them while the ball is below the contact height and falling.
+  void UpdateHeadLean(const mjData& data, const CursorState& cursor, bool kick_touched,
+                      SwingAdjust* adjust) const;
   void AddReferenceFeedforward(const CursorState& cursor, const CharacterPose& reference,
                                const SwingAdjust& adjust, const mjData& data,
                                double* feedforward);

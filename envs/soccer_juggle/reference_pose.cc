@@ -110,14 +110,23 @@ void LeverRoot(double lever, double knee, CharacterPose* pose) {
   (*pose)[0] += lever * std::sin(-knee);
 }
 
-void HeadDipPose(const JuggleSpec& spec, const config::HeadDip& g, double phase,
-                 CharacterPose* pose) {
+void HeadDipPose(const JuggleSpec& spec, const config::HeadDip& g, const SwingAdjust& adjust,
+                 double phase, CharacterPose* pose) {
+  if (adjust.lean_pitch != 0 || adjust.lean_roll != 0) {
+    // The chest turned from its rest by roll about its x axis and pitch about its z axis.
+    const double lean[3] = {adjust.lean_roll, 0, adjust.lean_pitch};
+    mju_quatIntegrate(pose->data() + spec.joint(kChest).qpos_adr, lean, 1.0);
+  }
   if (g.hold()) {
     SetBallJointAxisRotation(spec, kNeck, kZ, g.neck_pitch(), pose);
     return;
   }
-  if (phase >= 0.5) return;  // straight legs from the contact on
-  const double s2 = std::sin(2 * M_PI * phase);
+  // The dip over [push, 0.5 + push) of the cycle: straight legs before it (with a push) and
+  // from its end on. (A phase just below 0, from the reference feed-forward's difference,
+  // continues the sine without a push.)
+  const double dip = phase - g.push();
+  if (dip >= 0.5 || (dip < 0 && g.push() > 0)) return;
+  const double s2 = std::sin(2 * M_PI * dip);
   for (JointId ankle : {kRightAnkle, kLeftAnkle}) {
     SetBallJointAxisRotation(spec, ankle, kZ, g.amplitude() * s2, pose);
   }
@@ -194,7 +203,7 @@ void ComputeReferencePose(const JuggleSpec& spec, int node, double phase, Charac
       LegSwingPose(spec, ref.leg_swing(), adjust, phase, pose);
       break;
     case config::ReferencePose::kHeadDip:
-      HeadDipPose(spec, ref.head_dip(), phase, pose);
+      HeadDipPose(spec, ref.head_dip(), adjust, phase, pose);
       break;
     case config::ReferencePose::kChestLean:
       ChestLeanPose(spec, ref.chest_lean(), phase, pose);

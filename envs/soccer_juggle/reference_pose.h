@@ -31,10 +31,14 @@ struct SwingAdjust {
   // lifts the foot clear. Not placing: the configured swing.
   bool placing = false;
   double place_hip = 0, place_abduction = 0;
+  // A header node's head feedback (NodeSpec.head_feedback): the chest's pitch and roll (rad,
+  // added to a head_dip pose at every phase) that move the head under the coming ball.
+  double lean_pitch = 0, lean_roll = 0;
 };
 
 // Writes the reference pose of `node` at phase φ into `pose` (root x, y relative to the
-// episode's anchor). Deterministic and allocation-free. `adjust` changes leg swings only.
+// episode's anchor). Deterministic and allocation-free. `adjust` changes leg swings and a
+// head dip's lean only.
 void ComputeReferencePose(const JuggleSpec& spec, int node, double phase, CharacterPose* pose,
                           const SwingAdjust& adjust = {});
 

@@ -53,8 +53,10 @@ void BaseController::UpdateHeadLean(const mjData& data, const CursorState& curso
   if (node.stage() == config::UP &&
       !spec_.graph().node(cursor.next).spec.has_head_feedback()) {
     adjust->lean_pitch = adjust->lean_roll = 0;  // the next touch is not a header: upright
+    adjust->head_phase = 0;
     return;
   }
+  if (node.stage() == config::UP) adjust->head_phase = 0;  // the dip is over
   const double* qpos = data.qpos;
   const double* ball = qpos + spec_.ball_qpos();
   const double* ball_vel = data.qvel + spec_.ball_dof();
@@ -62,6 +64,12 @@ void BaseController::UpdateHeadLean(const mjData& data, const CursorState& curso
   const double h = node.contact_height();
   if (ball[2] < h && ball_vel[2] <= 0) return;  // below the head and falling: hold
   const BallisticCrossing c = DescendingCrossing(ball, ball_vel, g, h);
+  if (node.stage() == config::DOWN && f.timing() > 0 && cursor.phase_speed > 0) {
+    // The ball's lateness over the nominal contact (φ = 0.5), as a share of the cycle.
+    const double late = c.t + spec_.cursor().SecondsFromContact(cursor, cursor.phase);
+    const double cycle_s = spec_.control_dt() / cursor.phase_speed;
+    adjust->head_phase = std::clamp(-f.timing() * late / cycle_s, -0.15, 0.15);
+  }
   // The crossing's offset from the target, and the horizontal speed that brings the ball back
   // to the target over one cycle (up to the apex and down to the contact height again).
   const double e[2] = {c.x - qpos[0] - node.ball_target().x(),

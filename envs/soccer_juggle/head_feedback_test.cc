@@ -62,16 +62,15 @@ struct Lean {
 };
 
 // One zero-action step of head_DOWN with the ball put `ahead`, `left` of the target at the
-// crossing, 0.3 m above the contact height, moving at (vx, vy) horizontally and falling at
-// 1 m/s; the lean the feedback chose and how far it moved the reference's head.
+// crossing, `drop` m above the contact height, moving at (vx, vy, vz); the lean the feedback
+// chose and how far it moved the reference's head.
 Lean LeanFor(const std::shared_ptr<const JuggleSpec>& spec, double ahead, double left, double vx,
-             double vy) {
+             double vy, double vz = -1.0, double drop = 0.3) {
   AdaptiveWalk walk(&spec->graph());
   JuggleEnv env(spec, Rng(3));
   env.ResetAt(0, walk);
   mjData* d = env.data();
   const double g = spec->env().gravity();
-  const double vz = -1.0, drop = 0.3;
   const double t = (vz + std::sqrt(vz * vz + 2 * g * drop)) / g;  // until the crossing
   double* ball = d->qpos + spec->ball_qpos();
   double* v = d->qvel + spec->ball_dof();
@@ -215,6 +214,31 @@ TEST(HeadFeedbackTest, AfterAHeaderThatPassesToTheFootTheChestComesUpright) {
       EXPECT_LT(env.state().swing_adjust.lean_pitch, -0.1);
     }
   }
+}
+
+TEST(HeadFeedbackTest, WithTimingTheDipComesLaterForALateBallAndEarlierForAnEarlyOne) {
+  absl::StatusOr<std::shared_ptr<const JuggleSpec>> timed =
+      SpecWithGraph(HeaderGraph("head_feedback { lean_per_m: 2.5 timing: 1 }"));
+  absl::StatusOr<std::shared_ptr<const JuggleSpec>> untimed =
+      SpecWithGraph(HeaderGraph("head_feedback { lean_per_m: 2.5 }"));
+  ASSERT_TRUE(timed.ok()) << timed.status();
+  ASSERT_TRUE(untimed.ok()) << untimed.status();
+  // The node's nominal contact is half a cycle (0.23 s) from the reset. Falling at 1 m/s from
+  // 0.3 m above the contact height the ball crosses it after 0.17 s (early); thrown up at
+  // 1 m/s from there, after 0.37 s (late).
+  const Lean early = LeanFor(*timed, 0, 0, 0, 0, -1.0, 0.3);
+  const Lean late = LeanFor(*timed, 0, 0, 0, 0, 1.0, 0.3);
+  EXPECT_GT(early.adjust.head_phase, 0.05);  // the dip's pose evaluated later in it: earlier
+  EXPECT_LT(late.adjust.head_phase, -0.05);
+  EXPECT_EQ(LeanFor(*untimed, 0, 0, 0, 0, 1.0, 0.3).adjust.head_phase, 0);
+  // For the late ball the knees are still bent at the node's nominal contact (φ = 0.5) and
+  // straighten later; without the timing they are straight there.
+  const int knee = (*timed)->joint(kRightKnee).qpos_adr;
+  CharacterPose pose;
+  ComputeReferencePose(**timed, 0, 0.4999, &pose, late.adjust);
+  EXPECT_LT(pose[knee], -0.05);
+  ComputeReferencePose(**timed, 0, 0.4999, &pose, SwingAdjust{});
+  EXPECT_GT(pose[knee], -0.01);
 }
 
 TEST(HeadFeedbackTest, AHeadFeedbackOutsideAHeaderIsAConfigErrorNamingTheNodeAndField) {

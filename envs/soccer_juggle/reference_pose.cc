@@ -124,8 +124,8 @@ void HeadDipPose(const JuggleSpec& spec, const config::HeadDip& g, const SwingAd
   // The dip over [push, 0.5 + push) of the cycle: straight legs before it (with a push) and
   // from its end on. (A phase just below 0, from the reference feed-forward's difference,
   // continues the sine without a push.)
-  const double dip = phase - g.push();
-  if (dip >= 0.5 || (dip < 0 && g.push() > 0)) return;
+  const double dip = phase + adjust.head_phase - g.push();
+  if (dip >= 0.5 || (dip < 0 && (g.push() > 0 || adjust.head_phase != 0))) return;
   const double s2 = std::sin(2 * M_PI * dip);
   for (JointId ankle : {kRightAnkle, kLeftAnkle}) {
     SetBallJointAxisRotation(spec, ankle, kZ, g.amplitude() * s2, pose);

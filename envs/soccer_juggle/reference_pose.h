@@ -34,6 +34,8 @@ struct SwingAdjust {
   // A header node's head feedback (NodeSpec.head_feedback): the chest's pitch and roll (rad,
   // added to a head_dip pose at every phase) that move the head under the coming ball.
   double lean_pitch = 0, lean_roll = 0;
+  // Its timing: added to a head dip's phase (a share of the cycle; negative: the dip later).
+  double head_phase = 0;
 };
 
 // Writes the reference pose of `node` at phase φ into `pose` (root x, y relative to the

@@ -35,14 +35,19 @@ void BaseController::UpdateSwingAdjust(const mjData& data, const CursorState& cu
       DescendingCrossing(ball, ball_vel, spec_.env().gravity(), node.spec.contact_height());
   const double ex = c.x - qpos[0] - node.spec.ball_target().x();
   const double ey = c.y - qpos[1] - node.spec.ball_target().y();
-  const double late = c.t + spec_.cursor().SecondsFromContact(cursor, cursor.phase);
   const config::KickFeedback& f = own ? node.spec.kick_feedback() : spec_.env().kick_feedback();
   const bool left = node.spec.pose().leg_swing().side() == config::LEFT;
   adjust->hip = f.hip_per_m() * ex;
   adjust->knee = f.knee_per_m() * ex;
   adjust->abduction = f.abduction_per_m() * ey * (left ? 1 : -1);
+  adjust->phase = TimingShift(cursor, c.t, f.timing());
+}
+
+double BaseController::TimingShift(const CursorState& cursor, double crossing_s,
+                                   double gain) const {
+  const double late = crossing_s + spec_.cursor().SecondsFromContact(cursor, cursor.phase);
   const double cycle_s = spec_.control_dt() / cursor.phase_speed;
-  adjust->phase = -f.timing() * late / cycle_s;
+  return -gain * late / cycle_s;
 }
 
 void BaseController::UpdateHeadLean(const mjData& data, const CursorState& cursor,
@@ -50,13 +55,13 @@ void BaseController::UpdateHeadLean(const mjData& data, const CursorState& curso
   const config::NodeSpec& node = spec_.graph().node(cursor.current).spec;
   const config::HeadFeedback& f = node.head_feedback();
   if (node.stage() == config::DOWN && kick_touched) return;  // hold from the touch on
-  if (node.stage() == config::UP &&
-      !spec_.graph().node(cursor.next).spec.has_head_feedback()) {
-    adjust->lean_pitch = adjust->lean_roll = 0;  // the next touch is not a header: upright
-    adjust->head_phase = 0;
-    return;
+  if (node.stage() == config::UP) {
+    adjust->head_phase = 0;  // the dip is over
+    if (!spec_.graph().node(cursor.next).spec.has_head_feedback()) {
+      adjust->lean_pitch = adjust->lean_roll = 0;  // the next touch is not a header: upright
+      return;
+    }
   }
-  if (node.stage() == config::UP) adjust->head_phase = 0;  // the dip is over
   const double* qpos = data.qpos;
   const double* ball = qpos + spec_.ball_qpos();
   const double* ball_vel = data.qvel + spec_.ball_dof();
@@ -65,21 +70,18 @@ void BaseController::UpdateHeadLean(const mjData& data, const CursorState& curso
   if (ball[2] < h && ball_vel[2] <= 0) return;  // below the head and falling: hold
   const BallisticCrossing c = DescendingCrossing(ball, ball_vel, g, h);
   if (node.stage() == config::DOWN && f.timing() > 0 && cursor.phase_speed > 0) {
-    // The ball's lateness over the nominal contact (φ = 0.5), as a share of the cycle.
-    const double late = c.t + spec_.cursor().SecondsFromContact(cursor, cursor.phase);
-    const double cycle_s = spec_.control_dt() / cursor.phase_speed;
-    adjust->head_phase = std::clamp(-f.timing() * late / cycle_s, -0.15, 0.15);
+    adjust->head_phase = std::clamp(TimingShift(cursor, c.t, f.timing()), -0.15, 0.15);
   }
   // The crossing's offset from the target, and the horizontal speed that brings the ball back
   // to the target over one cycle (up to the apex and down to the contact height again).
   const double e[2] = {c.x - qpos[0] - node.ball_target().x(),
                        c.y - qpos[1] - node.ball_target().y()};
   const double rise = std::max(cursor.apex_height - h, 0.01);
-  const double cycle_s = 2 * std::sqrt(2 * rise / g);
+  const double flight_s = 2 * std::sqrt(2 * rise / g);
   const double w = std::max(g * c.t - ball_vel[2], 0.1);  // downward speed at the crossing
   double shift[2];
   for (int i = 0; i < 2; ++i) {
-    const double normal = (-e[i] / cycle_s - ball_vel[i]) / ((1 + f.restitution()) * w);
+    const double normal = (-e[i] / flight_s - ball_vel[i]) / ((1 + f.restitution()) * w);
     shift[i] = e[i] - f.redirect() * f.contact_radius_m() * normal;
   }
   const double norm = std::hypot(shift[0], shift[1]);

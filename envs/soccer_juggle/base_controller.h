@@ -52,6 +52,10 @@ class BaseController {
   // feedback (else upright); holds them while the ball is below the contact height and falling.
   void UpdateHeadLean(const mjData& data, const CursorState& cursor, bool kick_touched,
                       SwingAdjust* adjust) const;
+  // The phase change (a share of the cycle) that makes a pose follow a ball crossing the
+  // contact height `crossing_s` from now, × `gain`: negative (later) for a ball later than
+  // the cursor's nominal contact. REQUIRES: cursor.phase_speed > 0.
+  double TimingShift(const CursorState& cursor, double crossing_s, double gain) const;
   void AddReferenceFeedforward(const CursorState& cursor, const CharacterPose& reference,
                                const SwingAdjust& adjust, const mjData& data,
                                double* feedforward);

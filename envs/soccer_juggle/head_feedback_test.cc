@@ -17,6 +17,8 @@
 namespace juggle::soccer_juggle {
 namespace {
 
+using testing::SoccerSpecWithGraph;
+
 constexpr float kZeroAction[kNumActions] = {0};
 
 // Two header nodes at this model's head (configs/graphs/headers.textproto) with `extra` inside
@@ -32,17 +34,6 @@ std::string HeaderGraph(const std::string& extra, const std::string& dip = "ampl
   }
   return out + "edge { from: \"head_DOWN\" to: \"head_UP\" }\n"
                "edge { from: \"head_UP\" to: \"head_DOWN\" }\n";
-}
-
-absl::StatusOr<std::shared_ptr<const JuggleSpec>> SpecWithGraph(const std::string& graph_text) {
-  const std::string graph = testing::WriteTemp("graph.textproto", graph_text);
-  const std::string run = testing::WriteTemp(
-      "run.textproto",
-      absl::StrCat("base_config: \"", testing::RepoPath("configs/right_foot_planner.textproto"),
-                   "\"\nname: \"t\"\nsoccer_juggle { graph_file: \"", graph, "\" }\n"));
-  absl::StatusOr<LoadedConfig> config = LoadRunConfig(run);
-  if (!config.ok()) return config.status();
-  return JuggleSpec::Create(*config);
 }
 
 // Where the head's centre is (world) in `pose`, by forward kinematics.
@@ -100,7 +91,7 @@ TEST(HeadFeedbackTest, TheChestLeansTheHeadTowardABallComingDownAheadAndToTheLef
   // redirect 0: the head's centre straight under the crossing; 2.5 rad/m is the reciprocal of
   // the chest joint's 0.4-m lever to the head's centre, so the head moves about the offset.
   absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec =
-      SpecWithGraph(HeaderGraph("head_feedback { lean_per_m: 2.5 redirect: 0 }"));
+      SoccerSpecWithGraph(HeaderGraph("head_feedback { lean_per_m: 2.5 redirect: 0 }"));
   ASSERT_TRUE(spec.ok()) << spec.status();
   const Lean lean = LeanFor(*spec, 0.06, 0.04, 0, 0);
   EXPECT_LT(lean.adjust.lean_pitch, 0);  // forward is a negative pitch about the chest's z
@@ -112,7 +103,7 @@ TEST(HeadFeedbackTest, TheChestLeansTheHeadTowardABallComingDownAheadAndToTheLef
   }
 
   // Without a head feedback the same ball leaves the reference upright.
-  absl::StatusOr<std::shared_ptr<const JuggleSpec>> plain = SpecWithGraph(HeaderGraph(""));
+  absl::StatusOr<std::shared_ptr<const JuggleSpec>> plain = SoccerSpecWithGraph(HeaderGraph(""));
   ASSERT_TRUE(plain.ok()) << plain.status();
   const Lean none = LeanFor(*plain, 0.06, 0.04, 0, 0);
   EXPECT_EQ(none.adjust.lean_pitch, 0);
@@ -121,7 +112,7 @@ TEST(HeadFeedbackTest, TheChestLeansTheHeadTowardABallComingDownAheadAndToTheLef
 
 TEST(HeadFeedbackTest, TheRedirectMeetsTheBallOnTheSideItComesFromInProportionToItsSpeed) {
   absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec =
-      SpecWithGraph(HeaderGraph("head_feedback { lean_per_m: 2.5 redirect: 1 }"));
+      SoccerSpecWithGraph(HeaderGraph("head_feedback { lean_per_m: 2.5 redirect: 1 }"));
   ASSERT_TRUE(spec.ok()) << spec.status();
   // Straight down onto the target: nothing to correct, the head stays where it is.
   const Lean still = LeanFor(*spec, 0, 0, 0, 0);
@@ -140,7 +131,7 @@ TEST(HeadFeedbackTest, TheRedirectMeetsTheBallOnTheSideItComesFromInProportionTo
 }
 
 TEST(HeadFeedbackTest, TheLeanIsClampedToTheMaximumShift) {
-  absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SpecWithGraph(
+  absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SoccerSpecWithGraph(
       HeaderGraph("head_feedback { lean_per_m: 2.5 redirect: 0 max_shift_m: 0.05 }"));
   ASSERT_TRUE(spec.ok()) << spec.status();
   const Lean far = LeanFor(*spec, 0.3, 0.4, 0, 0);  // 0.5 m away
@@ -150,8 +141,8 @@ TEST(HeadFeedbackTest, TheLeanIsClampedToTheMaximumShift) {
 
 TEST(HeadFeedbackTest, APushedDipStillStraightensTheKneesAtTheContact) {
   absl::StatusOr<std::shared_ptr<const JuggleSpec>> pushed =
-      SpecWithGraph(HeaderGraph("", "amplitude: 0.5 push: 0.03"));
-  absl::StatusOr<std::shared_ptr<const JuggleSpec>> plain = SpecWithGraph(HeaderGraph(""));
+      SoccerSpecWithGraph(HeaderGraph("", "amplitude: 0.5 push: 0.03"));
+  absl::StatusOr<std::shared_ptr<const JuggleSpec>> plain = SoccerSpecWithGraph(HeaderGraph(""));
   ASSERT_TRUE(pushed.ok()) << pushed.status();
   ASSERT_TRUE(plain.ok()) << plain.status();
   const int knee = (*plain)->joint(kRightKnee).qpos_adr;
@@ -180,14 +171,15 @@ TEST(HeadFeedbackTest, AfterAHeaderThatPassesToTheFootTheChestComesUpright) {
       " apex_height: 2.0 pose { leg_swing { side: RIGHT } } }\n"
       "node { name: \"foot_up\" stage: UP contact_body: \"right_ankle\" contact_height: 0.5"
       " apex_height: 2.0 pose { leg_swing { side: RIGHT } } }\n"
-      "edge { from: \"foot_down\" to: \"foot_up\" }\nedge { from: \"foot_up\" to: \"head_DOWN\" }\n";
+      "edge { from: \"foot_down\" to: \"foot_up\" }\n"
+      "edge { from: \"foot_up\" to: \"head_DOWN\" }\n";
   std::string to_foot = HeaderGraph("head_feedback { lean_per_m: 2.5 redirect: 0 }");
   to_foot.replace(to_foot.find("edge { from: \"head_UP\" to: \"head_DOWN\" }"),
                   std::string("edge { from: \"head_UP\" to: \"head_DOWN\" }").size(),
                   "edge { from: \"head_UP\" to: \"foot_down\" }");
   for (const bool passes_to_foot : {false, true}) {
     SCOPED_TRACE(passes_to_foot);
-    absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SpecWithGraph(
+    absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SoccerSpecWithGraph(
         passes_to_foot ? to_foot + foot
                        : HeaderGraph("head_feedback { lean_per_m: 2.5 redirect: 0 }"));
     ASSERT_TRUE(spec.ok()) << spec.status();
@@ -218,9 +210,9 @@ TEST(HeadFeedbackTest, AfterAHeaderThatPassesToTheFootTheChestComesUpright) {
 
 TEST(HeadFeedbackTest, WithTimingTheDipComesLaterForALateBallAndEarlierForAnEarlyOne) {
   absl::StatusOr<std::shared_ptr<const JuggleSpec>> timed =
-      SpecWithGraph(HeaderGraph("head_feedback { lean_per_m: 2.5 timing: 1 }"));
+      SoccerSpecWithGraph(HeaderGraph("head_feedback { lean_per_m: 2.5 timing: 1 }"));
   absl::StatusOr<std::shared_ptr<const JuggleSpec>> untimed =
-      SpecWithGraph(HeaderGraph("head_feedback { lean_per_m: 2.5 }"));
+      SoccerSpecWithGraph(HeaderGraph("head_feedback { lean_per_m: 2.5 }"));
   ASSERT_TRUE(timed.ok()) << timed.status();
   ASSERT_TRUE(untimed.ok()) << untimed.status();
   // The node's nominal contact is half a cycle (0.23 s) from the reset. Falling at 1 m/s from
@@ -248,8 +240,9 @@ TEST(HeadFeedbackTest, AHeadFeedbackOutsideAHeaderIsAConfigErrorNamingTheNodeAnd
       " head_feedback { lean_per_m: 2 } }\n"
       "node { name: \"kick_up\" stage: UP contact_body: \"right_ankle\" contact_height: 0.5"
       " apex_height: 1.5 pose { leg_swing { side: RIGHT } } }\n"
-      "edge { from: \"kick_down\" to: \"kick_up\" }\nedge { from: \"kick_up\" to: \"kick_down\" }\n";
-  absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SpecWithGraph(graph);
+      "edge { from: \"kick_down\" to: \"kick_up\" }\n"
+      "edge { from: \"kick_up\" to: \"kick_down\" }\n";
+  absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SoccerSpecWithGraph(graph);
   ASSERT_FALSE(spec.ok());
   EXPECT_NE(spec.status().message().find("kick_down"), std::string::npos) << spec.status();
   EXPECT_NE(spec.status().message().find("head_feedback"), std::string::npos) << spec.status();

@@ -64,6 +64,27 @@ inline std::string WriteTemp(const std::string& name, const std::string& text) {
   return path;
 }
 
+// configs/right_foot_planner.textproto on the control graph `graph_text` (written as
+// graph.textproto in the test's temporary folder); `planner` goes inside its planner block.
+inline absl::StatusOr<LoadedConfig> LoadRightFootPlannerWithGraph(const std::string& graph_text,
+                                                                  const std::string& planner = "") {
+  const std::string graph = WriteTemp("graph.textproto", graph_text);
+  const std::string run = WriteTemp(
+      "run.textproto",
+      absl::StrCat("base_config: \"", RepoPath("configs/right_foot_planner.textproto"),
+                   "\"\nname: \"t\"\nsoccer_juggle { graph_file: \"", graph, "\" }\n",
+                   "planner { ", planner, " }\n"));
+  return LoadRunConfig(run);
+}
+
+// The soccer spec of LoadRightFootPlannerWithGraph(graph_text); the error if it does not build.
+inline absl::StatusOr<std::shared_ptr<const soccer_juggle::JuggleSpec>> SoccerSpecWithGraph(
+    const std::string& graph_text) {
+  absl::StatusOr<LoadedConfig> config = LoadRightFootPlannerWithGraph(graph_text);
+  if (!config.ok()) return config.status();
+  return soccer_juggle::JuggleSpec::Create(*config);
+}
+
 // "<file>:<line>:<column>" of the `occurrence`-th (0-based) appearance of `needle` in `text`,
 // 1-based like the loader's messages. Fails the test if there is no such appearance.
 inline std::string Loc(const std::string& file, const std::string& text, const std::string& needle,

@@ -23,6 +23,9 @@
 namespace juggle::planner {
 namespace {
 
+using testing::LoadRightFootPlannerWithGraph;
+using testing::SoccerSpecWithGraph;
+
 using soccer_juggle::JuggleEnv;
 using soccer_juggle::JuggleSpec;
 using soccer_juggle::kNumActions;
@@ -38,27 +41,6 @@ std::string Graph(const std::string& pose, const std::string& variables,
   };
   return node("down", "DOWN", "  initial: true\n") + node("up", "UP", "") +
          "edge { from: \"down\" to: \"up\" }\nedge { from: \"up\" to: \"down\" }\n";
-}
-
-// The right-foot planner's run config on `graph_text` (written as graph.textproto); `planner`
-// goes inside its planner block.
-absl::StatusOr<LoadedConfig> LoadWithGraph(const std::string& graph_text,
-                                           const std::string& planner = "") {
-  const std::string graph = testing::WriteTemp("graph.textproto", graph_text);
-  const std::string run = testing::WriteTemp(
-      "run.textproto",
-      absl::StrCat("base_config: \"", testing::RepoPath("configs/right_foot_planner.textproto"),
-                   "\"\nname: \"t\"\nsoccer_juggle { graph_file: \"", graph, "\" }\n",
-                   "planner { ", planner, " }\n"));
-  return LoadRunConfig(run);
-}
-
-absl::StatusOr<std::shared_ptr<const JuggleSpec>> SpecWithGraph(const std::string& graph_text) {
-  absl::StatusOr<LoadedConfig> config = LoadWithGraph(graph_text);
-  if (!config.ok()) return config.status();
-  absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*config);
-  if (!spec.ok()) return spec.status();
-  return std::dynamic_pointer_cast<const JuggleSpec>(*spec);
 }
 
 // The plan's action `steps` control steps (zero action) into the first node, for `kick`'s
@@ -87,7 +69,7 @@ constexpr char kHeaderSetDeclared[] =
     "  kick_variable { move { joint: \"right_knee\" } move { joint: \"left_knee\" } }\n";
 
 TEST(NodeKickVariablesTest, DeclaredJointsResolveToTheirJointsAxesAndGains) {
-  absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SpecWithGraph(Graph(
+  absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SoccerSpecWithGraph(Graph(
       kHeader, "  kick_variable { move { joint: \"neck\" axis: \"x\" gain: -0.5 } "
                "move { joint: \"left_knee\" } }\n"));
   ASSERT_TRUE(spec.ok()) << spec.status();
@@ -102,9 +84,10 @@ TEST(NodeKickVariablesTest, DeclaredJointsResolveToTheirJointsAxesAndGains) {
 }
 
 TEST(NodeKickVariablesTest, TheDeclaredHeaderSetActsExactlyAsTheBuiltInOne) {
-  absl::StatusOr<std::shared_ptr<const JuggleSpec>> built_in = SpecWithGraph(Graph(kHeader, ""));
+  absl::StatusOr<std::shared_ptr<const JuggleSpec>> built_in =
+      SoccerSpecWithGraph(Graph(kHeader, ""));
   absl::StatusOr<std::shared_ptr<const JuggleSpec>> declared =
-      SpecWithGraph(Graph(kHeader, kHeaderSetDeclared));
+      SoccerSpecWithGraph(Graph(kHeader, kHeaderSetDeclared));
   ASSERT_TRUE(built_in.ok()) << built_in.status();
   ASSERT_TRUE(declared.ok()) << declared.status();
   const std::vector<double> kick = {0.02, 0.1, -0.2, 0.15, 0.3};
@@ -121,7 +104,7 @@ TEST(NodeKickVariablesTest, ADeclaredVariableMovesOnlyItsAxisAndUndeclaredOnesNo
   const std::string swing = "leg_swing { side: RIGHT profile: RAISED_COSINE }";
   const std::string foot = "contact_body: \"right_ankle\" contact_height: 0.5 apex_height: 1.4 "
                            "ball_target { x: 0.6 y: -0.1 }";
-  absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SpecWithGraph(
+  absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SoccerSpecWithGraph(
       Graph(swing, "  kick_variable { move { joint: \"right_hip\" axis: \"x\" } }\n", foot));
   ASSERT_TRUE(spec.ok()) << spec.status();
   google::protobuf::RepeatedPtrField<std::string> names;
@@ -157,7 +140,7 @@ class NodeKickVariablesErrorTest : public ::testing::TestWithParam<BadDeclaratio
 
 TEST_P(NodeKickVariablesErrorTest, IsAConfigErrorNamingTheNodeAndTheFieldAtItsLine) {
   const std::string graph_text = Graph(kHeader, GetParam().variables);
-  absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SpecWithGraph(graph_text);
+  absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SoccerSpecWithGraph(graph_text);
   ASSERT_FALSE(spec.ok());
   EXPECT_EQ(spec.status().code(), absl::StatusCode::kInvalidArgument);
   const std::string graph = testing::WriteTemp("graph.textproto", graph_text);
@@ -192,7 +175,7 @@ TEST(NodeKickFeedbackTest, OutsideADownNodeWithALegSwingIsAConfigErrorAtItsLine)
   std::string up_only = Graph(swing, "", foot);
   up_only.insert(up_only.find("  contact_body", up_only.find("name: \"up\"")), feedback);
   for (const std::string& graph_text : {Graph(kHeader, feedback), up_only}) {
-    absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SpecWithGraph(graph_text);
+    absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SoccerSpecWithGraph(graph_text);
     ASSERT_FALSE(spec.ok());
     EXPECT_EQ(spec.status().code(), absl::StatusCode::kInvalidArgument);
     const std::string at =
@@ -205,7 +188,7 @@ TEST(NodeKickFeedbackTest, OutsideADownNodeWithALegSwingIsAConfigErrorAtItsLine)
   // In the swing's DOWN node it loads.
   std::string down_only = Graph(swing, "", foot);
   down_only.insert(down_only.find("  contact_body"), feedback);
-  EXPECT_TRUE(SpecWithGraph(down_only).ok()) << SpecWithGraph(down_only).status();
+  EXPECT_TRUE(SoccerSpecWithGraph(down_only).ok()) << SoccerSpecWithGraph(down_only).status();
 }
 
 TEST(NodeKickFeedbackTest, TheKneesFromTheFootConfigGivesTheKneeItsOwnGainsAndLoadsForThePlanner) {
@@ -232,7 +215,7 @@ TEST(NodeKickVariablesTest, OneKickSetForNodesWhoseDeclarationsDifferIsRefusedAt
   graph_text.replace(graph_text.find("  kick_variable", up),
                      std::string(kHeaderSetDeclared).size(),
                      "  kick_variable { move { joint: \"neck\" axis: \"z\" } }\n");
-  absl::StatusOr<LoadedConfig> config = LoadWithGraph(graph_text);
+  absl::StatusOr<LoadedConfig> config = LoadRightFootPlannerWithGraph(graph_text);
   ASSERT_TRUE(config.ok()) << config.status();
   const absl::Status status = ValidateSoccerJuggleTask(*config);
   EXPECT_EQ(status.code(), absl::StatusCode::kInvalidArgument);
@@ -240,7 +223,8 @@ TEST(NodeKickVariablesTest, OneKickSetForNodesWhoseDeclarationsDifferIsRefusedAt
   EXPECT_THAT(std::string(status.message()), HasSubstr("up -> down"));
 
   // The same declaration on both nodes shares one set.
-  absl::StatusOr<LoadedConfig> same = LoadWithGraph(Graph(kHeader, kHeaderSetDeclared));
+  absl::StatusOr<LoadedConfig> same =
+      LoadRightFootPlannerWithGraph(Graph(kHeader, kHeaderSetDeclared));
   ASSERT_TRUE(same.ok()) << same.status();
   EXPECT_TRUE(ValidateSoccerJuggleTask(*same).ok()) << ValidateSoccerJuggleTask(*same);
 }
@@ -249,7 +233,7 @@ TEST(NodeKickVariablesTest, AKeyframeNodeWithoutDeclaredVariablesIsRefusedAtItsK
   const std::string keyframes = "keyframes { frame { phase: 0 } frame { phase: 1 } }";
   const std::string foot = "contact_body: \"right_ankle\" contact_height: 0.5 apex_height: 1.4";
   const std::string graph_text = Graph(keyframes, "", foot);
-  absl::StatusOr<LoadedConfig> config = LoadWithGraph(graph_text);
+  absl::StatusOr<LoadedConfig> config = LoadRightFootPlannerWithGraph(graph_text);
   ASSERT_TRUE(config.ok()) << config.status();
   const absl::Status status = ValidateSoccerJuggleTask(*config);
   EXPECT_EQ(status.code(), absl::StatusCode::kInvalidArgument);
@@ -258,7 +242,7 @@ TEST(NodeKickVariablesTest, AKeyframeNodeWithoutDeclaredVariablesIsRefusedAtItsK
   EXPECT_THAT(std::string(status.message()), HasSubstr(at.substr(0, at.rfind(':'))));
   EXPECT_THAT(std::string(status.message()), HasSubstr("node 'down' moves by keyframes"));
 
-  absl::StatusOr<LoadedConfig> declared = LoadWithGraph(
+  absl::StatusOr<LoadedConfig> declared = LoadRightFootPlannerWithGraph(
       Graph(keyframes, "  kick_variable { move { joint: \"right_hip\" axis: \"z\" } }\n", foot));
   ASSERT_TRUE(declared.ok()) << declared.status();
   EXPECT_TRUE(ValidateSoccerJuggleTask(*declared).ok()) << ValidateSoccerJuggleTask(*declared);
@@ -275,7 +259,7 @@ TEST(NodeKickVariablesTest, AStallNodeIsAcceptedByThePlannerNowThatAStallHasACos
       "  contact_height: 0.5 apex_height: 1.4 pose { leg_swing { side: RIGHT } } }\n"
       "edge { from: \"down\" to: \"hold\" }\nedge { from: \"hold\" to: \"hold\" weight: 30 }\n"
       "edge { from: \"hold\" to: \"up\" }\nedge { from: \"up\" to: \"down\" }\n";
-  absl::StatusOr<LoadedConfig> config = LoadWithGraph(graph_text);
+  absl::StatusOr<LoadedConfig> config = LoadRightFootPlannerWithGraph(graph_text);
   ASSERT_TRUE(config.ok()) << config.status();
   EXPECT_TRUE(ValidateSoccerJuggleTask(*config).ok()) << ValidateSoccerJuggleTask(*config);
 }

@@ -23,6 +23,15 @@ void BaseController::UpdateSwingAdjust(const mjData& data, const CursorState& cu
     PlaceKickingFoot(spec_, data, node.spec.pose().leg_swing().side() == config::LEFT, adjust);
   }
   if (node.spec.has_head_feedback()) UpdateHeadLean(data, cursor, kick_touched, adjust);
+  adjust->stance_roll = 0;
+  bool next_kicks_left = false;
+  if (spec_.env().has_stance_change() && spec_.env().stance_change().header_roll() > 0 &&
+      KickFollowsBothFeet(spec_.graph(), cursor, &next_kicks_left)) {
+    const config::LegSwing& next = spec_.graph().node(cursor.next).spec.pose().leg_swing();
+    adjust->stance_roll =
+        HeaderRollShare(spec_.env().stance_change(), cursor.phase) * next.stance_roll();
+    adjust->stance_roll_left_kick = next_kicks_left;
+  }
   // A node's own feedback, else the env's (proto/control_graph.proto, NodeSpec.kick_feedback).
   const bool own = node.spec.has_kick_feedback();
   if (!own && !spec_.env().has_kick_feedback()) return;

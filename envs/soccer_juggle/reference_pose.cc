@@ -59,6 +59,15 @@ double SwingShape(config::SwingProfile profile, double phi) {
   }
 }
 
+// Tilting the stance leg toward the kicking side moves the pelvis over the stance foot: a
+// rotation by −a about x tilts the limb toward +z (the character's right).
+void RollStanceLeg(const JuggleSpec& spec, bool kick_left, double stance_roll,
+                   CharacterPose* pose) {
+  const double roll = kick_left ? stance_roll : -stance_roll;
+  SetBallJointAxisRotation(spec, kick_left ? kRightHip : kLeftHip, kX, roll, pose);
+  SetBallJointAxisRotation(spec, kick_left ? kRightAnkle : kLeftAnkle, kX, -roll, pose);
+}
+
 void LegSwingPose(const JuggleSpec& spec, const config::LegSwing& g, const SwingAdjust& adjust,
                   double phase, CharacterPose* pose) {
   double phi = phase;
@@ -95,13 +104,7 @@ void LegSwingPose(const JuggleSpec& spec, const config::LegSwing& g, const Swing
   if (const double ankle_amplitude = g.ankle_amplitude() + adjust.ankle; ankle_amplitude != 0) {
     SetBallJointAxisRotation(spec, ankle, kZ, ankle_amplitude * s, pose);
   }
-  if (g.stance_roll() != 0) {
-    // Tilting the stance leg toward the kicking side moves the pelvis over the stance foot:
-    // a rotation by −a about x tilts the limb toward +z (the character's right).
-    const double roll = left ? g.stance_roll() : -g.stance_roll();
-    SetBallJointAxisRotation(spec, left ? kRightHip : kLeftHip, kX, roll, pose);
-    SetBallJointAxisRotation(spec, left ? kRightAnkle : kLeftAnkle, kX, -roll, pose);
-  }
+  if (g.stance_roll() != 0) RollStanceLeg(spec, left, g.stance_roll(), pose);
 }
 
 // Drops the root along a lever of length `lever` swung by `knee` (rad, ≤ 0 when bent).
@@ -116,6 +119,10 @@ void HeadDipPose(const JuggleSpec& spec, const config::HeadDip& g, const SwingAd
     // The chest turned from its rest by roll about its x axis and pitch about its z axis.
     const double lean[3] = {adjust.lean_roll, 0, adjust.lean_pitch};
     mju_quatIntegrate(pose->data() + spec.joint(kChest).qpos_adr, lean, 1.0);
+  }
+  // Set in an UP node before a kick, where the dip is over (its ankles would replace it).
+  if (adjust.stance_roll != 0) {
+    RollStanceLeg(spec, adjust.stance_roll_left_kick, adjust.stance_roll, pose);
   }
   if (g.hold()) {
     SetBallJointAxisRotation(spec, kNeck, kZ, g.neck_pitch(), pose);

@@ -36,6 +36,11 @@ struct SwingAdjust {
   double lean_pitch = 0, lean_roll = 0;
   // Its timing: added to a head dip's phase (a share of the cycle; negative: the dip later).
   double head_phase = 0;
+  // env.stance_change.header_roll (stance_change.h): the next kick's stance roll (rad, the
+  // leg_swing's sign convention) added to a head_dip pose, on the standing leg of a kick with
+  // the left foot if stance_roll_left_kick, else of the right foot.
+  double stance_roll = 0;
+  bool stance_roll_left_kick = false;
 };
 
 // Writes the reference pose of `node` at phase φ into `pose` (root x, y relative to the

@@ -70,4 +70,8 @@ double HeaderShiftShare(const config::StanceChange& change, double phase) {
   return change.header_shift() * FollowThrough(phase);
 }
 
+double HeaderRollShare(const config::StanceChange& change, double phase) {
+  return change.header_roll() * FollowThrough(phase);
+}
+
 }  // namespace juggle::soccer_juggle

@@ -40,6 +40,10 @@ double LeanTowardKick(const config::StanceChange& change, bool kick_left, double
 // the next kick's standing ankle for the two-foot balance's target; 0 before φ 0.5.
 double HeaderShiftShare(const config::StanceChange& change, double phase);
 
+// The share (0 → header_roll, linear over φ 0.5 → 1) of the next swing's stance roll that a
+// header's UP node before a kick adds to its pose; 0 before φ 0.5.
+double HeaderRollShare(const config::StanceChange& change, double phase);
+
 }  // namespace juggle::soccer_juggle
 
 #endif  // JUGGLE_ENVS_SOCCER_JUGGLE_STANCE_CHANGE_H_

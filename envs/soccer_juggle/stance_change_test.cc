@@ -4,9 +4,14 @@
 // is in stance_test.cc.
 #include "envs/soccer_juggle/stance_change.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 
+#include "absl/strings/str_cat.h"
+#include "envs/mujoco_model.h"
+#include "envs/soccer_juggle/base_controller.h"
 #include "envs/soccer_juggle/env.h"
 #include "envs/testing/test_configs.h"
 #include "gtest/gtest.h"
@@ -57,6 +62,64 @@ TEST(StanceChangeTest, LeanAndHeaderShiftGrowOverTheFollowThroughOnly) {
   EXPECT_NEAR(LeanTowardKick(change, true, 1.0), 0.08, 1e-12);
   EXPECT_EQ(HeaderShiftShare(change, 0.5), 0.0);
   EXPECT_NEAR(HeaderShiftShare(change, 0.75), 0.5, 1e-12);
+}
+
+// The quaternion of ball joint `j` in `pose`.
+std::array<double, 4> Quat(const JuggleSpec& spec, const CharacterPose& pose, JointId j) {
+  const double* q = pose.data() + spec.joint(j).qpos_adr;
+  return {q[0], q[1], q[2], q[3]};
+}
+
+TEST(StanceChangeTest, AHeaderBeforeAKickRollsTheStandingLegIntoTheKicksFirstPose) {
+  const std::string run = testing::WriteTemp(
+      "run.textproto",
+      absl::StrCat("base_config: \"", testing::RepoPath("configs/foot_and_head_planner.textproto"),
+                   "\"\nname: \"t\"\nsoccer_juggle { env { stance_change { header_roll: 1 } } }\n"));
+  absl::StatusOr<LoadedConfig> config = LoadRunConfig(run);
+  ASSERT_TRUE(config.ok()) << config.status();
+  absl::StatusOr<std::shared_ptr<const JuggleSpec>> created = JuggleSpec::Create(*config);
+  ASSERT_TRUE(created.ok()) << created.status();
+  const JuggleSpec& spec = **created;
+  const BaseController base(spec);
+  MjDataPtr data(mj_makeData(spec.model()));
+  const double roll = spec.graph().node(Node(spec, "right_foot_down")).spec.pose().leg_swing()
+                          .stance_roll();
+  ASSERT_GT(roll, 0.05);  // the kick's pose rolls its standing leg: the test means something
+
+  CursorState cursor = At(spec, "head_up", "right_foot_down");
+  SwingAdjust adjust;
+  for (const double phase : {0.3, 0.5, 0.75, 1.0}) {
+    cursor.phase = phase;
+    base.UpdateSwingAdjust(*data, cursor, false, &adjust);
+    EXPECT_NEAR(adjust.stance_roll, std::max(0.0, 2 * (phase - 0.5)) * roll, 1e-12) << phase;
+    EXPECT_FALSE(adjust.stance_roll_left_kick);
+  }
+  // At the node's end the standing leg is where the kick's node starts: no step in the pose.
+  CharacterPose header_end, kick_start, standing;
+  ComputeReferencePose(spec, Node(spec, "head_up"), 1.0, &header_end, adjust);
+  ComputeReferencePose(spec, Node(spec, "right_foot_down"), 0.0, &kick_start);
+  ComputeReferencePose(spec, Node(spec, "head_up"), 1.0, &standing);
+  for (const JointId j : {kLeftHip, kLeftAnkle}) {
+    const std::array<double, 4> a = Quat(spec, header_end, j), b = Quat(spec, kick_start, j);
+    for (int k = 0; k < 4; ++k) EXPECT_NEAR(a[k], b[k], 1e-12) << j;
+    EXPECT_GT(RotationSin2(a.data(), Quat(spec, standing, j).data()), 1e-4) << j;
+  }
+  // Before another header the legs stay as they were.
+  cursor = At(spec, "head_up", "head_down");
+  cursor.phase = 1.0;
+  base.UpdateSwingAdjust(*data, cursor, false, &adjust);
+  EXPECT_EQ(adjust.stance_roll, 0.0);
+  // Without header_roll (the shipped config) nothing changes.
+  std::shared_ptr<const JuggleSpec> shipped = testing::LoadSpec("full_planner");
+  ASSERT_NE(shipped, nullptr);
+  ASSERT_EQ(shipped->env().stance_change().header_roll(), 0.0);
+  const BaseController shipped_base(*shipped);
+  CursorState before_kick;
+  before_kick.current = Node(*shipped, "head_up");
+  before_kick.next = Node(*shipped, "right_foot_down");
+  before_kick.phase = 1.0;
+  shipped_base.UpdateSwingAdjust(*data, before_kick, false, &adjust);
+  EXPECT_EQ(adjust.stance_roll, 0.0);
 }
 
 // Forward kinematics of the placed leg: the hip at the angles PlaceKickingFoot returns, the

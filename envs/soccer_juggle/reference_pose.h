@@ -30,6 +30,9 @@ struct SwingAdjust {
   // hip's flexion and abduction blend toward place_hip and place_abduction (rad) and the knee
   // lifts the foot clear. Not placing: the configured swing.
   bool placing = false;
+  // stance_roll's side (below; beside `placing` so that the struct has no tail padding, which
+  // the snapshot tests compare byte for byte).
+  bool stance_roll_left_kick = false;
   double place_hip = 0, place_abduction = 0;
   // A header node's head feedback (NodeSpec.head_feedback): the chest's pitch and roll (rad,
   // added to a head_dip pose at every phase) that move the head under the coming ball.
@@ -40,7 +43,6 @@ struct SwingAdjust {
   // leg_swing's sign convention) added to a head_dip pose, on the standing leg of a kick with
   // the left foot if stance_roll_left_kick, else of the right foot.
   double stance_roll = 0;
-  bool stance_roll_left_kick = false;
 };
 
 // Writes the reference pose of `node` at phase φ into `pose` (root x, y relative to the

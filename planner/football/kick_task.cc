@@ -202,7 +202,7 @@ std::vector<std::string> FootballKickTask::outcome_names() const {
 std::optional<VariableBlock> FootballKickTask::RefineBlock(const Env& env) const {
   // The kick set while the ball is still to be kicked (after the touch nothing it moves counts).
   if (layout_.kick_sets == 0 || AsFootballEnv(env).state().kick.touched) return std::nullopt;
-  return VariableBlock{layout_.kick(0), {0.002, 0.01, 0.01, 0.01, 0.01}};
+  return VariableBlock{layout_.kick(0), KickRefineSteps()};
 }
 
 bool FootballKickTask::Residuals(const std::vector<double>& outcome, double* out) const {

@@ -40,6 +40,10 @@ namespace juggle::planner {
 
 constexpr int kKickVariables = 5;  // timing (s), hip, abduction, knee, ankle (rad)
 
+// The finite-difference steps of a kick set's refinement (VariableBlock.steps), in the order
+// above: soccer juggling's and football's kicks share them.
+inline std::vector<double> KickRefineSteps() { return {0.002, 0.01, 0.01, 0.01, 0.01}; }
+
 struct SoccerPlanLayout {
   int kick_sets = 0;     // 0 when KickVariables.enabled is false
   // Cycles past the last set kick with no variables (KickVariables.later_kicks_by_base).

@@ -163,7 +163,7 @@ std::vector<std::string> SoccerJuggleTask::term_names() const { return SoccerTer
 std::vector<std::string> SoccerJuggleTask::outcome_names() const { return KickOutcomeNames(); }
 
 VariableBlock SoccerJuggleTask::KickBlock(int set) const {
-  return {layout_.kick(set), {0.002, 0.01, 0.01, 0.01, 0.01}};
+  return {layout_.kick(set), KickRefineSteps()};
 }
 
 std::optional<VariableBlock> SoccerJuggleTask::RefineBlock(const Env& env) const {

@@ -73,8 +73,10 @@ std::array<double, 4> Quat(const JuggleSpec& spec, const CharacterPose& pose, Jo
 TEST(StanceChangeTest, AHeaderBeforeAKickRollsTheStandingLegIntoTheKicksFirstPose) {
   const std::string run = testing::WriteTemp(
       "run.textproto",
-      absl::StrCat("base_config: \"", testing::RepoPath("configs/foot_and_head_planner.textproto"),
-                   "\"\nname: \"t\"\nsoccer_juggle { env { stance_change { header_roll: 1 } } }\n"));
+      absl::StrCat("base_config: \"",
+                   testing::RepoPath("configs/foot_and_head_planner.textproto"),
+                   "\"\nname: \"t\"\n",
+                   "soccer_juggle { env { stance_change { header_roll: 1 } } }\n"));
   absl::StatusOr<LoadedConfig> config = LoadRunConfig(run);
   ASSERT_TRUE(config.ok()) << config.status();
   absl::StatusOr<std::shared_ptr<const JuggleSpec>> created = JuggleSpec::Create(*config);

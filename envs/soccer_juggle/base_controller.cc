@@ -105,7 +105,7 @@ void BaseController::AddFeedforward(const CursorState& cursor, const CharacterPo
                                     double* feedforward) {
   if (id_data_ != nullptr) AddReferenceFeedforward(cursor, reference, adjust, *data, feedforward);
   if (spec_.env().has_stance_balance()) {
-    AddStanceBalance(cursor, adjust.placing, data, feedforward);
+    AddStanceBalance(cursor, adjust, data, feedforward);
   }
 }
 
@@ -131,8 +131,9 @@ void BaseController::AddReferenceFeedforward(const CursorState& cursor,
   }
 }
 
-void BaseController::AddStanceBalance(const CursorState& cursor, bool placing, mjData* data,
-                                      double* feedforward) const {
+void BaseController::AddStanceBalance(const CursorState& cursor, const SwingAdjust& adjust,
+                                      mjData* data, double* feedforward) const {
+  const bool placing = adjust.placing;
   const config::ReferencePose& ref = spec_.graph().node(cursor.current).spec.pose();
   config::StanceBalance gains = spec_.env().stance_balance();
   const bool changing = spec_.env().has_stance_change();
@@ -149,6 +150,14 @@ void BaseController::AddStanceBalance(const CursorState& cursor, bool placing, m
       const double share = HeaderShiftShare(change, cursor.phase);
       gains.set_com_x(gains.com_x() + share * (stance[0] - (left[0] + right[0]) / 2));
       gains.set_com_y(gains.com_y() + share * (stance[1] - (left[1] + right[1]) / 2));
+    }
+    const config::NodeSpec& node = spec_.graph().node(cursor.current).spec;
+    if (ref.has_chest_lean() && node.head_feedback().lean_per_m() > 0) {
+      // The chest's feedback: the balance's target moves by its shift, forward and back alone,
+      // sideways with the legs' sway (ChestLeanPose), which it would otherwise pull back.
+      const double per_m = node.head_feedback().lean_per_m();
+      gains.set_com_x(gains.com_x() - adjust.lean_pitch / per_m);
+      gains.set_com_y(gains.com_y() - adjust.lean_roll / per_m);
     }
     humanoid::AddDoubleStanceBalance(spec_.joints(), gains, spec_.root_body(),
                                      spec_.env().action_torque(), model_, data, feedforward);

@@ -60,8 +60,8 @@ class BaseController {
   void AddReferenceFeedforward(const CursorState& cursor, const CharacterPose& reference,
                                const SwingAdjust& adjust, const mjData& data,
                                double* feedforward);
-  // `placing`: the step's SwingAdjust::placing (the balance leans onto the foot put down).
-  void AddStanceBalance(const CursorState& cursor, bool placing, mjData* data,
+  // `adjust`: the step's; its `placing` leans the balance onto the foot put down.
+  void AddStanceBalance(const CursorState& cursor, const SwingAdjust& adjust, mjData* data,
                         double* feedforward) const;
   const double* AnklePosition(const mjData& data, humanoid::JointId ankle) const;
 

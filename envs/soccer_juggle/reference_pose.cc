@@ -141,15 +141,40 @@ void HeadDipPose(const JuggleSpec& spec, const config::HeadDip& g, const SwingAd
   LeverRoot(g.lever(), -g.amplitude() * s2, pose);
 }
 
-void ChestLeanPose(const JuggleSpec& spec, const config::ChestLean& g, double phase,
-                   CharacterPose* pose) {
-  const double s = g.hold() ? 1.0 : std::sin(M_PI * phase);
+// A chest node's head feedback (SwingAdjust.lean_pitch, lean_roll) moves the chest by the legs
+// (below); BaseController::AddStanceBalance moves the balance's target with it.
+void ChestLeanPose(const JuggleSpec& spec, const config::ChestLean& g, const SwingAdjust& adjust,
+                   double phase, CharacterPose* pose) {
+  const double s = g.hold() || g.steady() ? 1.0 : std::sin(M_PI * phase);
+  // The dip over the fall only (φ in [0, 0.5), moved by the feedback's timing); none while
+  // holding.
+  const double dip_phase = phase + adjust.head_phase;
+  const double dip = g.hold() || dip_phase < 0 || dip_phase >= 0.5
+                         ? 0.0
+                         : g.dip() * std::sin(2 * M_PI * dip_phase);
+  const double knee = g.knee() + dip;
   for (JointId ankle : {kRightAnkle, kLeftAnkle}) {
-    SetBallJointAxisRotation(spec, ankle, kZ, g.ankle_amplitude() * s, pose);
+    SetBallJointAxisRotation(spec, ankle, kZ, g.ankle_amplitude() * s + dip, pose);
   }
-  for (JointId knee : {kRightKnee, kLeftKnee}) SetHinge(spec, knee, -g.knee(), pose);
-  LeverRoot(g.lever(), -g.knee(), pose);
+  for (JointId joint : {kRightKnee, kLeftKnee}) SetHinge(spec, joint, -knee, pose);
+  LeverRoot(g.lever(), -knee, pose);
   SetBallJointAxisRotation(spec, kChest, kZ, g.chest_amplitude() * s, pose);
+  if (g.neck_pitch() != 0) SetBallJointAxisRotation(spec, kNeck, kZ, g.neck_pitch(), pose);
+  if (adjust.lean_roll != 0) {
+    // Both legs sway sideways as a parallelogram (the hips roll, the ankles roll back; the feet
+    // stay flat): the chest's sphere is 0.12 m above its own joint, too short a lever. Forward
+    // and back the balance's target alone moves the body (AddStanceBalance): both hips flexed
+    // to tilt the trunk, tried, fell backward more often (docs/planner.md, "The chest"). The
+    // feedback's signs are the chest's (HeadDipPose).
+    const double sway[3] = {adjust.lean_roll, 0, 0};
+    const double back[3] = {-adjust.lean_roll, 0, 0};
+    for (JointId hip : {kRightHip, kLeftHip}) {
+      mju_quatIntegrate(pose->data() + spec.joint(hip).qpos_adr, sway, 1.0);
+    }
+    for (JointId ankle : {kRightAnkle, kLeftAnkle}) {
+      mju_quatIntegrate(pose->data() + spec.joint(ankle).qpos_adr, back, 1.0);
+    }
+  }
 }
 
 // Interpolates two poses: slerp for quaternions (root and ball joints), lerp otherwise.
@@ -213,7 +238,7 @@ void ComputeReferencePose(const JuggleSpec& spec, int node, double phase, Charac
       HeadDipPose(spec, ref.head_dip(), adjust, phase, pose);
       break;
     case config::ReferencePose::kChestLean:
-      ChestLeanPose(spec, ref.chest_lean(), phase, pose);
+      ChestLeanPose(spec, ref.chest_lean(), adjust, phase, pose);
       break;
     default:
       break;

@@ -336,11 +336,12 @@ absl::Status JuggleSpecBuilder::ResolveNodes(JuggleSpec* s) {
                                   "': kick_feedback acts only in a DOWN node with a leg swing "
                                   "(the base controller's swing before the contact)"));
     }
-    if (spec.has_head_feedback() && !spec.pose().has_head_dip()) {
+    if (spec.has_head_feedback() && !spec.pose().has_head_dip() &&
+        !spec.pose().has_chest_lean()) {
       return Invalid(where, {{"node", n}, {"head_feedback"}},
                      absl::StrCat("node '", graph.node(n).name,
                                   "': head_feedback acts only in a node with a head_dip pose "
-                                  "(a header)"));
+                                  "(a header) or a chest_lean pose"));
     }
     if (spec.has_stall()) {
       ASSIGN_OR_RETURN(rt.stall_body,

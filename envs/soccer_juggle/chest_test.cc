@@ -164,7 +164,9 @@ double StandWithoutBall(const std::shared_ptr<const JuggleSpec>& spec, double se
     ball[1] = d->qpos[1];
     ball[2] = 40.0;
     mju_zero(d->qvel + spec->ball_dof(), 6);
-    if (env.Step(kZeroAction, walk).outcome != Outcome::kRunning) return (i + 1) * spec->control_dt();
+    if (env.Step(kZeroAction, walk).outcome != Outcome::kRunning) {
+      return (i + 1) * spec->control_dt();
+    }
   }
   return seconds;
 }

@@ -133,8 +133,8 @@ void BaseController::AddReferenceFeedforward(const CursorState& cursor,
 
 void BaseController::AddStanceBalance(const CursorState& cursor, const SwingAdjust& adjust,
                                       mjData* data, double* feedforward) const {
-  const bool placing = adjust.placing;
-  const config::ReferencePose& ref = spec_.graph().node(cursor.current).spec.pose();
+  const config::NodeSpec& node = spec_.graph().node(cursor.current).spec;
+  const config::ReferencePose& ref = node.pose();
   config::StanceBalance gains = spec_.env().stance_balance();
   const bool changing = spec_.env().has_stance_change();
   const config::StanceChange& change = spec_.env().stance_change();
@@ -151,7 +151,6 @@ void BaseController::AddStanceBalance(const CursorState& cursor, const SwingAdju
       gains.set_com_x(gains.com_x() + share * (stance[0] - (left[0] + right[0]) / 2));
       gains.set_com_y(gains.com_y() + share * (stance[1] - (left[1] + right[1]) / 2));
     }
-    const config::NodeSpec& node = spec_.graph().node(cursor.current).spec;
     if (ref.has_chest_lean() && node.head_feedback().lean_per_m() > 0) {
       // The chest's feedback: the balance's target moves by its shift, forward and back alone,
       // sideways with the legs' sway (ChestLeanPose), which it would otherwise pull back.
@@ -164,7 +163,7 @@ void BaseController::AddStanceBalance(const CursorState& cursor, const SwingAdju
     return;
   }
   const bool kick_left = ref.leg_swing().side() == config::LEFT;
-  if (placing) {  // the stance goes to the kicking foot next (UpdateSwingAdjust)
+  if (adjust.placing) {  // the stance goes to the kicking foot next (UpdateSwingAdjust)
     gains.set_com_y(gains.com_y() + LeanTowardKick(change, kick_left, cursor.phase));
   }
   humanoid::AddStanceBalance(spec_.joints(), gains,

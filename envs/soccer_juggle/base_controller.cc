@@ -81,16 +81,23 @@ void BaseController::UpdateHeadLean(const mjData& data, const CursorState& curso
   if (node.stage() == config::DOWN && f.timing() > 0 && cursor.phase_speed > 0) {
     adjust->head_phase = std::clamp(TimingShift(cursor, c.t, f.timing()), -0.15, 0.15);
   }
-  // The crossing's offset from the target, and the horizontal speed that brings the ball back
-  // to the target over one cycle (up to the apex and down to the contact height again).
+  // The crossing's offset from this node's target (where the head goes), and the horizontal
+  // speed that brings the ball to the receiving node's target over one cycle (up to the apex
+  // and down to the contact height again): before the touch the DOWN node after the coming UP
+  // one, after it the next node.
+  const int receiving = node.stage() == config::DOWN && cursor.next_next >= 0
+                            ? cursor.next_next
+                            : (cursor.next >= 0 ? cursor.next : cursor.current);
+  const config::BallTarget& to = spec_.graph().node(receiving).spec.ball_target();
   const double e[2] = {c.x - qpos[0] - node.ball_target().x(),
                        c.y - qpos[1] - node.ball_target().y()};
+  const double pass[2] = {c.x - qpos[0] - to.x(), c.y - qpos[1] - to.y()};
   const double rise = std::max(cursor.apex_height - h, 0.01);
   const double flight_s = 2 * std::sqrt(2 * rise / g);
   const double w = std::max(g * c.t - ball_vel[2], 0.1);  // downward speed at the crossing
   double shift[2];
   for (int i = 0; i < 2; ++i) {
-    const double normal = (-e[i] / flight_s - ball_vel[i]) / ((1 + f.restitution()) * w);
+    const double normal = (-pass[i] / flight_s - ball_vel[i]) / ((1 + f.restitution()) * w);
     shift[i] = e[i] - f.redirect() * f.contact_radius_m() * normal;
   }
   const double norm = std::hypot(shift[0], shift[1]);
@@ -117,8 +124,8 @@ void BaseController::AddReferenceFeedforward(const CursorState& cursor,
   const double dt = 0.5 * spec_.control_dt();
   const double dphase = 0.5 * cursor.phase_speed;
   CharacterPose before, after;
-  ComputeReferencePose(spec_, cursor.current, cursor.phase - dphase, &before, adjust);
-  ComputeReferencePose(spec_, cursor.current, cursor.phase + dphase, &after, adjust);
+  ComputeCursorPose(spec_, cursor, cursor.phase - dphase, &before, adjust);
+  ComputeCursorPose(spec_, cursor, cursor.phase + dphase, &after, adjust);
   double tau[kCharacterNv];
   humanoid::ReferenceInverseDynamics(spec_.joints(), model_, data, before, reference, after, dt,
                                      id_data_.get(), tau);

@@ -153,7 +153,7 @@ StepResult JuggleEnv::Step(const float* action, const AdaptiveWalk& walk) {
   s_.touched_body = -1;
   const double phase0 = s_.cursor.phase;
   base_.UpdateSwingAdjust(*data_, s_.cursor, s_.kick_touched, &s_.swing_adjust);
-  ComputeReferencePose(*spec_, s_.cursor.current, phase0, &s_.reference, s_.swing_adjust);
+  ComputeCursorPose(*spec_, s_.cursor, phase0, &s_.reference, s_.swing_adjust);
   const BallReference ball_ref = spec_->cursor().DesiredBall(s_.cursor, phase0);
 
   double feedforward[kCharacterNv] = {0};

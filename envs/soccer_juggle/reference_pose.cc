@@ -245,4 +245,19 @@ void ComputeReferencePose(const JuggleSpec& spec, int node, double phase, Charac
   }
 }
 
+void ComputeCursorPose(const JuggleSpec& spec, const CursorState& cursor, double phase,
+                       CharacterPose* pose, const SwingAdjust& adjust) {
+  ComputeReferencePose(spec, cursor.current, phase, pose, adjust);
+  if (cursor.next < 0 || spec.graph().node(cursor.current).stage != config::UP) return;
+  const double lead = spec.graph().node(cursor.next).spec.pose_lead_in();
+  if (lead <= 0) return;
+  const double start = 1.0 - 0.5 * lead;
+  if (phase <= start) return;
+  const double u = std::min((phase - start) / (0.5 * lead), 1.0);
+  CharacterPose next;
+  ComputeReferencePose(spec, cursor.next, 0.0, &next, adjust);
+  const CharacterPose own = *pose;
+  InterpolatePoses(spec, own, next, u * u * (3 - 2 * u), pose);
+}
+
 }  // namespace juggle::soccer_juggle

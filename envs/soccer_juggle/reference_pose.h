@@ -51,6 +51,13 @@ struct SwingAdjust {
 void ComputeReferencePose(const JuggleSpec& spec, int node, double phase, CharacterPose* pose,
                           const SwingAdjust& adjust = {});
 
+// The reference pose of the cursor's node at phase φ: ComputeReferencePose, blended over the
+// end of an UP node into the next node's pose at φ = 0 when the next node sets pose_lead_in
+// (a smoothstep over that share of the UP half cycle). What the env tracks and the planner
+// perturbs.
+void ComputeCursorPose(const JuggleSpec& spec, const CursorState& cursor, double phase,
+                       CharacterPose* pose, const SwingAdjust& adjust = {});
+
 // The upright-forward root orientation (w, x, y, z) = (√½, √½, 0, 0).
 extern const double kUprightQuat[4];
 

@@ -343,6 +343,12 @@ absl::Status JuggleSpecBuilder::ResolveNodes(JuggleSpec* s) {
                                   "': head_feedback acts only in a node with a head_dip pose "
                                   "(a header) or a chest_lean pose"));
     }
+    if (spec.pose_lead_in() > 0 && spec.stage() == config::UP) {
+      return Invalid(where, {{"node", n}, {"pose_lead_in"}},
+                     absl::StrCat("node '", graph.node(n).name,
+                                  "': pose_lead_in blends the UP node before it into this one; "
+                                  "set it on a DOWN or STALL node"));
+    }
     if (spec.has_stall()) {
       ASSIGN_OR_RETURN(rt.stall_body,
                        body_id(spec.stall().body(), {{"node", n}, {"stall"}, {"body"}}));

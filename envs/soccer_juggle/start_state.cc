@@ -46,7 +46,7 @@ void PlaceAtStart(const JuggleSpec& spec, Rng* rng, CursorState* cursor, Charact
     cursor->phase = rng->Uniform(0, start.max_phase());
     fall_s = cursor->phase / cursor->phase_speed * spec.control_dt();
   }
-  ComputeReferencePose(spec, cursor->current, cursor->phase, reference);
+  ComputeCursorPose(spec, *cursor, cursor->phase, reference);
   mju_copy(data->qpos, reference->data(), kCharacterNq);
   const BallReference ball = spec.cursor().DesiredBall(*cursor, cursor->phase);
   double* ball_qpos = data->qpos + spec.ball_qpos();

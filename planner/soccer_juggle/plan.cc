@@ -148,7 +148,7 @@ void KickReferences(const JuggleEnv& env, const double* kick, double cycle_s, Ch
   const SwingAdjust& base = env.state().swing_adjust;
   const std::vector<std::vector<soccer_juggle::KickVariableMove>>& declared =
       spec.node_runtime(node).kick_variables;
-  ComputeReferencePose(spec, node, phase, from, base);
+  ComputeCursorPose(spec, env.cursor(), phase, from, base);
   if (spec.graph().node(node).spec.pose().has_leg_swing()) {
     SwingAdjust changed = base;
     changed.phase += kick[0] / cycle_s;
@@ -158,12 +158,12 @@ void KickReferences(const JuggleEnv& env, const double* kick, double cycle_s, Ch
       changed.knee += kick[3];
       changed.ankle += kick[4];
     }
-    ComputeReferencePose(spec, node, phase, to, changed);
+    ComputeCursorPose(spec, env.cursor(), phase, to, changed);
     if (declared.empty()) return;
   } else {
     double shifted = phase + kick[0] / cycle_s;
     shifted -= std::floor(shifted);
-    ComputeReferencePose(spec, node, shifted, to, base);
+    ComputeCursorPose(spec, env.cursor(), shifted, to, base);
   }
   const double envelope = std::pow(std::sin(M_PI * phase), 2);
   if (!declared.empty()) {

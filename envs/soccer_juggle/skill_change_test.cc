@@ -23,27 +23,37 @@ using testing::SoccerSpecWithGraph;
 
 constexpr float kZeroAction[kNumActions] = {0};
 
-// head_down -> head_up -> chest_down -> chest_up -> head_down (the nodes of
-// configs/graphs/headers.textproto and chest.textproto); `lead_in` inside both DOWN nodes.
+// The header's and the chest's node fields (configs/graphs/headers.textproto, chest.textproto).
+constexpr char kHead[] =
+    " contact_body: \"neck\" contact_height: 1.75 apex_height: 2.0"
+    " ball_target { x: 0.08 y: 0 } pose { head_dip { amplitude: 0.5 } }"
+    " head_feedback { lean_per_m: 2.5 redirect: 1 }";
+constexpr char kChest[] =
+    " contact_body: \"chest\" contact_height: 1.41 apex_height: 2.0"
+    " ball_target { x: -0.09 y: 0 } pose { chest_lean { steady: true chest_amplitude: 0.7"
+    " neck_pitch: 0.6 knee: 0.2 ankle_amplitude: 0.2 dip: 0.3 } }"
+    " head_feedback { lean_per_m: 3 redirect: 1 contact_radius_m: 0.22 }";
+
+// head_down -> head_up -> chest_down -> chest_up -> head_down; `lead_in` inside both DOWN
+// nodes.
 std::string HeadAndChestGraph(const std::string& lead_in) {
-  const std::string head =
-      " contact_body: \"neck\" contact_height: 1.75 apex_height: 2.0"
-      " ball_target { x: 0.08 y: 0 } pose { head_dip { amplitude: 0.5 } }"
-      " head_feedback { lean_per_m: 2.5 redirect: 1 }";
-  const std::string chest =
-      " contact_body: \"chest\" contact_height: 1.41 apex_height: 2.0"
-      " ball_target { x: -0.09 y: 0 } pose { chest_lean { steady: true chest_amplitude: 0.7"
-      " neck_pitch: 0.6 knee: 0.2 ankle_amplitude: 0.2 dip: 0.3 } }"
-      " head_feedback { lean_per_m: 3 redirect: 1 contact_radius_m: 0.22 }";
   return absl::StrCat(
-      "node { name: \"head_down\" stage: DOWN initial: true", head, " ", lead_in, " }\n",
-      "node { name: \"head_up\" stage: UP", head, " }\n",
-      "node { name: \"chest_down\" stage: DOWN", chest, " ", lead_in, " }\n",
-      "node { name: \"chest_up\" stage: UP", chest, " }\n",
+      "node { name: \"head_down\" stage: DOWN initial: true", kHead, " ", lead_in, " }\n",
+      "node { name: \"head_up\" stage: UP", kHead, " }\n",
+      "node { name: \"chest_down\" stage: DOWN", kChest, " ", lead_in, " }\n",
+      "node { name: \"chest_up\" stage: UP", kChest, " }\n",
       "edge { from: \"head_down\" to: \"head_up\" }\n"
       "edge { from: \"head_up\" to: \"chest_down\" }\n"
       "edge { from: \"chest_down\" to: \"chest_up\" }\n"
       "edge { from: \"chest_up\" to: \"head_down\" }\n");
+}
+
+// head_down -> head_up -> head_down.
+std::string HeadersGraph() {
+  return absl::StrCat("node { name: \"head_down\" stage: DOWN initial: true", kHead, " }\n",
+                      "node { name: \"head_up\" stage: UP", kHead, " }\n",
+                      "edge { from: \"head_down\" to: \"head_up\" }\n"
+                      "edge { from: \"head_up\" to: \"head_down\" }\n");
 }
 
 // The head's centre, world, in `pose` by forward kinematics.
@@ -138,22 +148,9 @@ TEST(SkillChangeTest, AHeaderAimsTheBallAtTheNodeThatReceivesIt) {
   // The same ball straight down over the header's target: a header-only graph keeps the head
   // where it is; before the chest the head goes ahead of the ball so the bounce sends it back
   // toward the chest's target, 0.17 m behind.
-  const double ball_offsets[2] = {0, 0};
   double pitch[2];
   for (int g = 0; g < 2; ++g) {
-    const std::string graph =
-        g == 0 ? absl::StrCat(
-                     "node { name: \"head_down\" stage: DOWN initial: true contact_body: \"neck\""
-                     " contact_height: 1.75 apex_height: 2.0 ball_target { x: 0.08 y: 0 }"
-                     " pose { head_dip { amplitude: 0.5 } }"
-                     " head_feedback { lean_per_m: 2.5 redirect: 1 } }\n"
-                     "node { name: \"head_up\" stage: UP contact_body: \"neck\""
-                     " contact_height: 1.75 apex_height: 2.0 ball_target { x: 0.08 y: 0 }"
-                     " pose { head_dip { amplitude: 0.5 } }"
-                     " head_feedback { lean_per_m: 2.5 redirect: 1 } }\n"
-                     "edge { from: \"head_down\" to: \"head_up\" }\n"
-                     "edge { from: \"head_up\" to: \"head_down\" }\n")
-               : HeadAndChestGraph("");
+    const std::string graph = g == 0 ? HeadersGraph() : HeadAndChestGraph("");
     absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SoccerSpecWithGraph(graph);
     ASSERT_TRUE(spec.ok()) << spec.status();
     AdaptiveWalk walk(&(*spec)->graph());
@@ -162,8 +159,8 @@ TEST(SkillChangeTest, AHeaderAimsTheBallAtTheNodeThatReceivesIt) {
     mjData* d = env.data();
     double* ball = d->qpos + (*spec)->ball_qpos();
     double* v = d->qvel + (*spec)->ball_dof();
-    ball[0] = d->qpos[0] + 0.08 + ball_offsets[0];
-    ball[1] = d->qpos[1] + ball_offsets[1];
+    ball[0] = d->qpos[0] + 0.08;
+    ball[1] = d->qpos[1];
     ball[2] = 2.0;
     v[0] = v[1] = 0;
     v[2] = -1;

@@ -145,7 +145,8 @@ void BaseController::AddStanceBalance(const CursorState& cursor, const SwingAdju
   config::StanceBalance gains = spec_.env().stance_balance();
   const bool changing = spec_.env().has_stance_change();
   const config::StanceChange& change = spec_.env().stance_change();
-  if (!ref.has_leg_swing()) {
+  config::Side swing = config::RIGHT;
+  if (!SwingingLeg(ref, &swing)) {
     // Headers, chest traps, stalls: both feet are down. Without it the PD alone tips the
     // character over within about a second of headers (envs/soccer_juggle/stance_test.cc).
     bool next_kicks_left = false;
@@ -169,7 +170,7 @@ void BaseController::AddStanceBalance(const CursorState& cursor, const SwingAdju
                                      spec_.env().action_torque(), model_, data, feedforward);
     return;
   }
-  const bool kick_left = ref.leg_swing().side() == config::LEFT;
+  const bool kick_left = swing == config::LEFT;
   if (adjust.placing) {  // the stance goes to the kicking foot next (UpdateSwingAdjust)
     gains.set_com_y(gains.com_y() + LeanTowardKick(change, kick_left, cursor.phase));
   }

@@ -110,21 +110,7 @@ Outcome JuggleEnv::CheckTermination(const BallReference& ball_ref) const {
     return kBallLost;
   }
   const NodeRuntime& rt = spec_->node_runtime(s_.cursor.current);
-  if (rt.atw_foot_body >= 0 && !rt.atw_angle.empty() && s_.cursor.phase_speed > 0) {
-    const bool up = spec_->graph().node(s_.cursor.current).stage == config::UP;
-    const double local = (s_.cursor.phase - (up ? 0.5 : 0.0)) / 0.5;  // [0, 1] over the node
-    const double skip = rt.atw_skip_steps * s_.cursor.phase_speed / 0.5;
-    if (local > skip && local < 1.0 - skip) {
-      const int bins = static_cast<int>(rt.atw_angle.size());
-      const int bin = std::clamp(static_cast<int>(local * bins), 0, bins - 1);
-      const double* foot = data_->xpos + 3 * rt.atw_foot_body;
-      const double psi = std::atan2(foot[2] - ball[2], foot[1] - ball[1]);
-      const double desired = rt.atw_angle[bin];
-      const double dc = std::cos(psi) - std::cos(desired);
-      const double ds = std::sin(psi) - std::sin(desired);
-      if (dc * dc + ds * ds > rt.atw_max_chord2) return kAroundTheWorld;
-    }
-  }
+  if (AroundTheWorldChord2() > rt.atw_max_chord2) return kAroundTheWorld;
   if (rt.stall_body >= 0) {
     const double* body = data_->xpos + 3 * rt.stall_body;
     double diff[3];
@@ -132,6 +118,30 @@ Outcome JuggleEnv::CheckTermination(const BallReference& ball_ref) const {
     if (mju_norm3(diff) > rt.stall_max_distance) return kStallLost;
   }
   return Outcome::kRunning;
+}
+
+double JuggleEnv::AroundTheWorldChord2() const {
+  const NodeRuntime& rt = spec_->node_runtime(s_.cursor.current);
+  if (rt.atw_foot_body < 0 || rt.atw_angle.empty() || s_.cursor.phase_speed <= 0) return -1;
+  const bool up = spec_->graph().node(s_.cursor.current).stage == config::UP;
+  const double local = (s_.cursor.phase - (up ? 0.5 : 0.0)) / 0.5;  // [0, 1] over the node
+  const double skip = rt.atw_skip_steps * s_.cursor.phase_speed / 0.5;
+  if (local <= skip || local >= 1.0 - skip) return -1;
+  const int bins = static_cast<int>(rt.atw_angle.size());
+  const int bin = std::clamp(static_cast<int>(local * bins), 0, bins - 1);
+  const double* ball = data_->qpos + spec_->ball_qpos();
+  const double* foot = data_->xpos + 3 * rt.atw_foot_body;
+  const double psi = std::atan2(foot[2] - ball[2], foot[1] - ball[1]);
+  const double desired = rt.atw_angle[bin];
+  const double dc = std::cos(psi) - std::cos(desired);
+  const double ds = std::sin(psi) - std::sin(desired);
+  return dc * dc + ds * ds;
+}
+
+double JuggleEnv::AroundTheWorldViolation() const {
+  const double chord2 = AroundTheWorldChord2();
+  if (chord2 < 0) return 0;
+  return chord2 / spec_->node_runtime(s_.cursor.current).atw_max_chord2;
 }
 
 float JuggleEnv::TrackKick() {

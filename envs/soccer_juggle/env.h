@@ -104,6 +104,10 @@ class JuggleEnv : public juggle::Env {
   const JuggleEnvState& state() const { return s_; }
   // Reference pose the PD tracked during the last step (or set at reset).
   const CharacterPose& reference_pose() const { return s_.reference; }
+  // Around-the-world (NodeSpec.around_the_world) while the current node checks its foot–ball
+  // angle: the angle's squared chord from the desired one over the bound's (the episode ends
+  // above 1); 0 in every other node and step.
+  double AroundTheWorldViolation() const;
 
  private:
   // The episode's counters and kick restart from zero; the physics at the start of the
@@ -114,6 +118,9 @@ class JuggleEnv : public juggle::Env {
   // Also notes an allowed touch of the ball in s_.touched_this_step.
   Outcome CheckBallContacts(double substep_phase);
   Outcome CheckTermination(const BallReference& ball_ref) const;
+  // The around-the-world angle's squared chord from the desired one, or −1 where it is not
+  // checked (AroundTheWorldViolation).
+  double AroundTheWorldChord2() const;
   // Follows the current cycle's kick — a touch this step sets kick_touched — and returns reward
   // term 5 at its release (the first step after the touch with the ball going up; once per kick,
   // and only with reward.w_kick on), 0 otherwise.

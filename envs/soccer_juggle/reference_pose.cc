@@ -222,6 +222,18 @@ void KeyframePose(const JuggleSpec& spec, const NodeRuntime& rt, double phase,
 
 }  // namespace
 
+bool SwingingLeg(const config::ReferencePose& pose, config::Side* side) {
+  if (pose.has_leg_swing()) {
+    *side = pose.leg_swing().side();
+    return true;
+  }
+  if (pose.has_keyframes() && pose.keyframes().has_swing_side()) {
+    *side = pose.keyframes().swing_side();
+    return true;
+  }
+  return false;
+}
+
 void ComputeReferencePose(const JuggleSpec& spec, int node, double phase, CharacterPose* pose,
                           const SwingAdjust& adjust) {
   const config::ReferencePose& ref = spec.graph().node(node).spec.pose();

@@ -20,6 +20,10 @@ void SetHinge(const JuggleSpec& spec, JointId j, double angle, CharacterPose* po
 // The standing pose: root at (0, 0, height), upright-forward, every joint at the rest pose.
 CharacterPose StandingPose(const JuggleSpec& spec);
 
+// The leg a node's pose swings — a leg swing's side, or keyframes' swing_side — into `side`;
+// false when both feet stand (headers, the chest, keyframes without a swing side).
+bool SwingingLeg(const config::ReferencePose& pose, config::Side* side);
+
 // Ball-dependent changes of a leg swing (env.kick_feedback, the planner's kick variables):
 // added to the swing's hip flexion, knee, hip abduction and ankle amplitudes (rad) and to its
 // phase. Zero: the configured swing.

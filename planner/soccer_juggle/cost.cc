@@ -126,8 +126,9 @@ double BodyCost(const JuggleEnv& env, const config::PlannerCost& w) {
   const int right = spec.model()->dof_bodyid[spec.joint(soccer_juggle::kRightAnkle).dof_adr];
   const int left = spec.model()->dof_bodyid[spec.joint(soccer_juggle::kLeftAnkle).dof_adr];
   double foot[2];
-  if (pose.has_leg_swing()) {
-    const int stance = pose.leg_swing().side() == config::LEFT ? right : left;
+  config::Side swing = config::RIGHT;
+  if (soccer_juggle::SwingingLeg(pose, &swing)) {
+    const int stance = swing == config::LEFT ? right : left;
     foot[0] = d->xpos[3 * stance];
     foot[1] = d->xpos[3 * stance + 1];
   } else {
@@ -165,7 +166,8 @@ std::vector<std::string> KickOutcomeNames() {
 }
 
 std::vector<std::string> SoccerTermNames() {
-  return {"failure", "miss", "kick", "impact", "effort", "body", "terminal", "approach", "stall"};
+  return {"failure", "miss",     "kick",     "impact", "effort", "body",
+          "terminal", "approach", "stall", "around_the_world"};
 }
 
 SoccerRolloutScorer::SoccerRolloutScorer(const config::PlannerCost& cost, int horizon,
@@ -226,6 +228,7 @@ void SoccerRolloutScorer::AfterStep(const Env& base, const float* action, const 
   }
   body_ += BodyCost(env, cost_);
   stall_ += StallCost(env, cost_);
+  around_ += cost_.around_the_world() * env.AroundTheWorldViolation();
   // The kick is scored at the first step the ball is off the body after a touch (a weak kick
   // that sends it down scores its early crossing); a ball off the body in a stall is not one.
   if (s.kick_touched && !s.touched_this_step && !scored_this_cycle_ && !InStall(env)) {
@@ -250,7 +253,7 @@ void SoccerRolloutScorer::AfterStep(const Env& base, const float* action, const 
 double SoccerRolloutScorer::Finish(const Env& base) {
   const auto& env = static_cast<const JuggleEnv&>(base);
   double total = failure_ + kick_cost_ + impact_cost_ + effort_;
-  total += (body_ + stall_) / horizon_;
+  total += (body_ + stall_ + around_) / horizon_;
   if (failed_) return total;
   terminal_ = cost_.terminal() * BodyCost(env, cost_);
   total += terminal_;
@@ -277,7 +280,7 @@ double SoccerRolloutScorer::Finish(const Env& base) {
 
 std::vector<double> SoccerRolloutScorer::terms() const {
   return {failure_part_, miss_part_, kick_cost_, impact_cost_, effort_, body_ / horizon_,
-          terminal_, approach_, stall_ / horizon_};
+          terminal_, approach_, stall_ / horizon_, around_ / horizon_};
 }
 
 }  // namespace juggle::planner

@@ -61,7 +61,7 @@ double BallClearance(const soccer_juggle::JuggleEnv& env);
 double BodyCost(const soccer_juggle::JuggleEnv& env, const config::PlannerCost& cost);
 
 // The cost of a soccer rollout as the driver's scorer. Terms, in order (SoccerTermNames()):
-// failure, miss, kick, impact, effort, body, terminal, approach, stall.
+// failure, miss, kick, impact, effort, body, terminal, approach, stall, around_the_world.
 class SoccerRolloutScorer final : public RolloutScorer {
  public:
   // `run_on_every_kick`: PlannerConfig.run_on_every_kick (RunsOn).
@@ -75,7 +75,7 @@ class SoccerRolloutScorer final : public RolloutScorer {
   // The cost so far: never more than the total (every term is non-negative and the per-step
   // body terms are summed over the horizon).
   double partial() const override {
-    return failure_ + kick_cost_ + impact_cost_ + effort_ + (body_ + stall_) / horizon_;
+    return failure_ + kick_cost_ + impact_cost_ + effort_ + (body_ + stall_ + around_) / horizon_;
   }
   // A touch that has not yet released the ball runs on (the kick is scored at its release):
   // for any kick, or only for the rollout's first.
@@ -99,6 +99,7 @@ class SoccerRolloutScorer final : public RolloutScorer {
   int steps_ = 0;
   double body_ = 0, effort_ = 0, kick_cost_ = 0, failure_ = 0;
   double stall_ = 0;  // the stall terms summed over the steps
+  double around_ = 0;  // the around-the-world terms summed over the steps
   bool scored_this_cycle_ = false;
   // The closest the ball came to an allowed body in the current cycle before a touch.
   double clearance_ = 1e9;

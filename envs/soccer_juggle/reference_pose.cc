@@ -203,7 +203,60 @@ void InterpolatePoses(const JuggleSpec& spec, const CharacterPose& a, const Char
   }
 }
 
-void KeyframePose(const JuggleSpec& spec, const NodeRuntime& rt, double phase,
+// Keyframes.smooth: the cubic Hermite segment from frame `lo` to `lo + 1` at t ∈ [0, 1], with
+// Catmull-Rom tangents (p[k+1] − p[k−1]) / (φ[k+1] − φ[k−1]) at interior frames and the
+// secant at the first and last. Ball joints and the root's rotation are splined as rotation
+// vectors relative to frame `lo`'s rotation (exact at every frame).
+void SmoothKeyframePose(const JuggleSpec& spec, const NodeRuntime& rt, size_t lo, double t,
+                        CharacterPose* out) {
+  const std::vector<double>& ph = rt.keyframe_phase;
+  const std::vector<CharacterPose>& frames = rt.keyframe_pose;
+  const size_t hi = lo + 1, last = ph.size() - 1;
+  const double span = std::max(ph[hi] - ph[lo], 1e-12);
+  // Tangent at frame k (per unit phase) of the scalar value(k).
+  auto tangent = [&](size_t k, auto value) {
+    const size_t a = k == 0 ? 0 : k - 1, b = k == last ? last : k + 1;
+    return (value(b) - value(a)) / std::max(ph[b] - ph[a], 1e-12);
+  };
+  const double t2 = t * t, t3 = t2 * t;
+  const double h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2,
+               h11 = t3 - t2;
+  auto hermite = [&](auto value) {
+    return h00 * value(lo) + h10 * span * tangent(lo, value) + h01 * value(hi) +
+           h11 * span * tangent(hi, value);
+  };
+  auto scalar = [&](int adr) { (*out)[adr] = hermite([&](size_t k) { return frames[k][adr]; }); };
+  const size_t first = lo == 0 ? 0 : lo - 1, end = std::min(hi + 1, last) + 1;
+  auto rotation = [&](int adr) {
+    const double* q0 = frames[lo].data() + adr;
+    // Frames first..end−1 as rotation vectors v with q0 · exp(v) = q_k.
+    double offsets[4][3];
+    for (size_t k = first; k < end; ++k) {
+      double qk[4] = {frames[k][adr], frames[k][adr + 1], frames[k][adr + 2], frames[k][adr + 3]};
+      if (mju_dot(qk, q0, 4) < 0) mju_scl(qk, qk, -1, 4);
+      mju_subQuat(offsets[k - first], qk, q0);
+    }
+    double v[3];
+    for (int axis = 0; axis < 3; ++axis) {
+      v[axis] = hermite([&](size_t k) { return offsets[k - first][axis]; });
+    }
+    double* q = out->data() + adr;
+    mju_copy4(q, q0);
+    mju_quatIntegrate(q, v, 1.0);
+  };
+  for (int i = 0; i < 3; ++i) scalar(i);
+  rotation(3);
+  for (int j = 0; j < kNumJoints; ++j) {
+    const ActuatedJoint& joint = spec.joint(j);
+    if (joint.dofs == 3) {
+      rotation(joint.qpos_adr);
+    } else {
+      scalar(joint.qpos_adr);
+    }
+  }
+}
+
+void KeyframePose(const JuggleSpec& spec, const NodeRuntime& rt, bool smooth, double phase,
                   CharacterPose* pose) {
   const std::vector<double>& ph = rt.keyframe_phase;
   if (phase <= ph.front()) {
@@ -217,7 +270,11 @@ void KeyframePose(const JuggleSpec& spec, const NodeRuntime& rt, double phase,
   const size_t hi = std::upper_bound(ph.begin(), ph.end(), phase) - ph.begin();
   const size_t lo = hi - 1;
   const double t = (phase - ph[lo]) / std::max(ph[hi] - ph[lo], 1e-12);
-  InterpolatePoses(spec, rt.keyframe_pose[lo], rt.keyframe_pose[hi], t, pose);
+  if (smooth) {
+    SmoothKeyframePose(spec, rt, lo, t, pose);
+  } else {
+    InterpolatePoses(spec, rt.keyframe_pose[lo], rt.keyframe_pose[hi], t, pose);
+  }
 }
 
 }  // namespace
@@ -238,7 +295,7 @@ void ComputeReferencePose(const JuggleSpec& spec, int node, double phase, Charac
                           const SwingAdjust& adjust) {
   const config::ReferencePose& ref = spec.graph().node(node).spec.pose();
   if (ref.has_keyframes()) {
-    KeyframePose(spec, spec.node_runtime(node), phase, pose);
+    KeyframePose(spec, spec.node_runtime(node), ref.keyframes().smooth(), phase, pose);
     return;
   }
   *pose = StandingPose(spec);

@@ -289,6 +289,7 @@ absl::Status JuggleSpecBuilder::ResolveKickVariables(JuggleSpec* s, int n) {
       KickVariableMove move;
       move.joint = static_cast<JointId>(j);
       move.gain = axis.gain();
+      move.speed = variable.envelope() == config::KickVariableSpec::SPEED;
       const bool ball = s->joint(move.joint).dofs == 3;
       const std::string& a = axis.axis();
       if (ball != (a.size() == 1 && a[0] >= 'x' && a[0] <= 'z') || (!ball && !a.empty())) {

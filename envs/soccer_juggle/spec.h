@@ -57,6 +57,8 @@ struct KickVariableMove {
   JointId joint = kChest;
   int axis = 0;  // 0 = x, 1 = y, 2 = z; 0 for a hinge
   double gain = 1;
+  // config::KickVariableSpec::SPEED: the move's envelope is the speed one (plan.cc).
+  bool speed = false;
 };
 
 // The most kick variables a node declares (NodeSpec.kick_variable): the planner's four angles.

@@ -130,6 +130,49 @@ TEST(NodeKickVariablesTest, ADeclaredVariableMovesOnlyItsAxisAndUndeclaredOnesNo
   EXPECT_GT(shift, 0.01);
 }
 
+TEST(NodeKickVariablesTest, ASpeedVariableMovesItsAxisByTheRateEnvelopeZeroAtTheContact) {
+  // The knee (a hinge: its action is linear in the angle) declared once with the position
+  // envelope sin²(πφ) and once with the speed one −sin(2πφ)/(2π): at every step the two
+  // actions stand in the ratio of the envelopes at the env's phase.
+  const std::string swing = "leg_swing { side: RIGHT profile: RAISED_COSINE }";
+  const std::string foot = "contact_body: \"right_ankle\" contact_height: 0.5 apex_height: 1.4 "
+                           "ball_target { x: 0.6 y: -0.1 }";
+  auto spec_with = [&](const std::string& envelope) {
+    return SoccerSpecWithGraph(Graph(
+        swing, absl::StrCat("  kick_variable { move { joint: \"right_knee\" } ", envelope, " }\n"),
+        foot));
+  };
+  absl::StatusOr<std::shared_ptr<const JuggleSpec>> position = spec_with("");
+  absl::StatusOr<std::shared_ptr<const JuggleSpec>> speed = spec_with("envelope: SPEED");
+  ASSERT_TRUE(position.ok()) << position.status();
+  ASSERT_TRUE(speed.ok()) << speed.status();
+  EXPECT_FALSE((*position)->node_runtime(0).kick_variables[0][0].speed);
+  EXPECT_TRUE((*speed)->node_runtime(0).kick_variables[0][0].speed);
+  google::protobuf::RepeatedPtrField<std::string> names;
+  names.Add("right_knee");
+  const int knee = BodyActionIndices(names)->at(0);
+  AdaptiveWalk walk(&(*speed)->graph());
+  JuggleEnv env(*speed, Rng(7));
+  env.ResetAt(0, walk);
+  const float zero[kNumActions] = {0};
+  int compared = 0;
+  for (int steps : {6, 12, 18}) {
+    while (env.steps() < steps) env.Step(zero, walk);
+    const double phase = env.cursor().phase;
+    ASSERT_GT(phase, 0.05);
+    ASSERT_LT(phase, 0.5) << "still before the contact";
+    const double ratio = (-std::sin(2 * M_PI * phase) / (2 * M_PI)) / std::pow(std::sin(M_PI * phase), 2);
+    const std::vector<float> a_speed = KickActionAt(*speed, {0, 0.3, 0, 0, 0}, steps);
+    const std::vector<float> a_position = KickActionAt(*position, {0, 0.3, 0, 0, 0}, steps);
+    ASSERT_GT(std::abs(a_position[knee]), 1e-3);
+    EXPECT_NEAR(a_speed[knee] / a_position[knee], ratio, 1e-4) << "phase " << phase;
+    EXPECT_LT(a_speed[knee] * a_position[knee], 0) << "before the contact the speed envelope "
+                                                     "holds the axis back";
+    ++compared;
+  }
+  EXPECT_EQ(compared, 3);
+}
+
 struct BadDeclaration {
   std::string variables;
   std::string needle;   // the field the error points at

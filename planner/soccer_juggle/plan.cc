@@ -135,7 +135,8 @@ void AddPitch(const JuggleSpec& spec, soccer_juggle::JointId j, double angle, Ch
 
 // The contact node's reference changed by the kick variables: the first is the timing; the
 // others move the node's declared joint axes (spec.h NodeRuntime::kick_variables) by
-// gain · v · sin²(πφ) (largest at the contact, zero where the cycle wraps). Without a
+// gain · v · e(φ), e = sin²(πφ) (largest at the contact, zero where the cycle wraps) or, for a
+// SPEED variable (control_graph.proto KickVariableSpec), −sin(2πφ)/(2π). Without a
 // declaration, for a leg swing its amplitudes (reference_pose.h SwingAdjust); for the other
 // generators (head, chest) the chest's pitch, the neck's pitch, the chest's and the neck's roll,
 // and both knees. The roll replaced the hips' pitch, which moved a header's landing sideways by
@@ -167,9 +168,12 @@ void KickReferences(const JuggleEnv& env, const double* kick, double cycle_s, Ch
   }
   const double envelope = std::pow(std::sin(M_PI * phase), 2);
   if (!declared.empty()) {
+    // KickVariableSpec.SPEED: zero at the contact, slope 1 per unit phase there.
+    const double speed_envelope = -std::sin(2 * M_PI * phase) / (2 * M_PI);
     for (size_t v = 0; v < declared.size(); ++v) {
       for (const soccer_juggle::KickVariableMove& move : declared[v]) {
-        AddRotation(spec, move.joint, move.axis, move.gain * kick[1 + v] * envelope, to);
+        const double e = move.speed ? speed_envelope : envelope;
+        AddRotation(spec, move.joint, move.axis, move.gain * kick[1 + v] * e, to);
       }
     }
     return;

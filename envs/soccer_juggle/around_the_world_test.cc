@@ -48,7 +48,9 @@ TEST(AroundTheWorldTest, TheViolationPassesOneExactlyWhereTheEpisodeEndsForTheAn
       const StepResult r = env.Step(kZeroAction, walk);
       const double v = env.AroundTheWorldViolation();
       const bool atw = spec->node_runtime(env.node()).atw_foot_body >= 0;
-      if (!atw) EXPECT_EQ(v, 0.0) << "a foot juggle's node checks no angle";
+      if (!atw) {
+        EXPECT_EQ(v, 0.0) << "a foot juggle's node checks no angle";
+      }
       if (v > 0) ++checked;
       if (r.outcome == kAroundTheWorld) {
         EXPECT_GT(v, 1.0) << "seed " << seed << " step " << t;

@@ -35,7 +35,8 @@ void BaseController::UpdateSwingAdjust(const mjData& data, const CursorState& cu
   // A node's own feedback, else the env's (proto/control_graph.proto, NodeSpec.kick_feedback).
   const bool own = node.spec.has_kick_feedback();
   if (!own && !spec_.env().has_kick_feedback()) return;
-  if (node.stage != config::DOWN || kick_touched || !node.spec.pose().has_leg_swing()) return;
+  config::Side side;
+  if (node.stage != config::DOWN || kick_touched || !SwingingLeg(node.spec.pose(), &side)) return;
   const double* qpos = data.qpos;
   const double* ball = qpos + spec_.ball_qpos();
   const double* ball_vel = data.qvel + spec_.ball_dof();
@@ -45,11 +46,12 @@ void BaseController::UpdateSwingAdjust(const mjData& data, const CursorState& cu
   const double ex = c.x - qpos[0] - node.spec.ball_target().x();
   const double ey = c.y - qpos[1] - node.spec.ball_target().y();
   const config::KickFeedback& f = own ? node.spec.kick_feedback() : spec_.env().kick_feedback();
-  const bool left = node.spec.pose().leg_swing().side() == config::LEFT;
+  const bool left = side == config::LEFT;
   adjust->hip = f.hip_per_m() * ex;
   adjust->knee = f.knee_per_m() * ex;
   adjust->abduction = f.abduction_per_m() * ey * (left ? 1 : -1);
   adjust->phase = TimingShift(cursor, c.t, f.timing());
+  if (!node.spec.pose().has_leg_swing()) adjust->phase = std::clamp(adjust->phase, -0.1, 0.1);
 }
 
 double BaseController::TimingShift(const CursorState& cursor, double crossing_s,

@@ -32,8 +32,9 @@ class BaseController {
   explicit BaseController(const JuggleSpec& spec);
 
   // env.kick_feedback: recomputes `*adjust` from the ball's free flight while the cursor's
-  // leg-swing DOWN node has not touched the ball (`kick_touched` false) and the ball is above
-  // the contact height; leaves it otherwise (held after the contact until the next DOWN node).
+  // DOWN node swings a leg (a leg swing, or keyframes with a swing side), has not touched the
+  // ball (`kick_touched` false) and the ball is above the contact height; leaves it otherwise
+  // (held after the contact until the next DOWN node).
   // env.stance_change: sets adjust->placing, and the placement while it is set, every step;
   // adjust->stance_roll (header_roll) in a header's UP node before a kick, every step.
   void UpdateSwingAdjust(const mjData& data, const CursorState& cursor, bool kick_touched,

@@ -41,26 +41,6 @@ std::string ChestGraph(const std::string& extra, const std::string& pose = kChes
                "edge { from: \"chest_UP\" to: \"chest_DOWN\" }\n";
 }
 
-// World positions of the chest's sphere and of the midpoint between the ankles in `pose`.
-struct ChestPlace {
-  std::array<double, 3> chest{}, feet{};
-};
-ChestPlace PlaceOf(const JuggleSpec& spec, const CharacterPose& pose) {
-  MjDataPtr data(mj_makeData(spec.model()));
-  std::copy(pose.begin(), pose.end(), data->qpos);
-  mj_kinematics(spec.model(), data.get());
-  const mjModel* m = spec.model();
-  ChestPlace out;
-  const double* c = data->geom_xpos + 3 * mj_name2id(m, mjOBJ_GEOM, "chest");
-  const double* r = data->xpos + 3 * mj_name2id(m, mjOBJ_BODY, "right_ankle");
-  const double* l = data->xpos + 3 * mj_name2id(m, mjOBJ_BODY, "left_ankle");
-  for (int i = 0; i < 3; ++i) {
-    out.chest[i] = c[i];
-    out.feet[i] = (r[i] + l[i]) / 2;
-  }
-  return out;
-}
-
 TEST(ChestPoseTest, ASteadyLeanHoldsTheChestWhileTheKneesDipOnlyDuringTheFall) {
   absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SoccerSpecWithGraph(ChestGraph(""));
   ASSERT_TRUE(spec.ok()) << spec.status();

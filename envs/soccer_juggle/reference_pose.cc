@@ -277,6 +277,35 @@ void KeyframePose(const JuggleSpec& spec, const NodeRuntime& rt, bool smooth, do
   }
 }
 
+// Turns ball joint `j` of `pose` by `rotvec` (rad) in its parent's frame.
+void TurnBallJointInParent(const JuggleSpec& spec, JointId j, const double rotvec[3],
+                           CharacterPose* pose) {
+  double axis[3] = {rotvec[0], rotvec[1], rotvec[2]};
+  const double angle = mju_normalize3(axis);
+  if (angle == 0) return;
+  double turn[4];
+  mju_axisAngle2Quat(turn, axis, angle);
+  double* q = pose->data() + spec.joint(j).qpos_adr;
+  double turned[4];
+  mju_mulQuat(turned, turn, q);
+  mju_normalize4(turned);
+  mju_copy4(q, turned);
+}
+
+// A keyframed swing moved by the kick feedback as a leg swing is (LegSwingPose): the swinging
+// hip's flexion and abduction, the knee's bend and the ankle's pitch, by sin²(πφ) — the whole
+// offset at the contact (φ = 0.5), none where the node's cycle wraps, so the authored circle
+// is kept and only the foot's place at the contact follows the ball.
+void OffsetKeyframedSwing(const JuggleSpec& spec, bool left, const SwingAdjust& adjust,
+                          double phase, CharacterPose* pose) {
+  const double e = std::pow(std::sin(M_PI * phase), 2);
+  const double hip[3] = {(left ? 1 : -1) * adjust.abduction * e, 0, adjust.hip * e};
+  TurnBallJointInParent(spec, left ? kLeftHip : kRightHip, hip, pose);
+  (*pose)[spec.joint(left ? kLeftKnee : kRightKnee).qpos_adr] -= adjust.knee * e;
+  const double ankle[3] = {0, 0, adjust.ankle * e};
+  TurnBallJointInParent(spec, left ? kLeftAnkle : kRightAnkle, ankle, pose);
+}
+
 }  // namespace
 
 bool SwingingLeg(const config::ReferencePose& pose, config::Side* side) {
@@ -295,7 +324,12 @@ void ComputeReferencePose(const JuggleSpec& spec, int node, double phase, Charac
                           const SwingAdjust& adjust) {
   const config::ReferencePose& ref = spec.graph().node(node).spec.pose();
   if (ref.has_keyframes()) {
-    KeyframePose(spec, spec.node_runtime(node), ref.keyframes().smooth(), phase, pose);
+    config::Side side;
+    const bool swings = SwingingLeg(ref, &side);
+    // Authored frames do not repeat: the shift holds the first or last frame past the ends.
+    const double phi = swings ? std::clamp(phase + adjust.phase, 0.0, 1.0) : phase;
+    KeyframePose(spec, spec.node_runtime(node), ref.keyframes().smooth(), phi, pose);
+    if (swings) OffsetKeyframedSwing(spec, side == config::LEFT, adjust, phase, pose);
     return;
   }
   *pose = StandingPose(spec);

@@ -26,7 +26,8 @@ bool SwingingLeg(const config::ReferencePose& pose, config::Side* side);
 
 // Ball-dependent changes of a leg swing (env.kick_feedback, the planner's kick variables):
 // added to the swing's hip flexion, knee, hip abduction and ankle amplitudes (rad) and to its
-// phase. Zero: the configured swing.
+// phase; keyframes with a swing side take them too (ComputeReferencePose). Zero: the
+// configured swing.
 struct SwingAdjust {
   double hip = 0, knee = 0, abduction = 0, phase = 0, ankle = 0;
   // env.stance_change's foot placement (envs/soccer_juggle/stance_change.h), set while the
@@ -50,8 +51,9 @@ struct SwingAdjust {
 };
 
 // Writes the reference pose of `node` at phase φ into `pose` (root x, y relative to the
-// episode's anchor). Deterministic and allocation-free. `adjust` changes leg swings and a
-// head dip's lean only.
+// episode's anchor). Deterministic and allocation-free. `adjust` changes leg swings,
+// keyframes with a swing side (their phase, and the swinging leg by sin²(πφ)) and a head
+// dip's lean only.
 void ComputeReferencePose(const JuggleSpec& spec, int node, double phase, CharacterPose* pose,
                           const SwingAdjust& adjust = {});
 

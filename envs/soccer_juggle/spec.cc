@@ -330,12 +330,14 @@ absl::Status JuggleSpecBuilder::ResolveNodes(JuggleSpec* s) {
     }
     if (spec.pose().has_keyframes()) RETURN_IF_ERROR(ResolveKeyframes(s, n));
     RETURN_IF_ERROR(ResolveKickVariables(s, n));
+    config::Side swing_side;
     if (spec.has_kick_feedback() &&
-        (spec.stage() != config::DOWN || !spec.pose().has_leg_swing())) {
+        (spec.stage() != config::DOWN || !SwingingLeg(spec.pose(), &swing_side))) {
       return Invalid(where, {{"node", n}, {"kick_feedback"}},
                      absl::StrCat("node '", graph.node(n).name,
                                   "': kick_feedback acts only in a DOWN node with a leg swing "
-                                  "(the base controller's swing before the contact)"));
+                                  "or keyframes with a swing_side (the base controller's swing "
+                                  "before the contact)"));
     }
     if (spec.has_head_feedback() && !spec.pose().has_head_dip() &&
         !spec.pose().has_chest_lean()) {

@@ -5,7 +5,8 @@ Setting "cheap": episodes 0 and 1, 10 s each, 50,000 rollout steps each (5,000 p
 juggles 4 and 8. Setting "dear": the same episodes, 20,000 steps per simulated s, juggles 10 and
 12. At 10,000 rollout steps per wall-s they sit at 0.5 and 2.0 wall-s per simulated s.
 A setting holding other episodes is refused. A recorded point ("old=@40000,3,2.5", a table row
-whose folder is gone) is plotted at its numbers; a malformed one is refused.
+whose folder is gone) is plotted at its numbers; a malformed one is refused. A point whose
+rollout step costs half a reference step ("cheap=DIR~0.5") sits at half its steps.
 """
 import json
 import os
@@ -63,6 +64,19 @@ def main():
             'old: rollout_steps_per_sim_s=40000 wall_s_per_sim_s_2cores=4.00 mean=3.00 '
             'median=2.5'), recorded.stdout
         assert '>2: old<' in open(out).read()
+        halved = subprocess.run([sys.executable, SCRIPT, out, '10000', 'title',
+                                 f'dear={dear}~0.5', 'old=@40000,3,2.5~0.25'],
+                                capture_output=True, text=True)
+        assert halved.returncode == 0, halved.stderr
+        assert halved.stdout.splitlines() == [
+            'dear: rollout_steps_per_sim_s=10000 (its own 20000 at step cost 0.5) '
+            'wall_s_per_sim_s_2cores=1.00 mean=11.00 median=11',
+            'old: rollout_steps_per_sim_s=10000 (its own 40000 at step cost 0.25) '
+            'wall_s_per_sim_s_2cores=1.00 mean=3.00 median=2.5'], halved.stdout
+        bad_cost = subprocess.run([sys.executable, SCRIPT, out, '10000', 'title',
+                                   f'dear={dear}~half'], capture_output=True, text=True)
+        assert bad_cost.returncode != 0
+        assert '~COST must be a number' in bad_cost.stderr, bad_cost.stderr
         malformed = subprocess.run([sys.executable, SCRIPT, out, '10000', 'title',
                                     f'cheap={cheap}', 'old=@40000,3'],
                                    capture_output=True, text=True)

@@ -1,5 +1,7 @@
-// Physics of the model itself: restitution of the ball on the foot and free fall.
+// Physics of the model itself: restitution of the ball on the foot and free fall, in the
+// 400-Hz world every config uses and in the 200-Hz one (configs/right_foot_planner_200hz.textproto).
 #include <cmath>
+#include <ostream>
 
 #include <mujoco/mujoco.h>
 
@@ -10,10 +12,19 @@
 namespace juggle::soccer_juggle {
 namespace {
 
-class PhysicsTest : public ::testing::Test {
+// A shipped config and the physics step its world has.
+struct World {
+  const char* config;
+  double timestep;
+};
+void PrintTo(const World& world, std::ostream* os) {
+  *os << world.config << " (" << world.timestep << " s)";
+}
+
+class PhysicsTest : public ::testing::TestWithParam<World> {
  protected:
   void SetUp() override {
-    spec_ = testing::LoadSpec("right_foot");
+    spec_ = testing::LoadSpec(GetParam().config);
     ASSERT_NE(spec_, nullptr);
     m_ = spec_->model();
     d_ = mj_makeData(m_);
@@ -42,7 +53,7 @@ class PhysicsTest : public ::testing::Test {
   CharacterPose standing_{};
 };
 
-TEST_F(PhysicsTest, BallDroppedOnFootBouncesWithRestitutionPointEight) {
+TEST_P(PhysicsTest, BallDroppedOnFootBouncesWithRestitutionPointEight) {
   // A ball falling straight onto a standing foot would graze the shin first (the foot reaches
   // only 0.13 m ahead of the leg axis), so this copy of the model leaves only the foot solid.
   mjModel* copy = mj_copyModel(nullptr, m_);
@@ -64,7 +75,8 @@ TEST_F(PhysicsTest, BallDroppedOnFootBouncesWithRestitutionPointEight) {
   double restitution_sum = 0;
   const int kDrops = 5;
   for (int drop = 0; drop < kDrops; ++drop) {
-    // Drop heights 1.9 mm apart sample where in a 2.5 ms step the impact falls.
+    // Drop heights 1.9 mm apart sample where in a 2.5-ms step the impact falls (and in a 5-ms
+    // one: the ball falls ~18 mm per step there).
     FreezeCharacter();
     PlaceBall(x, y, top + 0.11 + 0.6 + 0.0019 * drop);
     double v_in = 0, v_out = 0;
@@ -101,7 +113,7 @@ TEST_F(PhysicsTest, BallDroppedOnFootBouncesWithRestitutionPointEight) {
   mj_deleteModel(copy);
 }
 
-TEST_F(PhysicsTest, FreeFallTimeMatchesBallisticFormulaWithinOneControlStep) {
+TEST_P(PhysicsTest, FreeFallTimeMatchesBallisticFormulaWithinOneControlStep) {
   // Far from the character and high enough to touch nothing.
   const double h = 1.0, z0 = 3.0;
   PlaceBall(3.0, 3.0, z0);
@@ -116,7 +128,7 @@ TEST_F(PhysicsTest, FreeFallTimeMatchesBallisticFormulaWithinOneControlStep) {
   EXPECT_NEAR(t, expected, 2 * m_->opt.timestep);  // in fact within one physics step
 }
 
-TEST_F(PhysicsTest, ModelHasDeepMimicSizesAndMass) {
+TEST_P(PhysicsTest, ModelHasDeepMimicSizesAndMass) {
   EXPECT_EQ(m_->nq, kCharacterNq + 7);
   EXPECT_EQ(m_->nv, kCharacterNv + 6);
   double character_mass = 0;
@@ -128,10 +140,11 @@ TEST_F(PhysicsTest, ModelHasDeepMimicSizesAndMass) {
   EXPECT_NEAR(m_->geom_size[3 * spec_->ball_geom()], 0.11, 1e-12);
   // Hollow-sphere inertia 2/3·m·r².
   EXPECT_NEAR(m_->body_inertia[3 * spec_->ball_body()], 2.0 / 3.0 * 0.45 * 0.11 * 0.11, 1e-5);
-  EXPECT_DOUBLE_EQ(m_->opt.timestep, 0.0025);
+  EXPECT_DOUBLE_EQ(m_->opt.timestep, GetParam().timestep);
+  EXPECT_DOUBLE_EQ(spec_->control_dt(), 0.02);
 }
 
-TEST_F(PhysicsTest, CharacterDoesNotCollideWithItself) {
+TEST_P(PhysicsTest, CharacterDoesNotCollideWithItself) {
   // Cross the legs through each other: no self contacts may be generated.
   CharacterPose crossed = standing_;
   SetBallJointAxisRotation(*spec_, kRightHip, 0, 0.6, &crossed);
@@ -146,6 +159,13 @@ TEST_F(PhysicsTest, CharacterDoesNotCollideWithItself) {
         << "self contact between bodies " << b1 << " and " << b2;
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(Worlds, PhysicsTest,
+                         ::testing::Values(World{"right_foot", 0.0025},
+                                           World{"right_foot_planner_200hz", 0.005}),
+                         [](const ::testing::TestParamInfo<World>& info) {
+                           return info.param.timestep < 0.004 ? "At400Hz" : "At200Hz";
+                         });
 
 }  // namespace
 }  // namespace juggle::soccer_juggle

@@ -12,7 +12,9 @@ dashed line marks real time (1.0 wall-s per simulated second).
   scripts/analysis/plot_realtime_curve.py OUT.svg STEPS_PER_WALL_S TITLE LABEL=DIR ...
 
 A setting may also be LABEL=@STEPS,MEAN,MEDIAN: a point taken from a recorded table row
-(docs/performance.md) whose run folder is gone; it is taken to hold the same starts.
+(docs/performance.md) whose run folder is gone; it is taken to hold the same starts. Either form
+may end in ~COST: its rollout step costs COST reference steps (e.g. ~0.53 for the 200-Hz world,
+whose step simulates half the physics), so the point sits at STEPS × COST.
 """
 import math
 import os
@@ -44,7 +46,17 @@ def recorded(label, numbers):
 
 def point(setting):
     label, source = setting.split("=", 1)
-    return recorded(label, source[1:]) if source.startswith("@") else load(label, source)
+    source, _, cost = source.partition("~")
+    p = recorded(label, source[1:]) if source.startswith("@") else load(label, source)
+    p["cost"] = 1.0
+    if cost:
+        try:
+            p["cost"] = float(cost)
+        except ValueError:
+            sys.exit(f"{setting}: ~COST must be a number")
+        p["raw_steps"] = p["steps"]
+        p["steps"] *= p["cost"]
+    return p
 
 
 def main(out, steps_per_wall_s, title, settings, starts):
@@ -113,7 +125,9 @@ def main(out, steps_per_wall_s, title, settings, starts):
                f'{starts} starts</text>')
     write_svg(out, svg, x_labels, top + height + 16)
     for p in points:
-        print(f"{p['label']}: rollout_steps_per_sim_s={p['steps']:.0f} "
+        cost = (f"(its own {p['raw_steps']:.0f} at step cost {p['cost']:g}) "
+                if "raw_steps" in p else "")
+        print(f"{p['label']}: rollout_steps_per_sim_s={p['steps']:.0f} {cost}"
               f"wall_s_per_sim_s_2cores={p['steps'] / steps_per_wall_s:.2f} "
               f"mean={p['mean']:.2f} median={p['median']:g}")
 

@@ -1,7 +1,9 @@
 // Physics of the model itself: restitution of the ball on the foot and free fall, in the
-// 400-Hz world every config uses and in the 200-Hz one (configs/right_foot_planner_200hz.textproto).
+// 400-Hz world every config uses and in the coarser ones of issue 48
+// (configs/right_foot_planner_{300,250,200}hz.textproto).
 #include <cmath>
 #include <ostream>
+#include <string>
 
 #include <mujoco/mujoco.h>
 
@@ -162,9 +164,12 @@ TEST_P(PhysicsTest, CharacterDoesNotCollideWithItself) {
 
 INSTANTIATE_TEST_SUITE_P(Worlds, PhysicsTest,
                          ::testing::Values(World{"right_foot", 0.0025},
+                                           World{"right_foot_planner_300hz", 1.0 / 300},
+                                           World{"right_foot_planner_250hz", 0.004},
                                            World{"right_foot_planner_200hz", 0.005}),
                          [](const ::testing::TestParamInfo<World>& info) {
-                           return info.param.timestep < 0.004 ? "At400Hz" : "At200Hz";
+                           return "At" + std::to_string(std::lround(1 / info.param.timestep)) +
+                                  "Hz";
                          });
 
 }  // namespace

@@ -1,5 +1,5 @@
 // Physics of the model itself: restitution of the ball on the foot and free fall, in the
-// 400-Hz world every config uses and in the coarser ones of issue 48
+// 400-Hz world of every other config and in the coarser ones of issue 48
 // (configs/right_foot_planner_{300,250,200}hz.textproto).
 #include <cmath>
 #include <ostream>

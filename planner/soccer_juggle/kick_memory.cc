@@ -4,7 +4,6 @@
 #include <cmath>
 #include <numeric>
 
-#include "Eigen/Dense"
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -92,36 +91,6 @@ std::vector<KickDecision> KickMemory::Nearest(const KickContext& context, int k)
   });
   std::vector<KickDecision> out;
   for (int i = 0; i < n; ++i) out.push_back(rows_[order[i]].second);
-  return out;
-}
-
-void KickMemory::FitLinear(double lambda) {
-  constexpr int kFeatures = kKickContextSize + 1;
-  Eigen::Matrix<double, kFeatures, kFeatures> normal = Eigen::Matrix<double, kFeatures, kFeatures>::Zero();
-  Eigen::Matrix<double, kFeatures, kKickVariables> right =
-      Eigen::Matrix<double, kFeatures, kKickVariables>::Zero();
-  for (const auto& [context, decision] : rows_) {
-    Eigen::Matrix<double, kFeatures, 1> x;
-    x(0) = 1;
-    for (int i = 0; i < kKickContextSize; ++i) x(1 + i) = context[i] / scales_[i];
-    normal += x * x.transpose();
-    for (int v = 0; v < kKickVariables; ++v) right.col(v) += x * decision[v];
-  }
-  for (int i = 1; i < kFeatures; ++i) normal(i, i) += lambda;
-  const Eigen::Matrix<double, kFeatures, kKickVariables> w = normal.ldlt().solve(right);
-  for (int v = 0; v < kKickVariables; ++v) {
-    for (int i = 0; i < kFeatures; ++i) linear_[v][i] = w(i, v);
-  }
-}
-
-KickDecision KickMemory::Linear(const KickContext& context) const {
-  KickDecision out{};
-  for (int v = 0; v < kKickVariables; ++v) {
-    out[v] = linear_[v][0];
-    for (int i = 0; i < kKickContextSize; ++i) {
-      out[v] += linear_[v][1 + i] * context[i] / scales_[i];
-    }
-  }
   return out;
 }
 

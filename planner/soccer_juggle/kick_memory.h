@@ -13,9 +13,6 @@
 //
 // The file is text: '#' comments, then one row per kick of 11 numbers: the 6 context values
 // in the order above and the 5 kick variables (timing s, hip, abduction, knee, ankle rad).
-//
-// The memory proposes either the variables of the nearest rows, or (`linear`) those of an
-// affine least-squares fit over all rows: one smooth guess, a regression on the planner's labels.
 #ifndef JUGGLE_PLANNER_SOCCER_JUGGLE_KICK_MEMORY_H_
 #define JUGGLE_PLANNER_SOCCER_JUGGLE_KICK_MEMORY_H_
 
@@ -58,17 +55,9 @@ class KickMemory {
   std::vector<KickDecision> Nearest(const KickContext& context, int k) const;
   int size() const { return static_cast<int>(rows_.size()); }
 
-  // A least-squares fit of every kick variable on the context in the cost's scales (an affine
-  // map; ridge `lambda` on the slopes, none on the offset), refit from all rows by each call.
-  void FitLinear(double lambda);
-  // The fitted map at `context`; all zeros before FitLinear.
-  KickDecision Linear(const KickContext& context) const;
-
  private:
   KickContext scales_{};
   std::vector<std::pair<KickContext, KickDecision>> rows_;
-  // linear_[v][0] the offset of variable v, linear_[v][1 + i] its slope on scaled context i.
-  std::array<std::array<double, kKickContextSize + 1>, kKickVariables> linear_{};
 };
 
 }  // namespace juggle::planner

@@ -33,7 +33,6 @@ SoccerJuggleTask::SoccerJuggleTask(std::shared_ptr<const soccer_juggle::JuggleSp
         KickMemory::Load(settings_.kick_memory().file(), settings_.cost());
     JUGGLE_CHECK(memory.ok(), "the kick memory was checked by ValidateSoccerJuggleTask");
     memory_ = *std::move(memory);
-    if (settings_.kick_memory().linear()) memory_->FitLinear(settings_.kick_memory().ridge());
   }
 }
 
@@ -120,11 +119,7 @@ void SoccerJuggleTask::AddRememberedKicks(const Env& env,
   const std::optional<VariableBlock> next = RefineBlock(env);  // the next kick's set
   if (!context.has_value() || !next.has_value()) return;
   const std::vector<double> start = seeds->front();
-  const config::KickMemoryConfig& config = settings_.kick_memory();
-  const std::vector<KickDecision> proposals =
-      config.linear() ? std::vector<KickDecision>{memory_->Linear(*context)}
-                      : memory_->Nearest(*context, config.neighbours());
-  for (const KickDecision& kick : proposals) {
+  for (const KickDecision& kick : memory_->Nearest(*context, settings_.kick_memory().neighbours())) {
     std::vector<double> seed = start;
     for (int v = 0; v < kKickVariables; ++v) {
       const int i = next->first + v;

@@ -135,9 +135,6 @@ absl::StatusOr<CemResult> MinimizeCem(const SearchSpace& space, const CemSetting
     }
     result.iteration_best.push_back(result.best_cost);
     if (result.best_cost <= settings.stop_below) break;
-    if (it == 0 && settings.stop_unimproved_first && !(result.best_cost < result.incumbent_cost)) {
-      break;
-    }
     if (it > 0 && settings.converged_fraction > 0 &&
         before - result.best_cost <= settings.converged_fraction * std::abs(result.best_cost)) {
       break;

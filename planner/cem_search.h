@@ -37,9 +37,6 @@ struct CemSettings {
   // Stop after an iteration whose best cost is at or below this (good enough: a rescue search
   // ends once out of trouble). -infinity: never.
   double stop_below = -std::numeric_limits<double>::infinity();
-  // Stop after the first iteration when no candidate costs less than the first seed (the
-  // incumbent, a re-plan's warm start).
-  bool stop_unimproved_first = false;
   // iCEM's population decay: iteration i draws samples / population_decay^i candidates (carried
   // elites included), never fewer than twice the first iteration's elites. 1: every iteration
   // draws `samples`.

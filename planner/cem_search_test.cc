@@ -131,31 +131,6 @@ TEST(CemSearchTest, StopsWhenAnIterationNoLongerImproves) {
   EXPECT_EQ((*MinimizeCem(Box(2, 1.0, 0.2), settings, {{0.0, 0.0}}, &rng2, flat)).iterations, 6);
 }
 
-TEST(CemSearchTest, StopsAfterTheFirstIterationOnlyWhenNothingBeatsTheIncumbent) {
-  CemSettings settings;
-  settings.samples = 8;
-  settings.iterations = 3;
-  settings.stop_unimproved_first = true;
-  // The incumbent at the bowl's bottom: no candidate can cost less, one iteration runs.
-  int evaluations = 0;
-  Rng rng(3);
-  const CemResult kept =
-      *MinimizeCem(Box(2, 1.0, 0.2), settings, {{0.3, -0.2}}, &rng, Bowl(&evaluations));
-  EXPECT_EQ(kept.iterations, 1);
-  EXPECT_EQ(evaluations, 8);
-  EXPECT_EQ(kept.best, (std::vector<double>{0.3, -0.2}));
-  // Away from it the first iteration improves, so the search goes on to every iteration.
-  Rng rng2(3);
-  const CemResult searched =
-      *MinimizeCem(Box(2, 1.0, 0.2), settings, {{-0.5, 0.5}}, &rng2, Bowl());
-  EXPECT_EQ(searched.iterations, 3);
-  EXPECT_LT(searched.best_cost, searched.incumbent_cost);
-  // Off, the incumbent at the bottom still runs every iteration.
-  settings.stop_unimproved_first = false;
-  Rng rng3(3);
-  EXPECT_EQ((*MinimizeCem(Box(2, 1.0, 0.2), settings, {{0.3, -0.2}}, &rng3, Bowl())).iterations, 3);
-}
-
 // Batch sizes of a search without carried elites: each iteration's whole population.
 std::vector<int> PopulationSizes(double decay, int samples, int iterations) {
   std::vector<int> sizes;

@@ -87,7 +87,6 @@ RecedingHorizonPlanner::RecedingHorizonPlanner(std::shared_ptr<const PlanningTas
   settings_.min_sigma_fraction = config_.min_sigma_fraction();
   settings_.explore_fraction = config_.explore_fraction();
   settings_.converged_fraction = config_.converged_fraction();
-  settings_.stop_unimproved_first = config_.stop_unimproved_first();
   settings_.population_decay = config_.population_decay();
   settings_.prune_chunk = config_.prune() ? config_.prune_chunk() : 0;
   theta_.assign(task_->dim(), 0.0);
@@ -392,7 +391,6 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
   settings.samples = rescue.samples();
   settings.iterations = rescue.iterations();
   settings.population_decay = rescue.population_decay();
-  settings.stop_unimproved_first = false;
   // Half-fixed: in trouble only by the lower bar (a plan near a good one).
   const bool half_fixed = measure <= rescue.cost_above();
   if (half_fixed) ++totals_.half_fixed_rescues;

@@ -35,8 +35,7 @@ struct SwingAdjust {
   // hip's flexion and abduction blend toward place_hip and place_abduction (rad) and the knee
   // lifts the foot clear. Not placing: the configured swing.
   bool placing = false;
-  // stance_roll's side (below; beside `placing` so that the struct has no tail padding, which
-  // the snapshot tests compare byte for byte).
+  // stance_roll's side (below; the snapshot tests compare the struct field by field).
   bool stance_roll_left_kick = false;
   double place_hip = 0, place_abduction = 0;
   // A header node's head feedback (NodeSpec.head_feedback): the chest's pitch and roll (rad,

@@ -297,7 +297,24 @@ absl::Status ValidateFootballTask(const LoadedConfig& config) {
         "config's football.task is ", config::FootballTask_Name(config.run.football().task()),
         ", which has none: set it to 0"));
   }
-  if (config.run.football().task() == config::TRAP) return absl::OkStatus();  // trap_task.h
+  if (config.run.football().task() == config::TRAP) {
+    // trap_task.h: the plan is the reach pose alone; knots asked for would be ignored silently.
+    // (body_knot_steps defaults to 12, so only a value set in the config counts.)
+    FieldPath knots = {{"planner"}};
+    if (p.has_body_knot_steps() && p.body_knot_steps() > 0) {
+      knots.push_back({"body_knot_steps"});
+    } else if (p.body_actions_size() > 0) {
+      knots.push_back({"body_actions"});
+    } else if (p.rescue().body()) {
+      knots.push_back({"rescue"});
+      knots.push_back({"body"});
+    } else {
+      return absl::OkStatus();
+    }
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where(knots), ": the TRAP task's plan is its reach pose, without whole-body "
+        "knots (docs/football.md, \"The trap by search\"): set body_knot_steps to 0"));
+  }
   // KICK and TRAP_KICK (trap_kick_task.h) plan the kick variables.
   if (absl::StatusOr<std::vector<int>> a = BodyActionIndices(p.body_actions()); !a.ok()) {
     return absl::InvalidArgumentError(absl::StrCat(where("body_actions"), ": ", a.status().message()));

@@ -247,6 +247,26 @@ TEST_F(FootballTrapTaskTest, APartsSettingsOutsideTheTrapTaskOrNestedAreConfigEr
   EXPECT_THAT(ValidateFootballTask(c).message(), ::testing::HasSubstr("for the TRAP task"));
 }
 
+// Whole-body knots asked of the trap (whose plan is the reach pose alone) would be ignored: a
+// config error at the field; body_knot_steps' default of 12, not set, is no request.
+TEST_F(FootballTrapTaskTest, WholeBodyKnotsAskedOfTheTrapAreConfigErrorsAtTheirField) {
+  LoadedConfig c = config_;
+  config::PlannerConfig* p = c.run.mutable_planner();
+  p->clear_body_knot_steps();
+  ASSERT_EQ(p->body_knot_steps(), 12);
+  EXPECT_TRUE(ValidateFootballTask(c).ok());
+  p->set_body_knot_steps(12);
+  EXPECT_THAT(ValidateFootballTask(c).message(), ::testing::HasSubstr("planner.body_knot_steps"));
+  EXPECT_THAT(ValidateFootballTask(c).message(), ::testing::HasSubstr("without whole-body knots"));
+  p->set_body_knot_steps(0);
+  EXPECT_TRUE(ValidateFootballTask(c).ok());
+  p->add_body_actions("right_hip:y");
+  EXPECT_THAT(ValidateFootballTask(c).message(), ::testing::HasSubstr("planner.body_actions"));
+  p->clear_body_actions();
+  p->mutable_rescue()->set_body(true);
+  EXPECT_THAT(ValidateFootballTask(c).message(), ::testing::HasSubstr("planner.rescue.body"));
+}
+
 // The keep term (trap.keep_margin_m, trap.lost): zero for a ball that ends inside the reach less
 // the margin; past it by b, lost + reach × (b / 0.5 m)², on a pass that standing still
 // traps with its part (its end distance from the same episode run by the fixture).

@@ -73,6 +73,9 @@ class Env {
   // Named numbers about the episode that just ended (after the step that ended it), e.g. a
   // throw's release errors. The evaluation averages each over the episodes that report it.
   virtual void AppendEpisodeMetrics(std::vector<NamedValue>* out) const {}
+  // What ended the episode, in words, where its outcome alone does not say (soccer: the body
+  // a bad contact met, "floor" for the turf); empty for nothing more or a running episode.
+  virtual std::string EndingDetail() const { return {}; }
   // The family's annotation channels of the current state, in the order of
   // EnvSpec::annotation_channels() (soccer: node, phase; toss: hand modes). Recorded with
   // every trajectory sample (record/trajectory.h).

@@ -284,6 +284,7 @@ void CompareSoccerVariables(const Env& a, const Env& b, Differences* d) {
   d->Check(s.kick_rewarded == t.kick_rewarded, "kick_rewarded");
   d->Check(s.touched_this_step == t.touched_this_step, "touched_this_step");
   d->Check(s.touched_body == t.touched_body, "touched_body");
+  d->Check(s.bad_contact_geom == t.bad_contact_geom, "bad_contact_geom");
   d->Check(Same(s.reward.position, t.reward.position) &&
                Same(s.reward.orientation, t.reward.orientation) &&
                Same(s.reward.joint, t.reward.joint) && Same(s.reward.ball, t.reward.ball) &&

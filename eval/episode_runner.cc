@@ -108,6 +108,7 @@ absl::StatusOr<EpisodeReport> RunEpisodes(std::shared_ptr<const EnvSpec> spec,
       e.juggles = env.juggles();
       e.end_node = env.node();
       env.AppendEpisodeMetrics(&e.metrics);
+      e.ending_detail = env.EndingDetail();
     }
     running = std::move(still);
   }

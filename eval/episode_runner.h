@@ -25,6 +25,7 @@ struct EpisodeResult {
   Outcome outcome = Outcome::kRunning;
   int end_node = 0;                 // the node the episode ended in
   std::vector<NamedValue> metrics;  // Env::AppendEpisodeMetrics
+  std::string ending_detail;        // Env::EndingDetail (e.g. the body a bad contact met)
   // Per graph node, indexed by node id (one entry, node 0, for families without a graph),
   // from Env::node() and Env::completions() around every step: a visit starts at the reset and
   // whenever a step changes the node or completes one (a node can follow itself); a completion

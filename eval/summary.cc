@@ -33,6 +33,9 @@ EvalSummary Summarize(const std::vector<EpisodeResult>& episodes, double control
     s.mean_completions += e.completions;
     s.mean_episode_s += e.steps * control_dt;
     ++s.outcomes[OutcomeName(outcome_names, e.outcome)];
+    if (!e.ending_detail.empty()) {
+      ++s.ending_details[OutcomeName(outcome_names, e.outcome) + "." + e.ending_detail];
+    }
     for (const NamedValue& m : e.metrics) {
       s.mean_metrics[m.name] += m.value;
       ++metric_counts[m.name];
@@ -66,6 +69,7 @@ nlohmann::ordered_json SummaryToJson(const EvalSummary& s) {
       {"mean_episode_s", s.mean_episode_s},
       {"outcomes", s.outcomes},
   };
+  if (!s.ending_details.empty()) j["ending_details"] = s.ending_details;
   for (const auto& [name, mean] : s.mean_metrics) j["mean_" + name] = mean;
   return j;
 }
@@ -79,6 +83,9 @@ std::string SummaryLine(const EvalSummary& s) {
       s.frac_juggles_ge_10, s.frac_juggles_ge_20, s.mean_return, s.mean_completions,
       s.mean_episode_s);
   for (const auto& [name, count] : s.outcomes) absl::StrAppend(&line, " ", name, "=", count);
+  for (const auto& [name, count] : s.ending_details) {
+    absl::StrAppend(&line, " ", name, "=", count);
+  }
   for (const auto& [name, mean] : s.mean_metrics) {
     absl::StrAppend(&line, absl::StrFormat(" mean_%s=%.4f", name, mean));
   }

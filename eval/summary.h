@@ -26,6 +26,9 @@ struct EvalSummary {
   double mean_completions = 0;
   double mean_episode_s = 0;
   std::map<std::string, int> outcomes;             // by name, episodes that ended so
+  // Episodes whose env named what ended them (Env::EndingDetail), by "outcome.detail", e.g.
+  // "bad_contact.floor".
+  std::map<std::string, int> ending_details;
   std::map<std::string, double> mean_metrics;       // Env::AppendEpisodeMetrics, averaged
 };
 

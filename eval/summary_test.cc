@@ -29,6 +29,7 @@ TEST(SummaryTest, JugglesDistributionOutcomesAndMetrics) {
     e.return_sum = j;
     e.completions = 2 * j;
     e.outcome = j >= 25 ? Outcome::kTimeLimit : FamilyOutcome(0);
+    if (j == 0 || j == 4) e.ending_detail = j == 0 ? "floor" : "left_knee";
     if (j == 10) e.metrics.push_back({"apex_error", 0.3});
     if (j == 30) e.metrics.push_back({"apex_error", 0.1});
     episodes.push_back(e);
@@ -45,10 +46,15 @@ TEST(SummaryTest, JugglesDistributionOutcomesAndMetrics) {
   EXPECT_EQ(s.outcomes.at("ball_lost"), 3);
   EXPECT_EQ(s.outcomes.at("time_limit"), 2);
   EXPECT_NEAR(s.mean_metrics.at("apex_error"), 0.2, 1e-12);
+  EXPECT_EQ(s.ending_details.size(), 2u);
+  EXPECT_EQ(s.ending_details.at("ball_lost.floor"), 1);
+  EXPECT_EQ(s.ending_details.at("ball_lost.left_knee"), 1);
+  EXPECT_EQ(SummaryToJson(s)["ending_details"]["ball_lost.floor"], 1);
   const std::string line = SummaryLine(s);
   EXPECT_THAT(line, HasSubstr("median_juggles=10 p10_juggles=1.6 p90_juggles=28"));
   EXPECT_THAT(line, HasSubstr("frac_juggles_ge_10=0.600 frac_juggles_ge_20=0.400"));
   EXPECT_THAT(line, HasSubstr("ball_lost=3"));
+  EXPECT_THAT(line, HasSubstr("ball_lost.floor=1 ball_lost.left_knee=1"));
   EXPECT_THAT(line, HasSubstr("mean_apex_error=0.2000"));
 }
 

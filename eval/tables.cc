@@ -183,6 +183,7 @@ std::string EpisodeJson(int episode, const EpisodeResult& e, double control_dt,
             {"seconds", e.steps * control_dt},
             {"return", e.return_sum},
             {"outcome", OutcomeName(outcome_names, e.outcome)}};
+  if (!e.ending_detail.empty()) j["ending_detail"] = e.ending_detail;
   for (const NamedValue& m : e.metrics) j[m.name] = m.value;  // the family's, per attempt
   return Line(j);
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "absl/strings/str_cat.h"
 #include "common/status_macros.h"
 #include "envs/divergence.h"
 #include "envs/soccer_juggle/reference_pose.h"
@@ -57,6 +58,7 @@ void JuggleEnv::StartEpisode() {
   s_.steps = 0;
   s_.kick_touched = s_.kick_rewarded = s_.touched_this_step = false;
   s_.touched_body = -1;
+  s_.bad_contact_geom = -1;
   s_.swing_adjust = {};
   s_.reward = {};
   s_.previous_action.fill(0.0f);
@@ -86,7 +88,10 @@ Outcome JuggleEnv::CheckBallContacts(double substep_phase) {
     if (c.geom1 != ball_geom && c.geom2 != ball_geom) continue;
     const int other = c.geom1 == ball_geom ? c.geom2 : c.geom1;
     const int body = model_->geom_bodyid[other];
-    if (!rt.contact_allowed[body]) return kBadContact;
+    if (!rt.contact_allowed[body]) {
+      s_.bad_contact_geom = other;
+      return kBadContact;
+    }
     s_.touched_this_step = true;
     if (s_.touched_body < 0) s_.touched_body = body;
     if (!stall && std::abs(spec_->cursor().SecondsFromContact(s_.cursor, substep_phase)) >
@@ -96,6 +101,18 @@ Outcome JuggleEnv::CheckBallContacts(double substep_phase) {
     if (ball_z < spec_->env().termination().min_ball_height()) return kBallLost;
   }
   return Outcome::kRunning;
+}
+
+std::string JuggleEnv::EndingDetail() const {
+  const int geom = s_.bad_contact_geom;
+  if (geom < 0) return {};
+  const int body = model_->geom_bodyid[geom];
+  if (body == 0) {
+    const char* name = mj_id2name(model_, mjOBJ_GEOM, geom);
+    return name != nullptr ? name : "world";
+  }
+  const char* name = mj_id2name(model_, mjOBJ_BODY, body);
+  return name != nullptr ? name : absl::StrCat("body ", body);
 }
 
 Outcome JuggleEnv::CheckTermination(const BallReference& ball_ref) const {

@@ -49,6 +49,8 @@ struct JuggleEnvState {
   bool kick_rewarded = false;
   bool touched_this_step = false;
   int touched_body = -1;  // the body of the step's first allowed touch (−1: none this step)
+  // The geom the ball met in the contact that ended the episode as a bad contact (−1: none).
+  int bad_contact_geom = -1;
   RewardTerms reward;  // the last step's reward, term by term (zero after a reset)
   // The last step's action as applied (clamped; zeros after a reset).
   std::array<float, kNumActions> previous_action{};
@@ -96,6 +98,8 @@ class JuggleEnv : public juggle::Env {
   const mjData* data() const override { return data_.get(); }
   // node, phase (JuggleSpec::annotation_channels).
   void AppendAnnotations(std::vector<double>* out) const override;
+  // After a bad contact: the body the ball met (its geom's name for the world's, e.g. "floor").
+  std::string EndingDetail() const override;
   // The episode's exact state; Restore continues it bit for bit (envs/env_snapshot.h).
   std::unique_ptr<EnvSnapshot> Snapshot() const override;
   // INVALID_ARGUMENT (nothing changed) for a snapshot of another family, model or config.

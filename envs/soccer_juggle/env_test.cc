@@ -138,8 +138,9 @@ TEST(JuggleEnvBaseControllerTest, TracksTheSwingAndStaysUprightWithZeroAction) {
   EXPECT_LT(worst_knee_error, 0.12);
 }
 
-TEST_F(JuggleEnvTest, BallOnHeadIsADisallowedContactInAFootNode) {
+TEST_F(JuggleEnvTest, BallOnHeadIsADisallowedContactInAFootNodeNamedByItsBody) {
   env_->ResetAt(down_, *walk_);
+  EXPECT_EQ(env_->EndingDetail(), "");
   const double* head = BodyPos("neck");
   PlaceBall(head[0], head[1], head[2] + 0.175 + 0.1025 + 0.11 + 0.005);
   Outcome outcome = Outcome::kRunning;
@@ -147,12 +148,16 @@ TEST_F(JuggleEnvTest, BallOnHeadIsADisallowedContactInAFootNode) {
     outcome = env_->Step(kZeroAction, *walk_).outcome;
   }
   EXPECT_EQ(outcome, kBadContact);
+  EXPECT_EQ(env_->EndingDetail(), "neck");  // the head is a geom of the neck body
+  env_->ResetAt(down_, *walk_);
+  EXPECT_EQ(env_->EndingDetail(), "");  // a new episode forgets it
 }
 
-TEST_F(JuggleEnvTest, BallOnFloorIsADisallowedContact) {
+TEST_F(JuggleEnvTest, BallOnFloorIsADisallowedContactNamedByTheFloorsGeom) {
   env_->ResetAt(down_, *walk_);
   PlaceBall(env_->data()->qpos[0] + 0.6, -0.1, 0.109);  // 1 mm into the floor
   EXPECT_EQ(env_->Step(kZeroAction, *walk_).outcome, kBadContact);
+  EXPECT_EQ(env_->EndingDetail(), "floor");
 }
 
 TEST_F(JuggleEnvTest, FootContactLongBeforeTheWindowTerminatesForTiming) {

@@ -20,22 +20,19 @@ namespace juggle::soccer_juggle {
 namespace {
 
 using ::testing::HasSubstr;
+using testing::ChestNodeFields;
+using testing::kChestPose;
 using testing::SoccerSpecWithGraph;
 
 constexpr float kZeroAction[kNumActions] = {0};
 
-// configs/graphs/chest.textproto's pose, `extra` inside each node.
-constexpr char kChestPose[] =
-    "steady: true chest_amplitude: 0.7 neck_pitch: 0.6 knee: 0.2 ankle_amplitude: 0.2 dip: 0.3";
-
+// chest_DOWN <-> chest_UP with `pose` in the chest_lean and `extra` inside each node.
 std::string ChestGraph(const std::string& extra, const std::string& pose = kChestPose) {
   std::string out;
   for (const char* stage : {"DOWN", "UP"}) {
     absl::StrAppend(&out, "node { name: \"chest_", stage, "\" stage: ", stage,
                     std::string(stage) == "DOWN" ? " initial: true" : "",
-                    " contact_body: \"chest\" contact_height: 1.41 apex_height: 2.0",
-                    " ball_target { x: -0.09 y: 0 } pose { chest_lean { ", pose, " } } ", extra,
-                    " }\n");
+                    ChestNodeFields(pose), " ", extra, " }\n");
   }
   return out + "edge { from: \"chest_DOWN\" to: \"chest_UP\" }\n"
                "edge { from: \"chest_UP\" to: \"chest_DOWN\" }\n";

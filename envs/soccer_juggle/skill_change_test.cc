@@ -19,6 +19,7 @@ namespace juggle::soccer_juggle {
 namespace {
 
 using ::testing::HasSubstr;
+using testing::ChestNodeFields;
 using testing::SoccerSpecWithGraph;
 
 constexpr float kZeroAction[kNumActions] = {0};
@@ -28,11 +29,9 @@ constexpr char kHead[] =
     " contact_body: \"neck\" contact_height: 1.75 apex_height: 2.0"
     " ball_target { x: 0.08 y: 0 } pose { head_dip { amplitude: 0.5 } }"
     " head_feedback { lean_per_m: 2.5 redirect: 1 }";
-constexpr char kChest[] =
-    " contact_body: \"chest\" contact_height: 1.41 apex_height: 2.0"
-    " ball_target { x: -0.09 y: 0 } pose { chest_lean { steady: true chest_amplitude: 0.7"
-    " neck_pitch: 0.6 knee: 0.2 ankle_amplitude: 0.2 dip: 0.3 } }"
-    " head_feedback { lean_per_m: 3 redirect: 1 contact_radius_m: 0.22 }";
+std::string ChestFields() {
+  return ChestNodeFields() + " head_feedback { lean_per_m: 3 redirect: 1 contact_radius_m: 0.22 }";
+}
 
 // head_down -> head_up -> chest_down -> chest_up -> head_down; `lead_in` inside both DOWN
 // nodes.
@@ -40,8 +39,8 @@ std::string HeadAndChestGraph(const std::string& lead_in) {
   return absl::StrCat(
       "node { name: \"head_down\" stage: DOWN initial: true", kHead, " ", lead_in, " }\n",
       "node { name: \"head_up\" stage: UP", kHead, " }\n",
-      "node { name: \"chest_down\" stage: DOWN", kChest, " ", lead_in, " }\n",
-      "node { name: \"chest_up\" stage: UP", kChest, " }\n",
+      "node { name: \"chest_down\" stage: DOWN", ChestFields(), " ", lead_in, " }\n",
+      "node { name: \"chest_up\" stage: UP", ChestFields(), " }\n",
       "edge { from: \"head_down\" to: \"head_up\" }\n"
       "edge { from: \"head_up\" to: \"chest_down\" }\n"
       "edge { from: \"chest_down\" to: \"chest_up\" }\n"

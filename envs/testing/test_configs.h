@@ -85,6 +85,17 @@ inline absl::StatusOr<std::shared_ptr<const soccer_juggle::JuggleSpec>> SoccerSp
   return soccer_juggle::JuggleSpec::Create(*config);
 }
 
+// configs/graphs/chest.textproto's chest_lean pose (inside `pose { chest_lean { ... } }`).
+inline constexpr char kChestPose[] =
+    "steady: true chest_amplitude: 0.7 neck_pitch: 0.6 knee: 0.2 ankle_amplitude: 0.2 dip: 0.3";
+
+// A chest node's fields after its name and stage, as configs/graphs/chest.textproto's, with
+// `pose` inside its chest_lean ("" for the release's lean).
+inline std::string ChestNodeFields(const std::string& pose = kChestPose) {
+  return absl::StrCat(" contact_body: \"chest\" contact_height: 1.41 apex_height: 2.0",
+                      " ball_target { x: -0.09 y: 0 } pose { chest_lean { ", pose, " } }");
+}
+
 // "<file>:<line>:<column>" of the `occurrence`-th (0-based) appearance of `needle` in `text`,
 // 1-based like the loader's messages. Fails the test if there is no such appearance.
 inline std::string Loc(const std::string& file, const std::string& text, const std::string& needle,

@@ -1,5 +1,6 @@
 #include "planner/planner_config.h"
 
+#include <optional>
 #include <utility>
 
 #include "absl/strings/str_cat.h"
@@ -18,6 +19,13 @@ std::string TaskBlockName(const config::PlannerConfig& p) {
 }
 
 }  // namespace
+
+std::optional<FieldPath> BodyKnotRequest(const config::PlannerConfig& p) {
+  if (p.has_body_knot_steps() && p.body_knot_steps() > 0) return FieldPath{{"body_knot_steps"}};
+  if (p.body_actions_size() > 0) return FieldPath{{"body_actions"}};
+  if (p.rescue().body()) return FieldPath{{"rescue"}, {"body"}};
+  return std::nullopt;
+}
 
 absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
   const config::PlannerConfig& p = config.run.planner();
@@ -58,6 +66,14 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
     return absl::InvalidArgumentError(absl::StrCat(
         config.root.Where({{"planner"}, {"rescue"}, {"ignore_later_kicks"}}), ": the ",
         family_name, " planning task's cost has no later kicks to leave out; remove it"));
+  }
+  if (std::optional<FieldPath> knots = BodyKnotRequest(p); knots && !(*task)->body_knots) {
+    // Silently no knot would act (PlanningTaskEntry::body_knots).
+    FieldPath path = {{"planner"}};
+    path.insert(path.end(), knots->begin(), knots->end());
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where(path), ": the ", family_name, " planning task's plan has no whole-body "
+        "knots; set planner.body_knot_steps to 0"));
   }
   if (p.rescue().body() && p.body_knot_steps() == 0) {
     return absl::InvalidArgumentError(absl::StrCat(

@@ -4,10 +4,12 @@
 #ifndef JUGGLE_PLANNER_PLANNER_CONFIG_H_
 #define JUGGLE_PLANNER_PLANNER_CONFIG_H_
 
+#include <optional>
 #include <string>
 
 #include "absl/status/status.h"
 #include "common/config_loader.h"
+#include "common/source_locator.h"
 
 namespace juggle::planner {
 
@@ -17,6 +19,11 @@ namespace juggle::planner {
 // checks. (planner.kick and planner.cost, which moved into the soccer task's block, are moved
 // there when the config loads: common/config_loader.cc.)
 absl::Status ValidatePlannerConfig(const LoadedConfig& config);
+
+// The setting of `p` that asks for whole-body knots — body_knot_steps set above 0 (its default
+// of 12, unset, asks for nothing), body_actions, rescue.body — as its path from `planner`, or
+// none. A task whose plan has no such knots refuses it (PlanningTaskEntry::body_knots).
+std::optional<FieldPath> BodyKnotRequest(const config::PlannerConfig& p);
 
 // OK when `config` has a planner block. Otherwise INVALID_ARGUMENT naming the config and the
 // documented planner configs: `--controller=planner` never runs on silent defaults.

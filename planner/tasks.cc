@@ -39,11 +39,12 @@ std::shared_ptr<const PlanningTask> MakeFootballTask(std::shared_ptr<const EnvSp
 const std::vector<PlanningTaskEntry>& PlanningTasks() {
   static const auto* const kTasks = new std::vector<PlanningTaskEntry>{
       {"soccer_juggle", &ValidateSoccerJuggleTask, &MakeSoccerJuggleTask, /*refines=*/true,
-       /*has_later_kicks=*/true},
+       /*has_later_kicks=*/true, /*body_knots=*/true},
       {"toss", &ValidateTossTask, &MakeTossTask, /*refines=*/false,
-       /*has_later_kicks=*/false},
+       /*has_later_kicks=*/false, /*body_knots=*/false},
+      // KICK and TRAP_KICK carry knots; TRAP refuses them itself (ValidateFootballTask).
       {"football", &ValidateFootballTask, &MakeFootballTask, /*refines=*/true,
-       /*has_later_kicks=*/false},
+       /*has_later_kicks=*/false, /*body_knots=*/true},
   };
   return *kTasks;
 }

@@ -28,6 +28,9 @@ struct PlanningTaskEntry {
   // The task's cost has a later-kicks part (PlanningTask's later cost), which
   // planner.rescue.ignore_later_kicks needs (else a config error).
   bool has_later_kicks = false;
+  // The task's plan carries planner.body_knot_steps' whole-body knots; without them a config
+  // that asks for knots (BodyKnotRequest, planner/planner_config.h) is an error, not ignored.
+  bool body_knots = false;
 };
 
 // Every task, in the order of planner/tasks.cc.

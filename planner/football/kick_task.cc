@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -11,6 +12,7 @@
 #include "envs/football/metrics.h"
 #include "envs/football/outcomes.h"
 #include "envs/geom_extent.h"
+#include "planner/planner_config.h"
 #include "planner/pose_action.h"
 
 namespace juggle::planner {
@@ -299,21 +301,14 @@ absl::Status ValidateFootballTask(const LoadedConfig& config) {
   }
   if (config.run.football().task() == config::TRAP) {
     // trap_task.h: the plan is the reach pose alone; knots asked for would be ignored silently.
-    // (body_knot_steps defaults to 12, so only a value set in the config counts.)
-    FieldPath knots = {{"planner"}};
-    if (p.has_body_knot_steps() && p.body_knot_steps() > 0) {
-      knots.push_back({"body_knot_steps"});
-    } else if (p.body_actions_size() > 0) {
-      knots.push_back({"body_actions"});
-    } else if (p.rescue().body()) {
-      knots.push_back({"rescue"});
-      knots.push_back({"body"});
-    } else {
-      return absl::OkStatus();
+    if (std::optional<FieldPath> knots = BodyKnotRequest(p)) {
+      FieldPath path = {{"planner"}};
+      path.insert(path.end(), knots->begin(), knots->end());
+      return absl::InvalidArgumentError(absl::StrCat(
+          config.root.Where(path), ": the TRAP task's plan is its reach pose, without whole-body "
+          "knots (docs/football.md, \"The trap by search\"): set body_knot_steps to 0"));
     }
-    return absl::InvalidArgumentError(absl::StrCat(
-        config.root.Where(knots), ": the TRAP task's plan is its reach pose, without whole-body "
-        "knots (docs/football.md, \"The trap by search\"): set body_knot_steps to 0"));
+    return absl::OkStatus();
   }
   // KICK and TRAP_KICK (trap_kick_task.h) plan the kick variables.
   if (absl::StatusOr<std::vector<int>> a = BodyActionIndices(p.body_actions()); !a.ok()) {

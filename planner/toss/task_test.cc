@@ -251,6 +251,24 @@ TEST(TossTaskConfigTest, AHorizonThatCannotReachTheLatestReleaseIsRefused) {
   EXPECT_TRUE(ValidatePlannerConfig(*steady).ok()) << ValidatePlannerConfig(*steady);
 }
 
+// The toss plan's knots are its own (toss.knot_steps): the planner's whole-body knots asked of
+// it would act nowhere, so they are refused at their field (PlanningTaskEntry::body_knots).
+TEST(TossTaskConfigTest, WholeBodyKnotsAreRefusedAtTheirField) {
+  const std::string text = Over("planner { body_knot_steps: 10 }");
+  absl::StatusOr<LoadedConfig> config = LoadText("toss_body_knots.textproto", text);
+  ASSERT_TRUE(config.ok()) << config.status();
+  const absl::Status s = ValidatePlannerConfig(*config);
+  EXPECT_THAT(std::string(s.message()),
+              StartsWith(Loc(config->config_path, text, "body_knot_steps")));
+  EXPECT_THAT(std::string(s.message()),
+              HasSubstr("planner.body_knot_steps: the toss planning task's plan has no whole-body "
+                        "knots"));
+  absl::StatusOr<LoadedConfig> none =
+      LoadText("toss_no_body_knots.textproto", Over("planner { body_knot_steps: 0 }"));
+  ASSERT_TRUE(none.ok()) << none.status();
+  EXPECT_TRUE(ValidatePlannerConfig(*none).ok()) << ValidatePlannerConfig(*none);
+}
+
 TEST(TossTaskConfigTest, AnOutOfRangeSettingIsAnErrorNamingFileLineAndField) {
   const std::string text = Over("planner { toss { knot_steps: 0 } }");
   const std::string path = WriteTemp("toss_knots.textproto", text);

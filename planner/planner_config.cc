@@ -94,6 +94,28 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
         p.rescue().cost_above(), ") after a troubled warm start; at or above it, it changes "
         "nothing: lower it or remove it"));
   }
+  if (p.rescue().has_bayes()) {
+    // The model picks every candidate: the cross-entropy method's sizes and decay mean nothing.
+    const config::RescueSearch& r = p.rescue();
+    const char* beside = r.has_samples()                     ? "samples"
+                         : r.has_iterations()                ? "iterations"
+                         : r.has_population_decay()          ? "population_decay"
+                         : r.has_full_after_decay()          ? "full_after_decay"
+                         : r.has_decay_half_fixed_only()     ? "decay_half_fixed_only"
+                                                             : nullptr;
+    if (beside != nullptr) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          config.root.Where({{"planner"}, {"rescue"}, {"bayes"}}),
+          ": a model-based rescue chooses its own candidates, so planner.rescue.", beside,
+          " does not apply; size it by bayes { evaluations initial batch } and remove ", beside));
+    }
+    if (r.bayes().evaluations() < r.bayes().initial() + 1) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          config.root.Where({{"planner"}, {"rescue"}, {"bayes"}, {"evaluations"}}), ": ",
+          r.bayes().evaluations(), " rollouts leave none for the model after the troubled plan "
+          "and ", r.bayes().initial(), " initial samples; raise it above initial"));
+    }
+  }
   if (p.rescue().full_after_decay() && !(p.rescue().population_decay() > 1)) {
     // Without a decay the rescue is already the full one: it would run twice.
     return absl::InvalidArgumentError(absl::StrCat(

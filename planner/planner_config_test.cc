@@ -293,6 +293,29 @@ TEST(PlannerConfigTest, AFullRescueAfterADecayWithoutADecayIsRefusedAtTheField) 
   EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
 }
 
+TEST(PlannerConfigTest, AModelBasedRescueBesideTheCrossEntropySettingsIsRefusedAtTheField) {
+  for (const char* fields :
+       {"rescue { samples: 32 bayes { } }", "rescue { iterations: 3 bayes { } }",
+        "rescue { population_decay: 1.25 bayes { } }",
+        "rescue { bayes { evaluations: 8 initial: 8 } }"}) {
+    const std::string text = Config(fields);
+    LoadedConfig config;
+    ASSERT_TRUE(Load("soccer_bayes.textproto", text, &config).ok()) << fields;
+    const absl::Status s = ValidatePlannerConfig(config);
+    EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument) << fields;
+    const bool budget = std::string(fields).find("evaluations") != std::string::npos;
+    EXPECT_THAT(std::string(s.message()),
+                StartsWith(::juggle::testing::Loc(config.config_path, text,
+                                                  budget ? "evaluations" : "bayes")))
+        << s;
+  }
+  LoadedConfig config;
+  ASSERT_TRUE(Load("soccer_bayes.textproto",
+                   Config("rescue { stop_below: 100 bayes { evaluations: 64 } }"), &config)
+                  .ok());
+  EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
+}
+
 TEST(PlannerConfigTest, ADecayConfinedToHalfFixedTroubleWithoutBothIsRefusedAtTheField) {
   for (const char* fields : {"rescue { half_fixed_above: 150 decay_half_fixed_only: true }",
                              "rescue { population_decay: 1.25 decay_half_fixed_only: true }"}) {

@@ -8,6 +8,7 @@
 
 #include "common/check.h"
 #include "common/status_macros.h"
+#include "planner/bayes_search.h"
 
 namespace juggle::planner {
 namespace {
@@ -402,7 +403,17 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
                              std::vector<double>* costs) {
     return ScoreBatch(r, candidates, n, bound, costs);
   };
-  ASSIGN_OR_RETURN(CemResult second, MinimizeCem(wide, settings, seeds, &r.rng, cost));
+  CemResult second;
+  if (rescue.has_bayes()) {
+    BayesSettings bayes;
+    bayes.evaluations = std::max(rescue.bayes().evaluations(), static_cast<int>(seeds.size()));
+    bayes.initial = rescue.bayes().initial();
+    bayes.batch = rescue.bayes().batch();
+    bayes.stop_below = settings.stop_below;
+    ASSIGN_OR_RETURN(second, MinimizeBayes(wide, bayes, seeds, &r.rng, cost));
+  } else {
+    ASSIGN_OR_RETURN(second, MinimizeCem(wide, settings, seeds, &r.rng, cost));
+  }
   totals_.rollouts += second.evaluations;
   if (rescue.full_after_decay() && settings.population_decay > 1) {
     ASSIGN_OR_RETURN(const bool still, InTrouble(r, second, above));

@@ -204,6 +204,35 @@ TEST_F(RecedingHorizonTest, ARescueStopsAtTheFirstIterationBelowItsStopCost) {
   EXPECT_EQ(unreachable.last_replan().evaluations, all_iterations);
 }
 
+TEST_F(RecedingHorizonTest, AModelBasedRescueSpendsItsBudgetAndLowersTheTroubledCost) {
+  config::PlannerConfig p = SmallSearch();
+  p.mutable_rescue()->set_cost_above(0.5);
+  p.mutable_rescue()->mutable_bayes()->set_evaluations(20);
+  p.mutable_rescue()->mutable_bayes()->set_initial(4);
+  p.mutable_rescue()->mutable_bayes()->set_batch(4);
+  RecedingHorizonPlanner bayes(task_, p, &pool_, 0);
+  RecedingHorizonPlanner plain(task_, SmallSearch(), &pool_, 0);
+  std::unique_ptr<Env> env = spec_->NewEnv(Rng(1));
+  env->Reset(walk_);
+  float a[2];
+  ASSERT_TRUE(bayes.Act(*env, a).ok());
+  ASSERT_TRUE(plain.Act(*env, a).ok());
+  EXPECT_TRUE(bayes.last_replan().rescued);
+  EXPECT_EQ(bayes.last_replan().evaluations, plain.last_replan().evaluations + 20);
+  EXPECT_LT(bayes.last_replan().best_cost, plain.last_replan().best_cost);
+  // Stopped once out of trouble: with the bar at the regular search's best, the first batch
+  // (which holds that plan) ends it.
+  p.mutable_rescue()->set_stop_below(plain.last_replan().best_cost);
+  RecedingHorizonPlanner stopped(task_, p, &pool_, 0);
+  ASSERT_TRUE(stopped.Act(*env, a).ok());
+  EXPECT_LT(stopped.last_replan().evaluations, plain.last_replan().evaluations + 20);
+  // The same seed, the same actions on 1 and 2 threads, over a drive with rescues.
+  RolloutPool one(spec_, 1);
+  RecedingHorizonPlanner two_threads(task_, p, &pool_, 0), one_thread(task_, p, &one, 0);
+  EXPECT_EQ(Drive(&two_threads, 20), Drive(&one_thread, 20));
+  EXPECT_GT(one_thread.totals().rescues, 0);
+}
+
 TEST_F(RecedingHorizonTest, APatientRescueWaitsForThatManyTroubledRePlansInARow) {
   config::PlannerConfig p = SmallSearch();
   p.mutable_rescue()->set_cost_above(0.5);

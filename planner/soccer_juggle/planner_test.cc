@@ -569,6 +569,35 @@ TEST_F(SoccerPlannerTest, AFullRescueFollowsADecayedOneOnlyWhenItEndsInTrouble) 
   EXPECT_EQ(planner->totals().rollouts - plain_rollouts, decayed_rescue);
 }
 
+// rescue.bayes: the model-based rescue of a far-off kick spends exactly its rollouts, lowers
+// the troubled cost, and ends early once a plan is good enough (stop_below).
+TEST_F(SoccerPlannerTest, AModelBasedRescueSpendsItsRolloutsAndStopsOnceOutOfTrouble) {
+  config::PlannerConfig& p = *config_.run.mutable_planner();
+  p.set_prune(false);  // every candidate a whole rollout: the counts below are exact
+  config::RescueSearch& rescue = *p.mutable_rescue();
+  const double ahead = 0.06;
+  std::unique_ptr<SoccerPlanner> planner;
+  rescue.set_cost_above(1e30);
+  const ReplanReport plain = PlanOnce(ahead, &planner);
+  const int64_t plain_rollouts = planner->totals().rollouts;
+  rescue.set_cost_above(1e-9);  // every re-plan in trouble
+  rescue.mutable_bayes()->set_evaluations(24);
+  rescue.mutable_bayes()->set_initial(8);
+  const ReplanReport bayes = PlanOnce(ahead, &planner);
+  ASSERT_TRUE(bayes.rescued);
+  EXPECT_EQ(planner->totals().rescues, 1);
+  EXPECT_EQ(planner->totals().rollouts - plain_rollouts, 24);
+  EXPECT_LT(bayes.best_cost, plain.best_cost);
+  // Stopping at the regular search's best (a seed of the rescue's first batch): the first
+  // batch ends it. (A loaded config keeps stop_below at or below cost_above; the driver reads
+  // them apart.)
+  rescue.set_stop_below(plain.best_cost);
+  const ReplanReport stopped = PlanOnce(ahead, &planner);
+  ASSERT_TRUE(stopped.rescued);
+  EXPECT_LT(planner->totals().rollouts - plain_rollouts, 24);
+  EXPECT_LE(stopped.best_cost, plain.best_cost);
+}
+
 // rescue.decay_half_fixed_only: a half-fixed re-plan (warm start above cost_above, best plan
 // between half_fixed_above and cost_above) is rescued with the decayed population, trouble above
 // cost_above with the full one; the rollout counts of a rescue with and without the decay are the

@@ -7,17 +7,12 @@
 #include <vector>
 
 #include "gtest/gtest.h"
+#include "planner/testing/search_box.h"
 
 namespace juggle {
 namespace {
 
-SearchSpace Box(int dim, double limit, double sigma) {
-  SearchSpace s;
-  s.lower.assign(dim, -limit);
-  s.upper.assign(dim, limit);
-  s.sigma.assign(dim, sigma);
-  return s;
-}
+using ::juggle::testing::Box;
 
 double Target(int d) { return (d % 2 == 0 ? 0.45 : -0.35) / (1 + d / 2); }
 

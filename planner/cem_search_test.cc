@@ -6,17 +6,12 @@
 #include <vector>
 
 #include "gtest/gtest.h"
+#include "planner/testing/search_box.h"
 
 namespace juggle {
 namespace {
 
-SearchSpace Box(int dim, double limit, double sigma) {
-  SearchSpace s;
-  s.lower.assign(dim, -limit);
-  s.upper.assign(dim, limit);
-  s.sigma.assign(dim, sigma);
-  return s;
-}
+using ::juggle::testing::Box;
 
 // Σ (x_d − c_d)² with c = (0.3, −0.2, 0.1, ...), evaluated candidate by candidate.
 BatchCost Bowl(int* evaluations = nullptr) {

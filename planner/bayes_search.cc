@@ -32,8 +32,10 @@ double Kernel(const double* a, const double* b, int dim, double length) {
 class Gp {
  public:
   // `length` <= 0: the length scale of highest marginal likelihood among kLengthScales.
-  Gp(const std::vector<double>& points, int dim, const std::vector<double>& y, double length)
-      : dim_(dim) {
+  // `noise`: the targets' noise variance in standardized units.
+  Gp(const std::vector<double>& points, int dim, const std::vector<double>& y, double length,
+     double noise = kNoise)
+      : dim_(dim), noise_(noise) {
     n_ = static_cast<int>(y.size());
     points_ = points;
     double mean = 0;
@@ -79,13 +81,14 @@ class Gp {
         k(i, j) = k(j, i) =
             Kernel(&points_[size_t(i) * dim_], &points_[size_t(j) * dim_], dim_, length);
       }
-      k(i, i) += kNoise;
+      k(i, i) += noise_;
     }
     llt_.compute(k);
     alpha_ = llt_.solve(z_);
   }
 
   int dim_ = 0, n_ = 0;
+  double noise_ = kNoise;
   std::vector<double> points_;
   Eigen::VectorXd z_, alpha_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
@@ -100,6 +103,24 @@ double ExpectedImprovement(double best, double mean, double sd) {
 }
 
 double Target(double cost) { return std::log1p(std::max(cost, 0.0)); }
+
+// The kModelPoints lowest `targets` and their points (`dim` values each in `units`): the region
+// worth modelling, and a bound on the model's cost.
+void BestPoints(const std::vector<double>& units, const std::vector<double>& targets, int dim,
+                std::vector<double>* best_units, std::vector<double>* best_targets) {
+  std::vector<int> order(targets.size());
+  std::iota(order.begin(), order.end(), 0);
+  const int kept = std::min<int>(kModelPoints, static_cast<int>(order.size()));
+  std::partial_sort(order.begin(), order.begin() + kept, order.end(),
+                    [&](int i, int j) { return targets[i] < targets[j]; });
+  best_units->clear();
+  best_targets->clear();
+  for (int k = 0; k < kept; ++k) {
+    best_units->insert(best_units->end(), units.begin() + size_t(order[k]) * dim,
+                       units.begin() + size_t(order[k] + 1) * dim);
+    best_targets->push_back(targets[order[k]]);
+  }
+}
 
 }  // namespace
 
@@ -186,19 +207,9 @@ absl::StatusOr<CemResult> MinimizeBayes(const SearchSpace& space, const BayesSet
   while (a > 0 && result.evaluations < settings.evaluations &&
          result.best_cost > settings.stop_below) {
     const int picks = std::min(settings.batch, settings.evaluations - result.evaluations);
-    // The model of the kModelPoints best candidates so far (the region worth modelling; it
-    // bounds the model's cost per pick), its length scale fitted once per batch.
-    std::vector<int> order(targets.size());
-    std::iota(order.begin(), order.end(), 0);
-    const int kept = std::min<int>(kModelPoints, static_cast<int>(order.size()));
-    std::partial_sort(order.begin(), order.begin() + kept, order.end(),
-                      [&](int i, int j) { return targets[i] < targets[j]; });
+    // The model of the best candidates so far, its length scale fitted once per batch.
     std::vector<double> design_units, design_targets;
-    for (int k = 0; k < kept; ++k) {
-      design_units.insert(design_units.end(), units.begin() + size_t(order[k]) * a,
-                          units.begin() + size_t(order[k] + 1) * a);
-      design_targets.push_back(targets[order[k]]);
-    }
+    BestPoints(units, targets, a, &design_units, &design_targets);
     double length = 0;
     batch.clear();
     for (int p = 0; p < picks; ++p) {
@@ -233,6 +244,28 @@ absl::StatusOr<CemResult> MinimizeBayes(const SearchSpace& space, const BayesSet
       batch.insert(batch.end(), x.begin(), x.end());
     }
     if (absl::Status s = evaluate(batch); !s.ok()) return s;
+  }
+  if (a > 0 && settings.answer_noise > 0 && result.best_cost <= settings.stop_below) {
+    // Of the candidates at or below the bar, the one whose neighbourhood the smoothing model
+    // rates best.
+    std::vector<int> good;
+    for (int i = 0; i < result.evaluations; ++i) {
+      if (std::expm1(targets[i]) > settings.stop_below) continue;
+      good.push_back(i);
+    }
+    std::vector<double> model_units, model_targets;
+    BestPoints(units, targets, a, &model_units, &model_targets);
+    const Gp smooth(model_units, a, model_targets, 0, settings.answer_noise);
+    double lowest = std::numeric_limits<double>::infinity();
+    for (int i : good) {
+      double mean = 0, sd = 1;
+      smooth.Predict(&units[size_t(i) * a], &mean, &sd);
+      if (mean < lowest) {
+        lowest = mean;
+        result.best.assign(xs.begin() + size_t(i) * dim, xs.begin() + size_t(i + 1) * dim);
+        result.best_cost = std::expm1(targets[i]);
+      }
+    }
   }
   return result;
 }

@@ -24,6 +24,10 @@ struct BayesSettings {
   // Stop once the best cost is at or below this. -infinity: spend every evaluation.
   double stop_below = -std::numeric_limits<double>::infinity();
   int acquisition_points = 256;  // random points scored by expected improvement per pick
+  // > 0 (with a finite stop_below that was reached): the answer is not the lowest cost but, of
+  // the candidates at or below stop_below, the one with the lowest mean under a model with this
+  // noise variance (standardized units): a plan in a wide dip rather than a single lucky one.
+  double answer_noise = 0;
 };
 
 // Minimizes `cost` over `space` from `seeds` (each [dim], clamped into the box; the first is

@@ -116,5 +116,40 @@ TEST(BayesSearchTest, IsDeterministicForARandomStreamAndSeedsAreCandidates) {
   EXPECT_LE(ra.best_cost, 100 * std::pow(0.2 - Target(4), 2));
 }
 
+// A wide basin (40 at its centre (0.5, 0.5), 60 at 0.5 from it) and a narrow dip (10 within
+// 0.03 of (−0.5, −0.5)); 500 elsewhere.
+double DipOrBasin(double x, double y) {
+  const double wide = std::hypot(x - 0.5, y - 0.5), narrow = std::hypot(x + 0.5, y + 0.5);
+  if (narrow < 0.03) return 10;
+  if (wide < 0.5) return 40 + 20 * std::pow(wide / 0.5, 2);
+  return 500;
+}
+
+TEST(BayesSearchTest, ASmoothedAnswerPrefersAWideBasinToASingleLuckyRollout) {
+  const SearchSpace space = Box(2, 1.0, 0.15);
+  const BatchCost cost = [](const std::vector<double>& x, int n, double,
+                            std::vector<double>* costs) {
+    for (int i = 0; i < n; ++i) (*costs)[i] = DipOrBasin(x[2 * i], x[2 * i + 1]);
+    return absl::OkStatus();
+  };
+  // The basin's centre first (the samples go around it), the dip and its bad neighbours.
+  const std::vector<std::vector<double>> seeds = {
+      {0.5, 0.5}, {-0.5, -0.5}, {-0.4, -0.5}, {-0.6, -0.5}, {-0.5, -0.4}, {-0.5, -0.6}};
+  BayesSettings settings;
+  settings.evaluations = 24;
+  settings.initial = 10;
+  settings.stop_below = 100;
+  Rng a(5), b(5);
+  const CemResult lowest = *MinimizeBayes(space, settings, seeds, &a, cost);
+  EXPECT_EQ(lowest.best, seeds[1]);
+  EXPECT_EQ(lowest.best_cost, 10);
+  settings.answer_noise = 0.3;
+  const CemResult smoothed = *MinimizeBayes(space, settings, seeds, &b, cost);
+  EXPECT_EQ(smoothed.evaluations, lowest.evaluations);  // the same search, another answer
+  EXPECT_GE(smoothed.best_cost, 40);
+  EXPECT_LE(smoothed.best_cost, 60);
+  EXPECT_LT(std::hypot(smoothed.best[0] - 0.5, smoothed.best[1] - 0.5), 0.5);
+}
+
 }  // namespace
 }  // namespace juggle

@@ -410,6 +410,7 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
     bayes.initial = rescue.bayes().initial();
     bayes.batch = rescue.bayes().batch();
     bayes.stop_below = settings.stop_below;
+    bayes.answer_noise = rescue.bayes().answer_noise();
     ASSIGN_OR_RETURN(second, MinimizeBayes(wide, bayes, seeds, &r.rng, cost));
   } else {
     ASSIGN_OR_RETURN(second, MinimizeCem(wide, settings, seeds, &r.rng, cost));

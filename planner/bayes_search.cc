@@ -155,7 +155,9 @@ absl::StatusOr<CemResult> MinimizeBayes(const SearchSpace& space, const BayesSet
   };
 
   CemResult result;
-  std::vector<double> xs, units, targets;  // every candidate evaluated so far
+  // Every candidate evaluated so far: its variables, its place in the unit box, its cost and
+  // the model's target.
+  std::vector<double> xs, units, seen_costs, targets;
   std::vector<double> costs;
   auto evaluate = [&](const std::vector<double>& batch) -> absl::Status {
     const int n = static_cast<int>(batch.size()) / dim;
@@ -177,6 +179,7 @@ absl::StatusOr<CemResult> MinimizeBayes(const SearchSpace& space, const BayesSet
       xs.insert(xs.end(), x, x + dim);
       units.resize(units.size() + a);
       to_unit(x, &units[units.size() - a]);
+      seen_costs.push_back(costs[i]);
       targets.push_back(Target(costs[i]));
     }
     ++result.iterations;
@@ -203,7 +206,11 @@ absl::StatusOr<CemResult> MinimizeBayes(const SearchSpace& space, const BayesSet
   batch.resize(size_t(first) * dim);
   if (absl::Status s = evaluate(batch); !s.ok()) return s;
 
-  std::vector<double> u(a), x(dim), best_u(a);
+  std::vector<double> u(a), x(dim), best_u(a), unit_sigma(a);
+  for (int i = 0; i < a; ++i) {
+    const int d = active[i];
+    unit_sigma[i] = space.sigma[d] / (space.upper[d] - space.lower[d]);
+  }
   while (a > 0 && result.evaluations < settings.evaluations &&
          result.best_cost > settings.stop_below) {
     const int picks = std::min(settings.batch, settings.evaluations - result.evaluations);
@@ -212,22 +219,20 @@ absl::StatusOr<CemResult> MinimizeBayes(const SearchSpace& space, const BayesSet
     BestPoints(units, targets, a, &design_units, &design_targets);
     double length = 0;
     batch.clear();
+    // Around the best so far at the sigma's and a quarter of it, and anywhere in the box.
+    to_unit(result.best.data(), best_u.data());
     for (int p = 0; p < picks; ++p) {
       const Gp gp(design_units, a, design_targets, length);
       length = gp.length();
       const double best = gp.Standardize(
           *std::min_element(design_targets.begin(), design_targets.end()));
-      // Around the best so far at the fitted scale and at the sigma's, and anywhere in the box.
-      to_unit(result.best.data(), best_u.data());
       double top = -1;
       std::vector<double> chosen(a);
       for (int c = 0; c < settings.acquisition_points; ++c) {
         const int kind = c % 3;
         for (int i = 0; i < a; ++i) {
-          const int d = active[i];
-          const double unit_sigma = space.sigma[d] / (space.upper[d] - space.lower[d]);
           if (kind == 0) u[i] = rng->Uniform();
-          else u[i] = best_u[i] + (kind == 1 ? 0.25 : 1.0) * unit_sigma * rng->Normal();
+          else u[i] = best_u[i] + (kind == 1 ? 0.25 : 1.0) * unit_sigma[i] * rng->Normal();
           u[i] = std::clamp(u[i], 0.0, 1.0);
         }
         double mean = 0, sd = 1;
@@ -250,8 +255,7 @@ absl::StatusOr<CemResult> MinimizeBayes(const SearchSpace& space, const BayesSet
     // rates best.
     std::vector<int> good;
     for (int i = 0; i < result.evaluations; ++i) {
-      if (std::expm1(targets[i]) > settings.stop_below) continue;
-      good.push_back(i);
+      if (seen_costs[i] <= settings.stop_below) good.push_back(i);
     }
     std::vector<double> model_units, model_targets;
     BestPoints(units, targets, a, &model_units, &model_targets);
@@ -263,7 +267,7 @@ absl::StatusOr<CemResult> MinimizeBayes(const SearchSpace& space, const BayesSet
       if (mean < lowest) {
         lowest = mean;
         result.best.assign(xs.begin() + size_t(i) * dim, xs.begin() + size_t(i + 1) * dim);
-        result.best_cost = std::expm1(targets[i]);
+        result.best_cost = seen_costs[i];
       }
     }
   }

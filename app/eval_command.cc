@@ -28,6 +28,7 @@
 #include "eval/tables.h"
 #include "planner/impact_observer.h"
 #include "planner/kick_memory_recorder.h"
+#include "planner/rescue_sample_log.h"
 #include "planner/planner_controller.h"
 #include "planner/replan_trace.h"
 
@@ -47,6 +48,7 @@ struct EvalFlags {
   PlannerFlags planner;
   std::string proposal;  // --controller=planner: a policy as the plans' prior
   std::string kick_memory_out;  // --controller=planner, soccer: the solved kicks' memory
+  std::string rescue_samples_out;  // --controller=planner: every rescue rollout (JSON lines)
   int episodes = 50;
   int64_t seed = kHeldOutSeed;
   int first_episode = 0;
@@ -115,6 +117,9 @@ int Evaluate(EvalFlags f) {
   if (!f.kick_memory_out.empty() && f.controller != "planner") {
     return UsageError("--kick-memory-out needs --controller=planner");
   }
+  if (!f.rescue_samples_out.empty() && f.controller != "planner") {
+    return UsageError("--rescue-samples-out needs --controller=planner");
+  }
   if (f.impact_band[0] > f.impact_band[1]) {
     return UsageError(absl::StrFormat("--impact-band: MIN %g is above MAX %g", f.impact_band[0],
                                       f.impact_band[1]));
@@ -147,6 +152,13 @@ int Evaluate(EvalFlags f) {
   if (!f.kick_memory_out.empty()) {
     if (absl::Status s = CheckWritable(f.kick_memory_out); !s.ok()) return Fail(s);
   }
+  std::unique_ptr<planner::RescueSampleLog> rescue_samples;
+  if (!f.rescue_samples_out.empty()) {
+    absl::StatusOr<std::unique_ptr<planner::RescueSampleLog>> opened =
+        planner::RescueSampleLog::Open(f.rescue_samples_out, (*spec)->obs_dim());
+    if (!opened.ok()) return Fail(opened.status());
+    rescue_samples = *std::move(opened);
+  }
   PolicyController* policy_controller = nullptr;
   planner::PlannerController* planner_controller = nullptr;
   const auto started = std::chrono::steady_clock::now();
@@ -165,6 +177,7 @@ int Evaluate(EvalFlags f) {
   choice.on_planner = [&](planner::PlannerController* p) {
     planner_controller = p;
     p->set_on_replan(PlannerProgress(*spec, &p->task(), f.episodes, started, f.planner_trace));
+    p->set_rescue_log(rescue_samples.get());
   };
   absl::StatusOr<std::unique_ptr<Controller>> made = MakeController(choice, *spec, config);
   if (!made.ok()) return Fail(made.status());
@@ -198,6 +211,11 @@ int Evaluate(EvalFlags f) {
     }
     std::printf("kick memory: %d kicks to %s\n", static_cast<int>(remembered->rows().size()),
                 f.kick_memory_out.c_str());
+  }
+  if (rescue_samples != nullptr) {
+    if (absl::Status s = rescue_samples->Close(); !s.ok()) return Fail(s);
+    std::printf("rescue samples: %d rescues, %lld rollouts to %s\n", rescue_samples->rescues(),
+                static_cast<long long>(rescue_samples->rollouts()), f.rescue_samples_out.c_str());
   }
   if (report->trajectory) {
     if (absl::Status s = WriteTrajectory(*report->trajectory, f.record); !s.ok()) return Fail(s);
@@ -373,6 +391,11 @@ CommandBody AddEvalCommand(CLI::App* cmd) {
                   "with --controller=planner on soccer juggling: write a memory of the solved "
                   "kicks (each incoming ball and the kick variables executed for it), which "
                   "planner.soccer_juggle.kick_memory reads as the next kick's proposal");
+  cmd->add_option("--rescue-samples-out", f->rescue_samples_out,
+                  "with --controller=planner: write every rollout of the rescue searches as "
+                  "JSON lines (the troubled state's observation, each candidate's variables, "
+                  "outcome and cost; planner/rescue_sample_log.h), e.g. for "
+                  "scripts/analysis/kick_landscape.py");
   cmd->add_option("--episodes", f->episodes, "episodes, one per env seed")
       ->check(Between(1, 100000))
       ->capture_default_str();

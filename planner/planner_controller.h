@@ -37,6 +37,8 @@ class PlannerController final : public Controller {
   absl::Status SetProposal(std::shared_ptr<const EigenPolicy> policy) {
     return planners_->SetProposal(std::move(policy));
   }
+  // Every rescue's rollouts to `log` (PlannerSet::set_rescue_log).
+  void set_rescue_log(RescueSampleLog* log) { planners_->set_rescue_log(log); }
   // Totals over every env's planner.
   PlannerTotals totals() const { return planners_->totals(); }
   // The planner of `env` (made when `env` is first seen).

@@ -63,9 +63,15 @@ RecedingHorizonPlanner& PlannerSet::For(const Env& env, int* index) {
     planners_.push_back(std::make_unique<RecedingHorizonPlanner>(
         task_, config_, pools_.search.get(), stream_base_ + planners_.size(), proposal_.get(),
         pools_.exact.get()));
+    planners_.back()->set_rescue_log(rescue_log_);
   }
   if (index != nullptr) *index = it->second;
   return *planners_[it->second];
+}
+
+void PlannerSet::set_rescue_log(RescueSampleLog* log) {
+  rescue_log_ = log;
+  for (const auto& p : planners_) p->set_rescue_log(log);
 }
 
 PlannerTotals PlannerSet::totals() const {

@@ -43,6 +43,10 @@ class PlannerSet {
   absl::Status SetProposal(const EigenPolicy* policy);
   absl::Status SetProposal(std::shared_ptr<const EigenPolicy> policy);
 
+  // Every planner's rescue rollouts, those of planners made later included, are written to
+  // `log` (RecedingHorizonPlanner::set_rescue_log; null: none; it must outlive the set).
+  void set_rescue_log(RescueSampleLog* log);
+
   // Totals over every planner.
   PlannerTotals totals() const;
   const PlanningTask& task() const { return *task_; }
@@ -57,6 +61,7 @@ class PlannerSet {
   config::PlannerConfig config_;
   uint64_t stream_base_;
   std::unique_ptr<PolicyPrior> proposal_;  // with config.policy_prior
+  RescueSampleLog* rescue_log_ = nullptr;
   PlanningPools pools_;
   std::vector<std::unique_ptr<RecedingHorizonPlanner>> planners_;  // in order of first sight
   absl::flat_hash_map<const Env*, int> planner_of_;

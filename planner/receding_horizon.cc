@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "absl/cleanup/cleanup.h"
 #include "common/check.h"
 #include "common/status_macros.h"
 #include "planner/bayes_search.h"
@@ -281,6 +282,10 @@ absl::Status RecedingHorizonPlanner::ScoreBatch(const ReplanState& r,
   for (int i = 0; i < n; ++i) {
     (*costs)[i] = results[i].cost +
                   task_->PlanCost(&candidates[size_t(i) * task_->dim()], r.shifted, has_plan_);
+    if (logged_rescue_ > 0) {
+      rescue_log_->Rollout(logged_rescue_, &candidates[size_t(i) * task_->dim()], task_->dim(),
+                           results[i].first_outcome, (*costs)[i]);
+    }
   }
   return absl::OkStatus();
 }
@@ -403,6 +408,8 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
                              std::vector<double>* costs) {
     return ScoreBatch(r, candidates, n, bound, costs);
   };
+  if (rescue_log_ != nullptr) logged_rescue_ = rescue_log_->Begin(stream_, env, result->best_cost);
+  absl::Cleanup stop_logging = [this] { logged_rescue_ = 0; };  // also when a search fails
   CemResult second;
   if (rescue.has_bayes()) {
     BayesSettings bayes;
@@ -429,6 +436,10 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
       second = std::move(full);
     }
   }
+  if (logged_rescue_ > 0) {
+    rescue_log_->End(logged_rescue_, second.best_cost, second.evaluations);
+  }
+  std::move(stop_logging).Invoke();
   RETURN_IF_ERROR(RefineNextKick(env, r, rescue.refine_after(), &second));
   ++totals_.rescues;
   second.evaluations += result->evaluations;

@@ -23,6 +23,7 @@
 #include "common/adaptive_walk.h"
 #include "planner/cem_search.h"
 #include "planner/planning_task.h"
+#include "planner/rescue_sample_log.h"
 #include "planner/rollout_pool.h"
 #include "proto/planner.pb.h"
 
@@ -118,6 +119,10 @@ class RecedingHorizonPlanner {
     copy.stream_ = stream;
     return copy;
   }
+
+  // Every rollout of the rescue searches from now on is written to `log` (null: none; it must
+  // outlive the planner and its forks): planner/rescue_sample_log.h.
+  void set_rescue_log(RescueSampleLog* log) { rescue_log_ = log; }
 
   const ReplanReport& last_replan() const { return last_; }
   const PlannerTotals& totals() const { return totals_; }
@@ -263,6 +268,8 @@ class RecedingHorizonPlanner {
   std::vector<uint64_t> predicted_;
   ReplanReport last_;
   PlannerTotals totals_;
+  RescueSampleLog* rescue_log_ = nullptr;
+  int logged_rescue_ = 0;  // the rescue whose rollouts ScoreBatch writes to rescue_log_; 0: none
   // The last action's map (RecordActionMap): env step and cycle it was made at, the acting
   // block, the action, and its Jacobian [action][variable] in the block's variables.
   struct ActionMap {

@@ -6,16 +6,23 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <vector>
 
+#include "absl/strings/numbers.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_split.h"
+#include "common/file_io.h"
 #include "common/testing/constant_policy.h"
+#include "common/testing/temp_dir.h"
 #include "envs/registry.h"
 #include "envs/testing/test_configs.h"
 #include "gtest/gtest.h"
 #include "eval/episode_runner.h"
 #include "planner/impact_observer.h"
 #include "planner/policy_prior.h"
+#include "planner/rescue_sample_log.h"
 #include "planner/soccer_juggle/cost.h"
 #include "planner/soccer_juggle/plan.h"
 #include "planner/soccer_juggle/task.h"
@@ -596,6 +603,83 @@ TEST_F(SoccerPlannerTest, AModelBasedRescueSpendsItsRolloutsAndStopsOnceOutOfTro
   ASSERT_TRUE(stopped.rescued);
   EXPECT_LT(planner->totals().rollouts - plain_rollouts, 24);
   EXPECT_LE(stopped.best_cost, plain.best_cost);
+}
+
+// The values of `key`'s array in one JSON line of planner/rescue_sample_log.h ("[]": none).
+std::vector<double> LoggedArray(const std::string& line, const std::string& key) {
+  const size_t at = line.find("\"" + key + "\":[");
+  EXPECT_NE(at, std::string::npos) << key << " in " << line;
+  const size_t begin = line.find('[', at) + 1;
+  std::vector<double> values;
+  for (absl::string_view v : absl::StrSplit(line.substr(begin, line.find(']', begin) - begin), ',',
+                                            absl::SkipEmpty())) {
+    double x = 0;
+    EXPECT_TRUE(absl::SimpleAtod(v, &x)) << v;
+    values.push_back(x);
+  }
+  return values;
+}
+
+// --rescue-samples-out: one rescue's record holds its state, every rollout its search scored
+// (as many as the planner counted), and its best; re-simulating logged candidates from the
+// same state is the independent path to their logged costs and outcomes.
+TEST_F(SoccerPlannerTest, TheRescueLogHoldsEveryRescueRolloutAsItsSearchScoredIt) {
+  config::PlannerConfig& p = *config_.run.mutable_planner();
+  p.set_prune(false);  // every candidate a whole rollout
+  config::RescueSearch& rescue = *p.mutable_rescue();
+  rescue.set_cost_above(1e30);
+  std::unique_ptr<SoccerPlanner> planner;
+  const ReplanReport plain = PlanOnce(0.06, &planner);
+  const int64_t plain_rollouts = planner->totals().rollouts;
+  rescue.set_cost_above(1e-9);  // every re-plan in trouble
+  rescue.set_samples(12);
+  rescue.set_iterations(2);
+  const std::string path = MakeTempDir("rescue_log_") + "/samples.jsonl";
+  absl::StatusOr<std::unique_ptr<RescueSampleLog>> log =
+      RescueSampleLog::Open(path, spec_->obs_dim());
+  ASSERT_TRUE(log.ok()) << log.status();
+  std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.06);
+  planner = NewPlanner();
+  planner->set_rescue_log(log->get());
+  float action[kNumActions];
+  ASSERT_TRUE(planner->Act(*env, action).ok());
+  ASSERT_TRUE(planner->last_replan().rescued);
+  ASSERT_TRUE((*log)->Close().ok());
+  const int64_t rescue_rollouts = planner->totals().rollouts - plain_rollouts;
+  EXPECT_EQ((*log)->rescues(), 1);
+  EXPECT_EQ((*log)->rollouts(), rescue_rollouts);
+
+  absl::StatusOr<std::string> text = ReadFile(path);
+  ASSERT_TRUE(text.ok());
+  std::vector<std::string> lines = absl::StrSplit(*text, '\n', absl::SkipEmpty());
+  ASSERT_EQ(static_cast<int64_t>(lines.size()), rescue_rollouts + 2);
+  EXPECT_EQ(LoggedArray(lines.front(), "observation").size(), static_cast<size_t>(spec_->obs_dim()));
+  EXPECT_NE(lines.front().find("\"troubled_cost\":"), std::string::npos);
+  EXPECT_NE(lines.back().find(absl::StrCat("\"rollouts\":", rescue_rollouts)), std::string::npos);
+  double lowest = std::numeric_limits<double>::infinity();
+  for (size_t i = 1; i + 1 < lines.size(); ++i) {
+    const std::vector<double> theta = LoggedArray(lines[i], "theta");
+    ASSERT_EQ(static_cast<int>(theta.size()), planner->task().dim());
+    double cost = 0;
+    const size_t colon = lines[i].rfind(':') + 1;
+    ASSERT_TRUE(absl::SimpleAtod(lines[i].substr(colon, lines[i].rfind('}') - colon), &cost))
+        << lines[i];
+    lowest = std::min(lowest, cost);
+    if (i % 5 != 1) continue;  // every fifth re-simulated
+    std::vector<double> outcome;
+    absl::StatusOr<double> again =
+        static_cast<RecedingHorizonPlanner&>(*planner).Evaluate(*env, theta, &outcome);
+    ASSERT_TRUE(again.ok());
+    EXPECT_NEAR(*again + planner->task().PlanCost(theta.data(), theta, false), cost,
+                1e-9 * (1 + std::abs(cost)));
+    const std::vector<double> logged = LoggedArray(lines[i], "outcome");
+    ASSERT_EQ(logged.size(), outcome.size());
+    for (size_t k = 0; k < outcome.size(); ++k) {
+      if (std::isfinite(outcome[k])) EXPECT_NEAR(logged[k], outcome[k], 1e-9);
+    }
+  }
+  EXPECT_LE(lowest, plain.best_cost);  // the incumbent is among the rescue's candidates
+  EXPECT_NEAR(lowest, planner->last_replan().best_cost, 1e-9 * (1 + lowest));
 }
 
 // rescue.decay_half_fixed_only: a half-fixed re-plan (warm start above cost_above, best plan

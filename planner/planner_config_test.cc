@@ -91,6 +91,25 @@ TEST(PlannerConfigTest, AHoldAfterReplansWithoutAHeldFollowThroughIsRefusedAtThe
   EXPECT_TRUE(ValidatePlannerConfig(config).ok());
 }
 
+TEST(PlannerConfigTest, AHeldAngleOutsideTheFourAngleVariablesIsRefusedAtTheField) {
+  const std::string text = Config("soccer_juggle { kick { held_angles: 0 } }");
+  LoadedConfig config;
+  ASSERT_TRUE(Load("held_angles.textproto", text, &config).ok());
+  const absl::Status s = ValidatePlannerConfig(config);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()),
+              StartsWith(::juggle::testing::Loc(config.config_path, text, "held_angles: 0")));
+  EXPECT_THAT(std::string(s.message()), HasSubstr("not an angle variable's position"));
+  ASSERT_TRUE(Load("held_angles_5.textproto", Config("soccer_juggle { kick { held_angles: 5 } }"),
+                   &config)
+                  .ok());
+  EXPECT_FALSE(ValidatePlannerConfig(config).ok());
+  ASSERT_TRUE(Load("held_angles_ok.textproto",
+                   Config("soccer_juggle { kick { held_angles: [3, 4] } }"), &config)
+                  .ok());
+  EXPECT_TRUE(ValidatePlannerConfig(config).ok());
+}
+
 TEST(PlannerConfigTest, ARescueStoppingAboveItsTroubleThresholdIsRefusedAtTheField) {
   const std::string text = Config("rescue { cost_above: 500 stop_below: 600 }");
   LoadedConfig config;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "absl/algorithm/container.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "envs/soccer_juggle/reference_pose.h"
@@ -96,7 +97,10 @@ SearchSpace MakeSoccerSearchSpace(const SoccerPlanLayout& layout,
   };
   for (int s = 0; s < layout.kick_sets; ++s) {
     add(kick.phase_limit_s(), kick.phase_sigma_s());
-    for (int a = 1; a < kKickVariables; ++a) add(kick.angle_limit(), kick.angle_sigma());
+    for (int a = 1; a < kKickVariables; ++a) {
+      const bool held = absl::c_linear_search(kick.held_angles(), a);
+      add(held ? 0 : kick.angle_limit(), held ? 0 : kick.angle_sigma());
+    }
   }
   for (int i = 0; i < layout.body_knots * layout.knot_size(); ++i) {
     add(config.body_limit(), config.body_sigma());

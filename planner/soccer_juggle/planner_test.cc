@@ -605,6 +605,27 @@ TEST_F(SoccerPlannerTest, AModelBasedRescueSpendsItsRolloutsAndStopsOnceOutOfTro
   EXPECT_LE(stopped.best_cost, plain.best_cost);
 }
 
+// kick.held_angles: the held angles stay at 0 through the regular search and a rescue (never
+// drawn), the others move; against the same re-plan without the hold, whose knee and ankle
+// move, so the check can fail.
+TEST_F(SoccerPlannerTest, HeldKickAnglesStayAtZeroThroughTheSearchAndTheRescue) {
+  config::PlannerConfig& p = *config_.run.mutable_planner();
+  p.mutable_rescue()->set_cost_above(1e-9);  // every re-plan rescued
+  p.mutable_rescue()->set_samples(16);
+  p.mutable_rescue()->set_iterations(2);
+  std::unique_ptr<SoccerPlanner> planner;
+  ASSERT_TRUE(PlanOnce(0.12, &planner).rescued);
+  EXPECT_NE(planner->plan()[3], 0.0);
+  EXPECT_NE(planner->plan()[4], 0.0);
+  p.mutable_soccer_juggle()->mutable_kick()->add_held_angles(3);
+  p.mutable_soccer_juggle()->mutable_kick()->add_held_angles(4);
+  ASSERT_TRUE(PlanOnce(0.12, &planner).rescued);
+  EXPECT_EQ(planner->plan()[3], 0.0);
+  EXPECT_EQ(planner->plan()[4], 0.0);
+  EXPECT_NE(planner->plan()[1], 0.0);
+  EXPECT_NE(planner->plan()[2], 0.0);
+}
+
 // The values of `key`'s array in one JSON line of planner/rescue_sample_log.h ("[]": none).
 std::vector<double> LoggedArray(const std::string& line, const std::string& key) {
   const size_t at = line.find("\"" + key + "\":[");

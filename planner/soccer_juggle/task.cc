@@ -289,6 +289,14 @@ absl::Status ValidateSoccerJuggleTask(const LoadedConfig& config) {
           ": their variables move different joints; set cycles: 2 or more"));
     }
   }
+  for (int i = 0; i < kick.held_angles_size(); ++i) {
+    if (kick.held_angles(i) < 1 || kick.held_angles(i) >= kKickVariables) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          config.root.Where({{"planner"}, {"soccer_juggle"}, {"kick"}, {"held_angles", i}}),
+          ": ", kick.held_angles(i), " is not an angle variable's position (1 hip, 2 abduction, "
+          "3 knee, 4 ankle, or a node's first to fourth declared variable)"));
+    }
+  }
   if (kick.hold_after_replans() > 0 && !kick.hold_follow_through()) {
     return absl::InvalidArgumentError(absl::StrCat(
         config.root.Where({{"planner"}, {"soccer_juggle"}, {"kick"}, {"hold_after_replans"}}),

@@ -225,7 +225,8 @@ int Evaluate(EvalFlags f) {
   const EvalSummary summary =
       Summarize(report->episodes, (*spec)->control_dt(), (*spec)->outcome_names());
   std::string line = absl::StrCat("policy=", controller->name(), " seed=", f.seed,
-                                  " max_seconds=", f.max_seconds, " ", SummaryLine(summary));
+                                  " max_seconds=", f.max_seconds, " ",
+                                  SummaryLine(summary, (*spec)->counts_juggles()));
   {
     // The family's own summary (football: PhysicsFC's metrics, envs/football/metrics.h).
     std::vector<std::vector<NamedValue>> metrics;

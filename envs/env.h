@@ -121,6 +121,10 @@ class EnvSpec : public std::enable_shared_from_this<EnvSpec> {
       const std::vector<std::vector<NamedValue>>& episode_metrics) const {
     return {};
   }
+  // Whether an episode's headline count is juggles (Env::juggles): `juggle eval`'s last line
+  // then starts with their distribution. False for families whose episode is one attempt
+  // (football), whose own EvaluationLine says how it went.
+  virtual bool counts_juggles() const { return true; }
   // Identifies the compiled model and the family's config (equal specs, equal fingerprints):
   // snapshots restore only into envs of a spec with the snapshot's fingerprint.
   uint64_t fingerprint() const { return fingerprint_; }

@@ -74,14 +74,18 @@ nlohmann::ordered_json SummaryToJson(const EvalSummary& s) {
   return j;
 }
 
-std::string SummaryLine(const EvalSummary& s) {
-  std::string line = absl::StrFormat(
-      "episodes=%d median_juggles=%g p10_juggles=%g p90_juggles=%g mean_juggles=%.3f "
-      "frac_juggles_ge_10=%.3f frac_juggles_ge_20=%.3f mean_return=%.4f mean_completions=%.3f "
-      "mean_episode_s=%.3f",
-      s.episodes, s.median_juggles, s.p10_juggles, s.p90_juggles, s.mean_juggles,
-      s.frac_juggles_ge_10, s.frac_juggles_ge_20, s.mean_return, s.mean_completions,
-      s.mean_episode_s);
+std::string SummaryLine(const EvalSummary& s, bool juggles) {
+  std::string line = absl::StrFormat("episodes=%d", s.episodes);
+  if (juggles) {
+    absl::StrAppend(&line, absl::StrFormat(
+        " median_juggles=%g p10_juggles=%g p90_juggles=%g mean_juggles=%.3f "
+        "frac_juggles_ge_10=%.3f frac_juggles_ge_20=%.3f",
+        s.median_juggles, s.p10_juggles, s.p90_juggles, s.mean_juggles, s.frac_juggles_ge_10,
+        s.frac_juggles_ge_20));
+  }
+  absl::StrAppend(&line, absl::StrFormat(" mean_return=%.4f mean_completions=%.3f "
+                                         "mean_episode_s=%.3f",
+                                         s.mean_return, s.mean_completions, s.mean_episode_s));
   for (const auto& [name, count] : s.outcomes) absl::StrAppend(&line, " ", name, "=", count);
   for (const auto& [name, count] : s.ending_details) {
     absl::StrAppend(&line, " ", name, "=", count);

@@ -44,8 +44,10 @@ EvalSummary Summarize(const std::vector<EpisodeResult>& episodes, double control
 // proto/run_log.proto's EvaluationRecord, filled by learner/in_run_eval.h's SetSummary).
 nlohmann::ordered_json SummaryToJson(const EvalSummary& summary);
 
-// "episodes=50 median_juggles=12 p10_juggles=4 ... mean_episode_s=9.870 ball_lost=31 ..."
-std::string SummaryLine(const EvalSummary& summary);
+// "episodes=50 median_juggles=12 p10_juggles=4 ... mean_episode_s=9.870 ball_lost=31 ..."; with
+// `juggles` false (EnvSpec::counts_juggles) the juggle fields are left out:
+// "episodes=50 mean_return=... mean_completions=... mean_episode_s=... ...".
+std::string SummaryLine(const EvalSummary& summary, bool juggles = true);
 
 }  // namespace juggle
 

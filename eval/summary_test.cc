@@ -8,6 +8,7 @@ namespace juggle {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 TEST(SummaryTest, PercentilesInterpolateBetweenOrderStatistics) {
   // numpy.percentile([1, 2, 3, 4, 10], [10, 50, 90]) = [1.4, 3, 7.6]
@@ -56,6 +57,12 @@ TEST(SummaryTest, JugglesDistributionOutcomesAndMetrics) {
   EXPECT_THAT(line, HasSubstr("ball_lost=3"));
   EXPECT_THAT(line, HasSubstr("ball_lost.floor=1 ball_lost.left_knee=1"));
   EXPECT_THAT(line, HasSubstr("mean_apex_error=0.2000"));
+  // A family whose episode is one attempt (football): no juggle fields, the rest as before.
+  const std::string attempts = SummaryLine(s, /*juggles=*/false);
+  EXPECT_THAT(attempts, Not(HasSubstr("juggles")));
+  EXPECT_THAT(attempts, HasSubstr("episodes=5 mean_return="));
+  EXPECT_EQ(attempts.substr(attempts.find(" mean_return=")),
+            line.substr(line.find(" mean_return=")));
 }
 
 }  // namespace

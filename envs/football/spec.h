@@ -47,6 +47,8 @@ class FootballSpec : public EnvSpec {
   const mjModel* model() const override { return model_.get(); }
   std::vector<std::string> outcome_names() const override;
   std::unique_ptr<Env> NewEnv(Rng rng) const override;
+  // One trap, kick or trap-then-kick per episode: no juggles to count.
+  bool counts_juggles() const override { return false; }
   // PhysicsFC's metrics over the episodes' trap and kick metrics (metrics.h): "tsr=... ksr=...".
   std::string EvaluationLine(
       const std::vector<std::vector<NamedValue>>& episode_metrics) const override;

@@ -674,7 +674,8 @@ TEST_F(SoccerPlannerTest, TheRescueLogHoldsEveryRescueRolloutAsItsSearchScoredIt
   ASSERT_TRUE(text.ok());
   std::vector<std::string> lines = absl::StrSplit(*text, '\n', absl::SkipEmpty());
   ASSERT_EQ(static_cast<int64_t>(lines.size()), rescue_rollouts + 2);
-  EXPECT_EQ(LoggedArray(lines.front(), "observation").size(), static_cast<size_t>(spec_->obs_dim()));
+  EXPECT_EQ(LoggedArray(lines.front(), "observation").size(),
+            static_cast<size_t>(spec_->obs_dim()));
   EXPECT_NE(lines.front().find("\"troubled_cost\":"), std::string::npos);
   EXPECT_NE(lines.back().find(absl::StrCat("\"rollouts\":", rescue_rollouts)), std::string::npos);
   double lowest = std::numeric_limits<double>::infinity();

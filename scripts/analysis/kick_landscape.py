@@ -184,10 +184,10 @@ def main():
     for b in BINS:
         p = pairs[b]
         if p:
+            xs, ys = [x for x, _ in p], [y for _, y in p]
             print(f"   vars {lower:<5g}-{b:<5g} apart: {len(p):7d} pairs, |d dx| median "
-                  f"{statistics.median(x for x, _ in p):.3f} p90 {percentile([x for x, _ in p], 0.9):.3f}"
-                  f", |d dy| median {statistics.median(y for _, y in p):.3f} "
-                  f"p90 {percentile([y for _, y in p], 0.9):.3f}")
+                  f"{statistics.median(xs):.3f} p90 {percentile(xs, 0.9):.3f}, |d dy| median "
+                  f"{statistics.median(ys):.3f} p90 {percentile(ys, 0.9):.3f}")
         lower = b
     jac = jacobians(rescues, args.near)
     print(f"2. local Jacobian near the best ({len(jac)} rescues; rows: variables, columns: "

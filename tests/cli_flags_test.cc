@@ -58,6 +58,16 @@ TEST(CliFlagsTest, EveryCommandsBadNumbersExitTwoWithoutAborting) {
   }
 }
 
+TEST(CliFlagsTest, ThePlannersOwnEvalOutputsWithoutThePlannerAreUsageErrors) {
+  for (const char* flag : {"--rescue-samples-out=/tmp/never_written.jsonl",
+                           "--kick-memory-out=/tmp/never_written.txt"}) {
+    SCOPED_TRACE(flag);
+    const Result r = Juggle(std::string("eval --zero-action ") + flag);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_THAT(r.output, HasSubstr("needs --controller=planner"));
+  }
+}
+
 TEST(CliFlagsTest, UnknownFlagAndUnknownCommandAreUsageErrors) {
   const Result flag = Juggle("eval --no_such_flag=1");
   EXPECT_EQ(flag.exit_code, 2) << flag.output;

@@ -28,9 +28,9 @@
 #include "eval/tables.h"
 #include "planner/impact_observer.h"
 #include "planner/kick_memory_recorder.h"
-#include "planner/rescue_sample_log.h"
 #include "planner/planner_controller.h"
 #include "planner/replan_trace.h"
+#include "planner/rescue_sample_log.h"
 
 namespace juggle {
 namespace {

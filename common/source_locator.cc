@@ -18,7 +18,9 @@ std::string FieldPathToString(const FieldPath& path) {
   return out;
 }
 
-SourceLocator::SourceLocator(std::string file) { layers_.push_back({std::move(file)}); }
+SourceLocator::SourceLocator(std::string file) {
+  layers_.push_back({std::move(file), nullptr, nullptr});
+}
 
 SourceLocator::SourceLocator(std::string file, const Descriptor* root,
                              std::unique_ptr<TextFormat::ParseInfoTree> tree) {

@@ -259,7 +259,8 @@ TEST_P(ZeroResidualTest, BaseControllersAloneJuggleThePatternToTheCapFromNoisySt
 }
 
 INSTANTIATE_TEST_SUITE_P(Patterns, ZeroResidualTest,
-                         ::testing::Values("3", "4", "5", "6", "7", "53", "441", "531"));
+                         ::testing::Values("3", "4", "5", "6", "7", "53", "441", "531"),
+                         [](const auto& info) { return std::string("pattern_") + info.param; });
 
 TEST(ZeroResidualWindTest, BaseControllersHoldThreeInAWindFiveTimesTheOldPairsLimit) {
   JugglerOptions options;

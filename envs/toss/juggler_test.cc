@@ -64,7 +64,8 @@ TEST(TossJugglerTest, RecordsTheArmStateInTheRightArmsFrameAtEveryReleaseAndCatc
 }
 
 INSTANTIATE_TEST_SUITE_P(Patterns, IdealReleaseTest,
-                         ::testing::Values("3", "4", "5", "53", "441", "531", "6", "7"));
+                         ::testing::Values("3", "4", "5", "53", "441", "531", "6", "7"),
+                         [](const auto& info) { return std::string("pattern_") + info.param; });
 
 TEST(TossJugglerTest, HandoffOfAOneMovesTheBallToTheOtherHandWithoutAFlight) {
   // 441 with ideal releases: every third throw is a handoff, so catches are 2 per 3 throws.

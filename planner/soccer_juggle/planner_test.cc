@@ -697,7 +697,9 @@ TEST_F(SoccerPlannerTest, TheRescueLogHoldsEveryRescueRolloutAsItsSearchScoredIt
     const std::vector<double> logged = LoggedArray(lines[i], "outcome");
     ASSERT_EQ(logged.size(), outcome.size());
     for (size_t k = 0; k < outcome.size(); ++k) {
-      if (std::isfinite(outcome[k])) EXPECT_NEAR(logged[k], outcome[k], 1e-9);
+      if (std::isfinite(outcome[k])) {
+        EXPECT_NEAR(logged[k], outcome[k], 1e-9);
+      }
     }
   }
   EXPECT_LE(lowest, plain.best_cost);  // the incumbent is among the rescue's candidates

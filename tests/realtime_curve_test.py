@@ -6,7 +6,9 @@ juggles 4 and 8. Setting "dear": the same episodes, 20,000 steps per simulated s
 12. At 10,000 rollout steps per wall-s they sit at 0.5 and 2.0 wall-s per simulated s.
 A setting holding other episodes is refused. A recorded point ("old=@40000,3,2.5", a table row
 whose folder is gone) is plotted at its numbers; a malformed one is refused. A point whose
-rollout step costs half a reference step ("cheap=DIR~0.5") sits at half its steps.
+rollout step costs half a reference step ("cheap=DIR~0.5") sits at half its steps. A plot of
+recorded points only says how many starts they hold by --starts=N, and is refused without it;
+--starts that disagrees with a folder is refused.
 """
 import json
 import os
@@ -77,6 +79,19 @@ def main():
                                    f'dear={dear}~half'], capture_output=True, text=True)
         assert bad_cost.returncode != 0
         assert '~COST must be a number' in bad_cost.stderr, bad_cost.stderr
+        only_recorded = [out, '10000', 'title', 'old=@40000,3,2.5', 'older=@80000,5,5']
+        counted = subprocess.run([sys.executable, SCRIPT, '--starts=20'] + only_recorded,
+                                 capture_output=True, text=True)
+        assert counted.returncode == 0, counted.stderr
+        assert '20 starts' in open(out).read()
+        uncounted = subprocess.run([sys.executable, SCRIPT] + only_recorded,
+                                   capture_output=True, text=True)
+        assert uncounted.returncode != 0
+        assert '--starts=N' in uncounted.stderr, uncounted.stderr
+        disagreeing = subprocess.run([sys.executable, SCRIPT, '--starts=3', out, '10000',
+                                      'title', f'cheap={cheap}'], capture_output=True, text=True)
+        assert disagreeing.returncode != 0
+        assert 'holds 2 episodes' in disagreeing.stderr, disagreeing.stderr
         malformed = subprocess.run([sys.executable, SCRIPT, out, '10000', 'title',
                                     f'cheap={cheap}', 'old=@40000,3'],
                                    capture_output=True, text=True)

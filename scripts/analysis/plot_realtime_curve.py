@@ -9,12 +9,14 @@ second on 2 cores at STEPS_PER_WALL_S rollout steps per wall second (measured al
 `juggle bench planner`). y: mean juggles per episode, with the median as a hollow mark. A
 dashed line marks real time (1.0 wall-s per simulated second).
 
-  scripts/analysis/plot_realtime_curve.py OUT.svg STEPS_PER_WALL_S TITLE LABEL=DIR ...
+  scripts/analysis/plot_realtime_curve.py [--starts=N] OUT.svg STEPS_PER_WALL_S TITLE LABEL=DIR ...
 
 A setting may also be LABEL=@STEPS,MEAN,MEDIAN: a point taken from a recorded table row
 (docs/performance.md) whose run folder is gone; it is taken to hold the same starts. Either form
 may end in ~COST: its rollout step costs COST reference steps (e.g. ~0.53 for the 200-Hz world,
-whose step simulates half the physics), so the point sits at STEPS × COST.
+whose step simulates half the physics), so the point sits at STEPS × COST. --starts=N: how many
+starts the points hold, for the plot's footnote; needed when every point is recorded, and when
+a folder is given it must hold that many.
 """
 import math
 import os
@@ -67,7 +69,13 @@ def main(out, steps_per_wall_s, title, settings, starts):
             sys.exit(f"{p['label']} holds episodes {p['episodes']}, {folders[0]['label']} "
                      f"{folders[0]['episodes']}: the points must share their starts")
     if folders:
+        if starts is not None and starts != len(folders[0]["episodes"]):
+            sys.exit(f"--starts={starts}, but {folders[0]['label']} holds "
+                     f"{len(folders[0]['episodes'])} episodes")
         starts = len(folders[0]["episodes"])
+    elif starts is None:
+        sys.exit("every point is recorded (@STEPS,MEAN,MEDIAN): say how many starts they hold "
+                 "with --starts=N")
     left, right, top, height = 70, 620, 60, 300
     lo_x = math.log10(min(min(p["steps"] for p in points), steps_per_wall_s) / 1.5)
     hi_x = math.log10(max(p["steps"] for p in points) * 1.5)
@@ -133,6 +141,13 @@ def main(out, steps_per_wall_s, title, settings, starts):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) < 5:
+    args = sys.argv[1:]
+    starts = None
+    if args and args[0].startswith("--starts="):
+        try:
+            starts = int(args.pop(0).split("=", 1)[1])
+        except ValueError:
+            sys.exit("--starts=N takes a whole number")
+    if len(args) < 4:
         sys.exit(__doc__)
-    main(sys.argv[1], float(sys.argv[2]), sys.argv[3], sys.argv[4:], starts=6)
+    main(args[0], float(args[1]), args[2], args[3:], starts=starts)

@@ -1,10 +1,15 @@
 // Loading soccer-juggling configs: every bad graph or env section fails with a message that
 // names the file, the line (and column) and the offending field; the shipped configs load.
+#include <fstream>
 #include <optional>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "absl/strings/str_cat.h"
+#include "google/protobuf/text_format.h"
+#include "google/protobuf/util/message_differencer.h"
 #include "envs/registry.h"
 #include "envs/testing/test_configs.h"
 #include "gmock/gmock.h"
@@ -509,6 +514,80 @@ TEST(ShippedFullGraphTest, StallSelfLoopsWeigh30AndTheOnceDisabledEdgesExist) {
   for (const auto& [from, to] : enabled) {
     EXPECT_TRUE(edge(from, to).has_value()) << from << " -> " << to;
   }
+}
+
+// graphs/full_planner.textproto was assembled by hand: each node's section says where it came
+// from ("# from graphs/X.textproto", "# the release node (graphs/full.textproto)"). A node taken
+// as it is must still equal its source's node of the same name (`initial` aside: the full
+// graph's initial nodes are the release's), so that a change to a skill's graph cannot leave
+// the full graph behind unnoticed; the edges must be the release's. The
+// mirrored nodes and around-the-world's (the release's with declared variables) are not
+// compared field by field here.
+config::ControlGraph ParseGraphFile(const std::string& relative, std::string* text = nullptr) {
+  std::ifstream in(RepoPath(relative));
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  config::ControlGraph graph;
+  EXPECT_TRUE(google::protobuf::TextFormat::ParseFromString(buffer.str(), &graph)) << relative;
+  if (text != nullptr) *text = buffer.str();
+  return graph;
+}
+
+const config::NodeSpec* FindNode(const config::ControlGraph& graph, const std::string& name) {
+  for (const config::NodeSpec& node : graph.node()) {
+    if (node.name() == name) return &node;
+  }
+  return nullptr;
+}
+
+TEST(FullPlannerGraphTest, NodesTakenAsTheyAreEqualTheirSourcesAndTheEdgesAreTheReleases) {
+  std::string text;
+  const config::ControlGraph full = ParseGraphFile("configs/graphs/full_planner.textproto", &text);
+  const config::ControlGraph release = ParseGraphFile("configs/graphs/full.textproto");
+  ASSERT_EQ(full.node_size(), release.node_size());
+  // Each "# ---- release node N: NAME" section's first "from"/"the release node" line.
+  const std::string marker = "# ---- release node ";
+  int compared = 0;
+  for (size_t at = text.find(marker); at != std::string::npos;) {
+    const size_t next = text.find(marker, at + 1);
+    const std::string section = text.substr(at, next == std::string::npos ? next : next - at);
+    at = next;
+    const size_t colon = section.find(": ");
+    const std::string name = section.substr(colon + 2, section.find('\n') - colon - 2);
+    const config::NodeSpec* node = FindNode(full, name);
+    ASSERT_NE(node, nullptr) << name;
+    std::string source;
+    if (section.find("\n# the release node (graphs/full.textproto)") != std::string::npos) {
+      source = "configs/graphs/full.textproto";
+    } else if (const size_t from = section.find("\n# from graphs/"); from != std::string::npos) {
+      const std::string line = section.substr(from + 8, section.find('\n', from + 1) - from - 8);
+      if (line.find("mirrored") != std::string::npos) continue;
+      source = "configs/" + line;
+    } else {
+      continue;  // around-the-world: the release's nodes with declared variables
+    }
+    const config::ControlGraph source_graph = ParseGraphFile(source);
+    const config::NodeSpec* original = FindNode(source_graph, name);
+    ASSERT_NE(original, nullptr) << name << " is not in " << source;
+    // `initial` is the release's in the full graph, whatever the source graph starts from.
+    config::NodeSpec taken = *node, from = *original;
+    taken.clear_initial();
+    from.clear_initial();
+    EXPECT_TRUE(google::protobuf::util::MessageDifferencer::Equals(taken, from))
+        << name << " differs from its source " << source << ":\n"
+        << taken.DebugString() << "against\n" << from.DebugString();
+    ++compared;
+  }
+  EXPECT_EQ(compared, 15);  // of the 23: 4 mirrored, 4 around-the-world
+  ASSERT_EQ(full.edge_size(), release.edge_size());
+  std::multiset<std::string> full_edges, release_edges;
+  for (const config::EdgeSpec& e : full.edge()) {
+    full_edges.insert(absl::StrCat(e.from(), " -> ", e.to(), " ", e.weight()));
+  }
+  for (const config::EdgeSpec& e : release.edge()) {
+    release_edges.insert(absl::StrCat(e.from(), " -> ", e.to(), " ", e.weight()));
+  }
+  EXPECT_EQ(full_edges, release_edges);
 }
 
 }  // namespace

@@ -580,14 +580,14 @@ TEST(FullPlannerGraphTest, NodesTakenAsTheyAreEqualTheirSourcesAndTheEdgesAreThe
   }
   EXPECT_EQ(compared, 15);  // of the 23: 4 mirrored, 4 around-the-world
   ASSERT_EQ(full.edge_size(), release.edge_size());
-  std::multiset<std::string> full_edges, release_edges;
-  for (const config::EdgeSpec& e : full.edge()) {
-    full_edges.insert(absl::StrCat(e.from(), " -> ", e.to(), " ", e.weight()));
-  }
-  for (const config::EdgeSpec& e : release.edge()) {
-    release_edges.insert(absl::StrCat(e.from(), " -> ", e.to(), " ", e.weight()));
-  }
-  EXPECT_EQ(full_edges, release_edges);
+  auto edges = [](const config::ControlGraph& graph) {
+    std::multiset<std::string> all;
+    for (const config::EdgeSpec& e : graph.edge()) {
+      all.insert(absl::StrCat(e.from(), " -> ", e.to(), " ", e.weight()));
+    }
+    return all;
+  };
+  EXPECT_EQ(edges(full), edges(release));
 }
 
 }  // namespace

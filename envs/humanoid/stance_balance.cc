@@ -33,20 +33,24 @@ void AddStanceBalance(const Joints& joints, const config::StanceBalance& b, Foot
     const double world[3] = {-(b.com_kp() * ey + b.com_kd() * vel[1]),
                              b.com_kp() * ex + b.com_kd() * vel[0], 0};
     mju_mulMatTVec(tau_ankle, data->xmat + 9 * foot, world, 3, 3);  // into the foot frame
+    if (b.hip_roll() != 0) {  // the same roll on the pelvis, through the stance hip
+      const double on_thigh[3] = {-b.hip_roll() * world[0], 0, 0};
+      mju_mulMatTVec(tau_hip, data->xmat + 9 * m->dof_bodyid[hip.dof_adr], on_thigh, 3, 3);
+    }
   }
   if (b.pelvis_kp() != 0 || b.pelvis_kd() != 0 || b.yaw_kp() != 0 || b.yaw_kd() != 0) {
     double tilt[3];
     mju_subQuat(tilt, data->qpos + 3, kUpright);
     const double* w = data->qvel + 3;
-    for (int i : {0, 2}) tau_hip[i] = b.pelvis_kp() * tilt[i] + b.pelvis_kd() * w[i];
-    tau_hip[1] = b.yaw_kp() * tilt[1] + b.yaw_kd() * w[1];  // about the root's vertical (y)
+    for (int i : {0, 2}) tau_hip[i] += b.pelvis_kp() * tilt[i] + b.pelvis_kd() * w[i];
+    tau_hip[1] += b.yaw_kp() * tilt[1] + b.yaw_kd() * w[1];  // about the root's vertical (y)
   }
   add(ankle, tau_ankle);
   add(hip, tau_hip);
 }
 
-void AddDoubleStanceBalance(const Joints& joints, const config::StanceBalance& gains,
-                            int root_body, double action_torque, const mjModel* m, mjData* data,
+void AddDoubleStanceBalance(const Joints& joints, const config::StanceBalance& gains, int root_body,
+                            double action_torque, const mjModel* m, mjData* data,
                             double* feedforward) {
   const double* left = data->xpos + 3 * m->dof_bodyid[joints[kLeftAnkle].dof_adr];
   const double* right = data->xpos + 3 * m->dof_bodyid[joints[kRightAnkle].dof_adr];

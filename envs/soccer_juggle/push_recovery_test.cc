@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "envs/soccer_juggle/env.h"
+#include "envs/testing/ball_out_of_play.h"
 #include "envs/testing/test_configs.h"
 #include "google/protobuf/text_format.h"
 #include "gtest/gtest.h"
@@ -77,12 +78,7 @@ double StandsAfterPush(const std::shared_ptr<const JuggleSpec>& spec, const Push
   EXPECT_GE(body, 0) << push.body;
   if (body < 0) return 0;
   for (int i = 0; i < steps; ++i) {
-    const GraphNode& node = spec->graph().node(env.node());
-    double* ball = d->qpos + spec->ball_qpos();
-    ball[0] = d->qpos[0] + node.spec.ball_target().x();
-    ball[1] = d->qpos[1] + node.spec.ball_target().y();
-    ball[2] = 40.0;
-    mju_zero(d->qvel + spec->ball_dof(), 6);
+    testing::HoldBallOutOfPlay(*spec, &env);
     const double t = i * dt;
     const bool pushing = t >= push.at - 1e-9 && t < push.at + push.duration - 1e-9;
     for (int k = 0; k < 3; ++k) d->xfrc_applied[6 * body + k] = pushing ? push.force[k] : 0;

@@ -11,6 +11,7 @@
 #include "envs/soccer_juggle/base_controller.h"
 #include "envs/soccer_juggle/env.h"
 #include "google/protobuf/text_format.h"
+#include "envs/testing/ball_out_of_play.h"
 #include "envs/testing/test_configs.h"
 #include "gtest/gtest.h"
 
@@ -92,17 +93,12 @@ Standing StandWithoutBall(const std::shared_ptr<const JuggleSpec>& spec, const c
   AdaptiveWalk walk(&spec->graph());
   JuggleEnv env(spec, Rng(11));
   env.ResetAt(*spec->graph().FindNode(start), walk);
-  mjData* d = env.data();
   const int steps = static_cast<int>(std::round(seconds / spec->control_dt()));
   Standing result;
   int last_side = -1;
   for (int i = 0; i < steps; ++i) {
     const GraphNode& node = spec->graph().node(env.node());
-    double* ball = d->qpos + spec->ball_qpos();
-    ball[0] = d->qpos[0] + node.spec.ball_target().x();
-    ball[1] = d->qpos[1] + node.spec.ball_target().y();
-    ball[2] = 40.0;
-    mju_zero(d->qvel + spec->ball_dof(), 6);
+    testing::HoldBallOutOfPlay(*spec, &env);
     if (node.spec.pose().has_leg_swing()) {
       const int side = node.spec.pose().leg_swing().side();
       if (last_side >= 0 && side != last_side) ++result.stance_changes;

@@ -1,7 +1,8 @@
 // The stance balance's torques (envs/humanoid/stance_balance.h) on a hand-made state: the
-// centre-of-mass term through the stance ankle, and hip_roll putting that term's roll (about the
-// world's forward axis) on the pelvis through the stance hip — read back in the world frame from
-// each joint's body frame, an independent path from the one the code writes them by.
+// centre-of-mass term through the stance ankle, and hip_roll / hip_pitch putting that term's
+// roll (about the world's forward axis) / pitch (about its left axis) on the pelvis through the
+// stance hip — read back in the world frame from each joint's body frame, an independent path
+// from the one the code writes them by.
 #include "envs/humanoid/stance_balance.h"
 
 #include <array>
@@ -38,6 +39,18 @@ class StanceBalanceTest : public ::testing::Test {
     return tau;
   }
 
+  // Only the centre-of-mass term (kp 830), its target 3 cm to the left of and 2 cm behind
+  // where the centre of mass is over the left ankle: the ankle's world torque is then
+  // (830 · 0.03, −830 · 0.02, 0).
+  void OffsetTarget(config::StanceBalance* gains) {
+    gains->set_com_kp(830);
+    gains->set_com_kd(0);
+    const double* com = data_->subtree_com + 3 * root_;
+    const double* ankle = data_->xpos + 3 * model_->dof_bodyid[joints_[kLeftAnkle].dof_adr];
+    gains->set_com_x(com[0] - ankle[0] + 0.02);
+    gains->set_com_y(com[1] - ankle[1] + 0.03);
+  }
+
   // `joint`'s three torques in `tau`, from its body's frame into the world's.
   std::array<double, 3> InWorld(const std::array<double, kCharacterNv>& tau, JointId joint) {
     const int dof = joints_[joint].dof_adr;
@@ -57,13 +70,7 @@ class StanceBalanceTest : public ::testing::Test {
 
 TEST_F(StanceBalanceTest, TheHipRollPutsTheAnklesRollOnThePelvisThroughTheStanceHip) {
   config::StanceBalance gains;
-  gains.set_com_kp(830);
-  gains.set_com_kd(0);
-  // Targets 3 cm to the left of and 2 cm behind where the centre of mass is over the ankle.
-  const double* com = data_->subtree_com + 3 * root_;
-  const double* ankle = data_->xpos + 3 * model_->dof_bodyid[joints_[kLeftAnkle].dof_adr];
-  gains.set_com_x(com[0] - ankle[0] + 0.02);
-  gains.set_com_y(com[1] - ankle[1] + 0.03);
+  OffsetTarget(&gains);
 
   const std::array<double, kCharacterNv> alone = Torques(gains);
   // The ankle alone: the world torque (−kp·e_y, kp·e_x, 0) for e = (−0.02, −0.03).
@@ -87,6 +94,26 @@ TEST_F(StanceBalanceTest, TheHipRollPutsTheAnklesRollOnThePelvisThroughTheStance
     if (dof >= left_hip && dof < left_hip + 3) continue;
     EXPECT_EQ(with[dof], alone[dof]) << "dof " << dof;
   }
+}
+
+TEST_F(StanceBalanceTest, TheHipPitchPutsTheAnklesPitchOnThePelvisThroughTheStanceHip) {
+  config::StanceBalance gains;
+  OffsetTarget(&gains);
+  const std::array<double, 3> on_foot = InWorld(Torques(gains), kLeftAnkle);
+  ASSERT_NEAR(on_foot[1], -830 * 0.02, 1e-9);
+
+  gains.set_hip_pitch(0.5);
+  const std::array<double, kCharacterNv> pitch = Torques(gains);
+  EXPECT_EQ(InWorld(pitch, kLeftAnkle), on_foot);
+  const std::array<double, 3> on_thigh = InWorld(pitch, kLeftHip);
+  EXPECT_NEAR(on_thigh[0], 0, 1e-9);  // no roll without hip_roll
+  EXPECT_NEAR(on_thigh[1], -0.5 * on_foot[1], 1e-9);
+  EXPECT_NEAR(on_thigh[2], 0, 1e-9);
+
+  gains.set_hip_roll(1.5);  // both: each axis its own share
+  const std::array<double, 3> both = InWorld(Torques(gains), kLeftHip);
+  EXPECT_NEAR(both[0], -1.5 * on_foot[0], 1e-9);
+  EXPECT_NEAR(both[1], -0.5 * on_foot[1], 1e-9);
 }
 
 }  // namespace

@@ -6,7 +6,8 @@ prints the juggles distribution as `juggle eval` does (median, p10, p90 with the
 interpolation as eval/summary.cc), the endings, and the planner cost when the logs beside the
 JSON files (same name, .log) carry `wall_s=` (wall time: core-seconds only while the parts had
 a core each) and `planner_rollout_steps=` (control steps simulated by the planner's rollouts:
-its budget, the same whatever else ran on the machine).
+its budget, the same whatever else ran on the machine). Then the per-node table summed over
+the parts (visits, completions, success, and the episodes each node ended by how).
 
   scripts/analysis/eval_parts.py runs/planner_eval60/ep_*.jsonl
 """
@@ -30,14 +31,18 @@ def percentile(values, q):
 
 def summarize(paths):
     """The episodes of `paths` and their planner cost: a dict with episodes (by number),
-    juggles (list), seconds (simulated), wall (s) and rollout_steps (0 when no log says)."""
+    juggles (list), seconds (simulated), wall (s), rollout_steps (0 when no log says) and nodes
+    (name -> visits, completions, endings summed over the files' "node" lines)."""
     episodes = {}
+    nodes = {}
     wall = 0.0
     rollout_steps = 0
     for path in paths:
         with open(path) as f:
             for number, line in enumerate(f, 1):
                 record = json.loads(line)
+                if record.get("table") == "node":
+                    add_node(nodes, record)
                 if record.get("table") != "episode":
                     continue
                 if record["episode"] in episodes:
@@ -54,7 +59,16 @@ def summarize(paths):
     return {"episodes": episodes,
             "juggles": [e["juggles"] for e in episodes.values()],
             "seconds": sum(e["seconds"] for e in episodes.values()),
-            "wall": wall, "rollout_steps": rollout_steps}
+            "wall": wall, "rollout_steps": rollout_steps, "nodes": nodes}
+
+
+def add_node(nodes, record):
+    """Adds one "node" line of `juggle eval --json` to the running sums in `nodes`."""
+    n = nodes.setdefault(record["node"], {"visits": 0, "completions": 0, "endings": {}})
+    n["visits"] += record["visits"]
+    n["completions"] += record["completions"]
+    for how, count in record.get("endings", {}).items():
+        n["endings"][how] = n["endings"].get(how, 0) + count
 
 
 def main(paths):
@@ -72,9 +86,16 @@ def main(paths):
           + (f" wall_s={wall:.0f} core_s_per_sim_s={wall / seconds:.2f}" if wall > 0 else "")
           + (f" rollout_steps_per_sim_s={rollout_steps / seconds:.0f}" if rollout_steps > 0 else ""))
     print("juggles by episode: " + " ".join(f"{k}:{episodes[k]['juggles']}" for k in sorted(episodes)))
+    for name, n in sorted(s["nodes"].items()):
+        success = n["completions"] / n["visits"] if n["visits"] else 0.0
+        print(f"node {name}: {n['completions']}/{n['visits']} success={success:.2f} "
+              + " ".join(f"{k}={v}" for k, v in sorted(n["endings"].items())))
 
 
 if __name__ == "__main__":
     if len(sys.argv) < 2:
         sys.exit(__doc__)
+    if sys.argv[1] in ("-h", "--help"):
+        print(__doc__)
+        sys.exit(0)
     main(sys.argv[1:])

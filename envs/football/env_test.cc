@@ -217,16 +217,6 @@ TEST(FootballConfigTest, ConfigErrorsNameFileLineAndField) {
                              "max_episode_steps")));
   EXPECT_THAT(c.status().message(), HasSubstr("settle_s"));
 
-  // The hip terms' fade follows a juggle's phase, which football's kick does not have.
-  const std::string fade =
-      "name: \"x\"\nfootball {\n  task: TRAP\n  stance_balance { hip_contact_window: 0.2 }\n}\n";
-  c = LoadRunConfig(WriteTemp("football_fade.textproto", fade));
-  ASSERT_FALSE(c.ok());
-  EXPECT_THAT(std::string(c.status().message()),
-              StartsWith(Loc(WriteTemp("football_fade.textproto", fade), fade,
-                             "hip_contact_window")));
-  EXPECT_THAT(c.status().message(), HasSubstr("soccer juggling"));
-
   const std::string bad_joint = absl::StrCat(
       "name: \"x\"\nfootball {\n  task: KICK\n  model_file: \"",
       RepoPath("configs/models/football_pitch.xml"),

@@ -18,10 +18,6 @@ absl::Status ValidateFootball(const config::FootballConfig& f, const SourceLocat
   if (f.task() != config::KICK && f.task() != config::TRAP && f.task() != config::TRAP_KICK) {
     return fail({{"task"}}, "set the task: KICK, TRAP or TRAP_KICK");
   }
-  if (f.stance_balance().hip_contact_window() != 0) {
-    return fail({{"stance_balance"}, {"hip_contact_window"}},
-                "soccer juggling's leg swings only: football's kick has no juggle phase");
-  }
   if (f.task() == config::TRAP) return absl::OkStatus();  // the passes: FootballSpec (the model)
   if (f.task() == config::TRAP_KICK) {
     const config::TrapThenKick& z = f.trap_kick();

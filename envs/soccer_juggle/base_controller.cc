@@ -173,11 +173,6 @@ void BaseController::AddStanceBalance(const CursorState& cursor, const SwingAdju
     return;
   }
   const bool kick_left = swing == config::LEFT;
-  if (gains.hip_contact_window() > 0) {  // the hip terms fade out toward the contact
-    const double scale = std::min(1.0, std::abs(cursor.phase - 0.5) / gains.hip_contact_window());
-    gains.set_hip_roll(scale * gains.hip_roll());
-    gains.set_hip_pitch(scale * gains.hip_pitch());
-  }
   if (adjust.placing) {  // the stance goes to the kicking foot next (UpdateSwingAdjust)
     gains.set_com_y(gains.com_y() + LeanTowardKick(change, kick_left, cursor.phase));
   }

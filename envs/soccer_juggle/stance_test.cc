@@ -4,6 +4,7 @@
 // out of play.
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <sstream>
 #include <vector>
@@ -36,10 +37,21 @@ std::shared_ptr<const JuggleSpec> SpecWith(const std::string& name,
   return spec.ok() ? *spec : nullptr;
 }
 
+// The same config with `edit` applied to its env config (nullptr if `spec` is).
+std::shared_ptr<const JuggleSpec> Edited(const std::shared_ptr<const JuggleSpec>& spec,
+                                         const std::function<void(config::EnvConfig*)>& edit) {
+  if (spec == nullptr) return nullptr;
+  LoadedConfig config = spec->config();
+  edit(config.run.mutable_soccer_juggle()->mutable_env());
+  absl::StatusOr<std::shared_ptr<const JuggleSpec>> edited = JuggleSpec::Create(config);
+  EXPECT_TRUE(edited.ok()) << edited.status();
+  return edited.ok() ? *edited : nullptr;
+}
+
 // The same config without env.stance_change (or without env.stance_balance).
 std::shared_ptr<const JuggleSpec> Without(const std::shared_ptr<const JuggleSpec>& spec,
                                           bool stance_change, bool stance_balance) {
-  return testing::EditedEnv(spec, [&](config::EnvConfig* env) {
+  return Edited(spec, [&](config::EnvConfig* env) {
     if (stance_change) env->clear_stance_change();
     if (stance_balance) env->clear_stance_balance();
   });
@@ -47,7 +59,7 @@ std::shared_ptr<const JuggleSpec> Without(const std::shared_ptr<const JuggleSpec
 
 // The same config with the stance balance's hip terms off (the ankle alone).
 std::shared_ptr<const JuggleSpec> AnkleAlone(const std::shared_ptr<const JuggleSpec>& spec) {
-  return testing::EditedEnv(spec, [](config::EnvConfig* env) {
+  return Edited(spec, [](config::EnvConfig* env) {
     env->mutable_stance_balance()->set_hip_roll(0);
     env->mutable_stance_balance()->set_hip_pitch(0);
   });

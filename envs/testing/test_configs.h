@@ -8,7 +8,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <memory>
 #include <string>
 
@@ -84,20 +83,6 @@ inline absl::StatusOr<std::shared_ptr<const soccer_juggle::JuggleSpec>> SoccerSp
   absl::StatusOr<LoadedConfig> config = LoadRightFootPlannerWithGraph(graph_text);
   if (!config.ok()) return config.status();
   return soccer_juggle::JuggleSpec::Create(*config);
-}
-
-// `spec`'s config with `edit` applied to its soccer env config, built again (nullptr, the test
-// failed, if it does not build; nullptr if `spec` is).
-inline std::shared_ptr<const soccer_juggle::JuggleSpec> EditedEnv(
-    const std::shared_ptr<const soccer_juggle::JuggleSpec>& spec,
-    const std::function<void(config::EnvConfig*)>& edit) {
-  if (spec == nullptr) return nullptr;
-  LoadedConfig config = spec->config();
-  edit(config.run.mutable_soccer_juggle()->mutable_env());
-  absl::StatusOr<std::shared_ptr<const soccer_juggle::JuggleSpec>> edited =
-      soccer_juggle::JuggleSpec::Create(config);
-  EXPECT_TRUE(edited.ok()) << edited.status();
-  return edited.ok() ? *edited : nullptr;
 }
 
 // configs/graphs/chest.textproto's chest_lean pose (inside `pose { chest_lean { ... } }`).

@@ -255,6 +255,12 @@ int Evaluate(EvalFlags f) {
       // Decayed rescues still in trouble that a full one followed (planner.rescue.full_after_decay).
       absl::StrAppend(&line, absl::StrFormat(" planner_full_after_decay=%d", t.full_after_decay));
     }
+    if (t.full_after_narrowed > 0) {
+      // Narrowed rescues still in trouble that an unnarrowed one followed
+      // (planner.rescue.full_after_narrowed).
+      absl::StrAppend(&line,
+                      absl::StrFormat(" planner_full_after_narrowed=%d", t.full_after_narrowed));
+    }
     if (t.half_fixed_rescues > 0) {
       // Rescues in trouble only by planner.rescue.half_fixed_above.
       absl::StrAppend(&line, absl::StrFormat(" planner_half_fixed_rescues=%d",

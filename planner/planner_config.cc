@@ -101,6 +101,7 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
                          : r.has_iterations()                ? "iterations"
                          : r.has_population_decay()          ? "population_decay"
                          : r.has_full_after_decay()          ? "full_after_decay"
+                         : r.has_full_after_narrowed()       ? "full_after_narrowed"
                          : r.has_decay_half_fixed_only()     ? "decay_half_fixed_only"
                                                              : nullptr;
     if (beside != nullptr) {

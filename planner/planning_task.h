@@ -122,6 +122,13 @@ class PlanningTask {
   // suggests (soccer: remembered kicks for the incoming ball). Default: nothing.
   virtual void Restrict(const Env& env, const std::vector<double>& shifted, SearchSpace* space,
                         std::vector<std::vector<double>>* seeds) const {}
+  // Narrows a rescue search beyond Restrict: fixes variables in `space` and every seed (the
+  // rescue's incumbent, seeds[0], included). True when it changed what a candidate simulates
+  // (the re-plan's shared prefix no longer applies); default: nothing, false.
+  virtual bool RestrictRescue(const Env& env, const std::vector<double>& shifted,
+                              SearchSpace* space, std::vector<std::vector<double>>* seeds) const {
+    return false;
+  }
   // How far (m) the env's ball (or whatever the task's contacts are with) is from a contact
   // that decides the task: PlanningModel.exact_within_m simulates the executed model inside
   // that distance. Default: infinitely far (never).

@@ -44,6 +44,7 @@ void PlannerTotals::Add(const PlannerTotals& other) {
   rescues += other.rescues;
   refined_out_of_trouble += other.refined_out_of_trouble;
   full_after_decay += other.full_after_decay;
+  full_after_narrowed += other.full_after_narrowed;
   half_fixed_rescues += other.half_fixed_rescues;
   proposal_tried += other.proposal_tried;
   proposal_chosen += other.proposal_chosen;
@@ -404,6 +405,11 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
   if (rescue.stop_below() > 0) settings.stop_below = rescue.stop_below();
   std::vector<std::vector<double>> seeds = {result->best};
   seeds.insert(seeds.end(), r.seeds.begin(), r.seeds.end());
+  // A rescue that holds more (soccer's hold_in_rescue) shares another prefix, if any.
+  const SearchSpace open_space = wide;
+  const std::vector<std::vector<double>> open_seeds = seeds;
+  bool narrowed = task_->RestrictRescue(env, r.shifted, &wide, &seeds);
+  if (narrowed) prefix_ = nullptr;
   const BatchCost cost = [&](const std::vector<double>& candidates, int n, double bound,
                              std::vector<double>* costs) {
     return ScoreBatch(r, candidates, n, bound, costs);
@@ -436,10 +442,36 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
       second = std::move(full);
     }
   }
+  if (narrowed && rescue.full_after_narrowed()) {
+    ASSIGN_OR_RETURN(const bool still, InTrouble(r, second, above));
+    if (still) {
+      // The narrowed search failed here: the same search without the narrowing, from the
+      // regular search's best plan; the better answer of the two.
+      prefix_ = nullptr;
+      ASSIGN_OR_RETURN(CemResult open, MinimizeCem(open_space, settings, open_seeds, &r.rng, cost));
+      totals_.rollouts += open.evaluations;
+      ++totals_.full_after_narrowed;
+      open.evaluations += second.evaluations;
+      if (open.best_cost < second.best_cost) {
+        second = std::move(open);
+        narrowed = false;
+      } else {
+        second.evaluations = open.evaluations;
+        prefix_ = nullptr;  // the narrowed answer's prefix again
+      }
+    }
+  }
   if (logged_rescue_ > 0) {
     rescue_log_->End(logged_rescue_, second.best_cost, second.evaluations);
   }
   std::move(stop_logging).Invoke();
+  if (narrowed && second.best_cost >= result->best_cost) {
+    // The narrowed rescue found nothing better than the regular plan: that plan stays, with
+    // its own prefix.
+    prefix_ = nullptr;
+    second.best = result->best;
+    second.best_cost = result->best_cost;
+  }
   RETURN_IF_ERROR(RefineNextKick(env, r, rescue.refine_after(), &second));
   ++totals_.rescues;
   second.evaluations += result->evaluations;

@@ -60,6 +60,9 @@ struct PlannerTotals {
   int64_t refined_out_of_trouble = 0;
   // Decayed rescues still in trouble that a full one followed (RescueSearch.full_after_decay).
   int64_t full_after_decay = 0;
+  // Narrowed rescues still in trouble that an unnarrowed one followed
+  // (RescueSearch.full_after_narrowed).
+  int64_t full_after_narrowed = 0;
   // Rescues of half-fixed re-plans: the best plan in trouble only by RescueSearch.half_fixed_above
   // (below cost_above after a troubled warm start).
   int64_t half_fixed_rescues = 0;

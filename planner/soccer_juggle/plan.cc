@@ -76,6 +76,7 @@ SoccerPlanLayout MakeSoccerPlanLayout(const config::PlannerConfig& config,
   layout.later_kicks_by_base = kick.later_kicks_by_base();
   layout.hold_follow_through = kick.enabled() && kick.hold_follow_through();
   layout.hold_after = kick.hold_after_replans();
+  layout.hold_in_rescue = layout.hold_follow_through && kick.hold_in_rescue();
   layout.horizon = config.horizon_steps();
   layout.knot_steps = config.body_knot_steps();
   if (layout.knot_steps > 0) {

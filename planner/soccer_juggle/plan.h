@@ -50,6 +50,7 @@ struct SoccerPlanLayout {
   bool later_kicks_by_base = false;
   bool hold_follow_through = false;  // KickVariables.hold_follow_through
   int hold_after = 0;                // KickVariables.hold_after_replans
+  bool hold_in_rescue = false;       // KickVariables.hold_in_rescue
   int knot_steps = 0;    // 0: no whole-body corrections
   int body_knots = 0;    // enough to span a horizon from anywhere between two grid knots
   int horizon = 1;

@@ -159,6 +159,146 @@ TEST_F(SharedPrefixTest, AHoldAfterOneReplanLetsTheFirstReplanAfterTheReleaseMov
   EXPECT_FALSE(task.PlanActs(*env, second.data(), {0, 0}));
 }
 
+// hold_in_rescue: a rescue after the release, before the hold, holds what the previous plan
+// left with and flags it held; before the release, or once held, it changes nothing.
+TEST_F(SharedPrefixTest, ARescueAfterTheReleaseHoldsTheSetThePreviousPlanLeftWith) {
+  auto& kick = *config_.run.mutable_planner()->mutable_soccer_juggle()->mutable_kick();
+  kick.set_hold_after_replans(1000);
+  kick.set_hold_in_rescue(true);
+  const SoccerJuggleTask task = Task();
+  const SoccerPlanLayout& layout = task.layout();
+  std::unique_ptr<JuggleEnv> env = Start();
+  std::vector<double> shifted(layout.dim(), 0.0);
+  const std::vector<double> left_with = {0.01, 0.1, -0.05, 0.08, 0.04};
+  std::copy(left_with.begin(), left_with.end(), shifted.begin() + layout.kick(0));
+  struct Narrowed {
+    bool changed;
+    SearchSpace space;
+    std::vector<std::vector<double>> seeds;
+  };
+  auto narrow = [&](const std::vector<double>& from) {
+    Narrowed n{false, task.space(), task.Seeds(from)};
+    task.Restrict(*env, from, &n.space, &n.seeds);
+    n.seeds.insert(n.seeds.begin(), std::vector<double>(layout.dim(), 0.3));  // an incumbent
+    n.changed = task.RestrictRescue(*env, from, &n.space, &n.seeds);
+    return n;
+  };
+  EXPECT_FALSE(narrow(shifted).changed);  // before the release
+  ASSERT_TRUE(ZeroActionKick(env.get(), *walk_).valid);
+  const Narrowed after = narrow(shifted);
+  ASSERT_TRUE(after.changed);
+  std::vector<double> expected = left_with;
+  expected.push_back(1001);
+  for (int i = 0; i <= kKickVariables; ++i) {
+    const int v = layout.held() + i;
+    EXPECT_EQ(after.space.sigma[v], 0);
+    EXPECT_EQ(after.space.lower[v], expected[i]);
+    EXPECT_EQ(after.space.upper[v], expected[i]);
+    for (const std::vector<double>& seed : after.seeds) EXPECT_EQ(seed[v], expected[i]);
+  }
+  EXPECT_GT(after.space.sigma[layout.kick(0) + 1], 0);  // the set is still searched
+  EXPECT_FALSE(task.PlanActs(*env, after.seeds.front().data(), {0, 0}));
+  // A plan so held, shifted to the next re-plan: the regular search keeps the hold.
+  std::vector<double> held_plan = after.seeds.front();
+  SearchSpace space = task.space();
+  std::vector<std::vector<double>> seeds = task.Seeds(held_plan);
+  task.Restrict(*env, held_plan, &space, &seeds);
+  EXPECT_EQ(std::vector<double>(space.lower.begin() + layout.held(), space.lower.begin() + layout.held_count()),
+            left_with);
+  EXPECT_FALSE(task.PlanActs(*env, seeds.front().data(), {0, 0}));
+  EXPECT_FALSE(narrow(held_plan).changed);  // held already
+}
+
+// A rescue after the release with hold_in_rescue shares the way back: fewer rollout steps than
+// the same rescues unheld, the same actions up to the release, every visited state as
+// predicted, and from the first rescue that holds on the plan holds.
+TEST_F(SharedPrefixTest, ARescueThatHoldsTheFollowThroughSharesItsPrefixAndPredictsExactly) {
+  config::PlannerConfig& p = *config_.run.mutable_planner();
+  p.set_share_prefix(true);
+  p.mutable_soccer_juggle()->mutable_kick()->set_hold_after_replans(1000);
+  p.mutable_rescue()->set_cost_above(1e-9);
+  p.mutable_rescue()->set_samples(16);
+  p.mutable_rescue()->set_iterations(2);
+  std::vector<float> actions[2];
+  PlannerTotals totals[2];
+  int first_held = -1;
+  int release = -1;
+  for (int arm = 0; arm < 2; ++arm) {
+    p.mutable_soccer_juggle()->mutable_kick()->set_hold_in_rescue(arm == 1);
+    const auto task = std::make_shared<SoccerJuggleTask>(spec_, p);
+    RecedingHorizonPlanner planner(task, p, pool_.get(), 0);
+    std::unique_ptr<JuggleEnv> env = Start();
+    float action[kNumActions];
+    for (int t = 0; t < 44; ++t) {  // the kick at about step 20, then its follow-through
+      const bool released = env->state().kick_touched && !env->state().touched_this_step;
+      if (arm == 0 && released && release < 0) release = t;
+      ASSERT_TRUE(planner.Act(*env, action).ok());
+      const std::vector<double>& plan = planner.plan();
+      const bool holds = plan[task->layout().held_count()] > task->layout().hold_after;
+      if (arm == 0) EXPECT_FALSE(holds) << "step " << t;
+      if (arm == 1 && holds && first_held < 0) first_held = t;
+      if (arm == 1 && first_held >= 0) {
+        EXPECT_TRUE(holds) << "step " << t;  // once held, held to the cycle's end
+      }
+      actions[arm].insert(actions[arm].end(), action, action + kNumActions);
+      ASSERT_EQ(env->Step(action, *walk_).outcome, Outcome::kRunning) << "step " << t;
+    }
+    totals[arm] = planner.totals();
+  }
+  ASSERT_GT(release, 10);
+  ASSERT_GE(first_held, release) << "the hold starts after the kick's release";
+  EXPECT_TRUE(std::equal(actions[1].begin(), actions[1].begin() + release * kNumActions,
+                         actions[0].begin()));
+  EXPECT_GE(totals[1].prediction_checks, 40);
+  EXPECT_EQ(totals[1].prediction_mismatches, 0);
+  EXPECT_LT(totals[1].rollout_steps, totals[0].rollout_steps * 0.9)
+      << totals[1].rollout_steps << " against " << totals[0].rollout_steps;
+}
+
+// full_after_narrowed: a held rescue still in trouble is followed by an unheld one. With a bar
+// below every cost each held rescue is followed (more rollouts, every state still as
+// predicted); with a bar above every cost, or without the hold, none is.
+TEST_F(SharedPrefixTest, AnUnheldRescueFollowsAHeldOneOnlyWhenItEndsInTrouble) {
+  config::PlannerConfig& p = *config_.run.mutable_planner();
+  p.set_share_prefix(true);
+  auto& kick = *p.mutable_soccer_juggle()->mutable_kick();
+  kick.set_hold_after_replans(1000);
+  p.mutable_rescue()->set_samples(16);
+  p.mutable_rescue()->set_iterations(2);
+  struct Arm {
+    bool hold;
+    bool full_after;
+    double cost_above;
+  };
+  auto run = [&](const Arm& arm) {
+    kick.set_hold_in_rescue(arm.hold);
+    p.mutable_rescue()->set_full_after_narrowed(arm.full_after);
+    p.mutable_rescue()->set_cost_above(arm.cost_above);
+    RecedingHorizonPlanner planner(std::make_shared<SoccerJuggleTask>(spec_, p), p, pool_.get(), 0);
+    std::unique_ptr<JuggleEnv> env = Start();
+    float action[kNumActions];
+    for (int t = 0; t < 30; ++t) {  // the kick's release at about step 20
+      EXPECT_TRUE(planner.Act(*env, action).ok());
+      if (env->Step(action, *walk_).outcome != Outcome::kRunning) break;
+    }
+    return planner.totals();
+  };
+  // Every re-plan in trouble (a bar below any cost): every held rescue is followed.
+  const PlannerTotals held = run({true, false, 1e-9});
+  const PlannerTotals cascade = run({true, true, 1e-9});
+  EXPECT_GT(cascade.full_after_narrowed, 0);
+  EXPECT_EQ(cascade.prediction_mismatches, 0);
+  EXPECT_GT(cascade.rollouts, held.rollouts);
+  // A bar no plan exceeds: no rescue, nothing followed.
+  const PlannerTotals calm = run({true, true, 1e12});
+  EXPECT_EQ(calm.rescues, 0);
+  EXPECT_EQ(calm.full_after_narrowed, 0);
+  // Without the hold nothing is narrowed, so nothing follows.
+  const PlannerTotals unheld = run({false, true, 1e-9});
+  EXPECT_EQ(unheld.full_after_narrowed, 0);
+  EXPECT_GT(unheld.rescues, 0);
+}
+
 // The same episode with and without the shared prefix: every action and rescue alike, every
 // visited state as predicted, fewer rollout steps; a rescue at every re-plan covers its path.
 TEST_F(SharedPrefixTest, SharingThePrefixChoosesTheSamePlansFromFewerRolloutSteps) {

@@ -98,6 +98,24 @@ void SoccerJuggleTask::HoldFollowThrough(const Env& env, const std::vector<doubl
     }
     held[kKickVariables] = count;
   }
+  FixHeld(held, space, seeds);
+}
+
+bool SoccerJuggleTask::RestrictRescue(const Env& env, const std::vector<double>& shifted,
+                                      SearchSpace* space,
+                                      std::vector<std::vector<double>>* seeds) const {
+  if (!layout_.hold_in_rescue || !Released(env)) return false;
+  if (space->lower[layout_.held_count()] > layout_.hold_after) return false;  // held already
+  // The way back plays the previous plan's set now; a count past hold_after keeps the hold on.
+  double held[kKickVariables + 1];
+  std::copy_n(shifted.begin() + layout_.kick(0), kKickVariables, held);
+  held[kKickVariables] = layout_.hold_after + 1;
+  FixHeld(held, space, seeds);
+  return true;
+}
+
+void SoccerJuggleTask::FixHeld(const double* held, SearchSpace* space,
+                               std::vector<std::vector<double>>* seeds) const {
   for (int i = 0; i <= kKickVariables; ++i) {
     const int v = layout_.held() + i;
     space->lower[v] = space->upper[v] = held[i];
@@ -296,6 +314,12 @@ absl::Status ValidateSoccerJuggleTask(const LoadedConfig& config) {
           ": ", kick.held_angles(i), " is not an angle variable's position (1 hip, 2 abduction, "
           "3 knee, 4 ankle, or a node's first to fourth declared variable)"));
     }
+  }
+  if (kick.hold_in_rescue() && !kick.hold_follow_through()) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where({{"planner"}, {"soccer_juggle"}, {"kick"}, {"hold_in_rescue"}}),
+        ": a rescue's hold, and hold_follow_through is false: nothing is held; set "
+        "hold_follow_through: true or remove the field"));
   }
   if (kick.hold_after_replans() > 0 && !kick.hold_follow_through()) {
     return absl::InvalidArgumentError(absl::StrCat(

@@ -43,6 +43,10 @@ class SoccerJuggleTask final : public PlanningTask {
   std::vector<std::vector<double>> Seeds(const std::vector<double>& start) const override;
   void Restrict(const Env& env, const std::vector<double>& shifted, SearchSpace* space,
                 std::vector<std::vector<double>>* seeds) const override;
+  // KickVariables.hold_in_rescue: after the release, before the hold, the rescue holds the
+  // follow-through the previous plan (`shifted`) left with.
+  bool RestrictRescue(const Env& env, const std::vector<double>& shifted, SearchSpace* space,
+                      std::vector<std::vector<double>>* seeds) const override;
   double PlanCost(const double* theta, const std::vector<double>& warm,
                   bool has_warm) const override;
   // The ball's clearance from the bodies its node lets touch it (BallClearance).
@@ -81,6 +85,10 @@ class SoccerJuggleTask final : public PlanningTask {
   // seed for `env`'s state.
   void HoldFollowThrough(const Env& env, const std::vector<double>& shifted, SearchSpace* space,
                          std::vector<std::vector<double>>* seeds) const;
+  // Fixes the held kick and its count to `held` (kKickVariables + 1 values) in `space` and
+  // every seed.
+  void FixHeld(const double* held, SearchSpace* space,
+               std::vector<std::vector<double>>* seeds) const;
 
   std::shared_ptr<const soccer_juggle::JuggleSpec> spec_;
   config::SoccerJugglePlanning settings_;

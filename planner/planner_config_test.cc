@@ -100,10 +100,11 @@ TEST(PlannerConfigTest, ARescuesHoldWithoutAHeldFollowThroughIsRefusedAtTheField
   EXPECT_THAT(std::string(s.message()),
               StartsWith(::juggle::testing::Loc(config.config_path, text, "hold_in_rescue: true")));
   EXPECT_THAT(std::string(s.message()), HasSubstr("hold_follow_through is false"));
-  ASSERT_TRUE(Load("hold_in_rescue_ok.textproto",
-                   Config("soccer_juggle { kick { hold_follow_through: true hold_in_rescue: true } }"),
-                   &config)
-                  .ok());
+  ASSERT_TRUE(
+      Load("hold_in_rescue_ok.textproto",
+           Config("soccer_juggle { kick { hold_follow_through: true hold_in_rescue: true } }"),
+           &config)
+          .ok());
   EXPECT_TRUE(ValidatePlannerConfig(config).ok());
 }
 
@@ -332,7 +333,8 @@ TEST(PlannerConfigTest, AModelBasedRescueBesideTheCrossEntropySettingsIsRefusedA
   for (const char* fields :
        {"rescue { samples: 32 bayes { } }", "rescue { iterations: 3 bayes { } }",
         "rescue { population_decay: 1.25 bayes { } }",
-        "rescue { full_after_narrowed: true bayes { } }", "rescue { bayes { evaluations: 8 initial: 8 } }"}) {
+        "rescue { full_after_narrowed: true bayes { } }",
+        "rescue { bayes { evaluations: 8 initial: 8 } }"}) {
     const std::string text = Config(fields);
     LoadedConfig config;
     ASSERT_TRUE(Load("soccer_bayes.textproto", text, &config).ok()) << fields;

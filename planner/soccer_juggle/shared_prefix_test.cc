@@ -203,7 +203,8 @@ TEST_F(SharedPrefixTest, ARescueAfterTheReleaseHoldsTheSetThePreviousPlanLeftWit
   SearchSpace space = task.space();
   std::vector<std::vector<double>> seeds = task.Seeds(held_plan);
   task.Restrict(*env, held_plan, &space, &seeds);
-  EXPECT_EQ(std::vector<double>(space.lower.begin() + layout.held(), space.lower.begin() + layout.held_count()),
+  EXPECT_EQ(std::vector<double>(space.lower.begin() + layout.held(),
+                                space.lower.begin() + layout.held_count()),
             left_with);
   EXPECT_FALSE(task.PlanActs(*env, seeds.front().data(), {0, 0}));
   EXPECT_FALSE(narrow(held_plan).changed);  // held already

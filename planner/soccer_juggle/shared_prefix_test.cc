@@ -63,6 +63,9 @@ std::vector<double> PlanWith(const SoccerPlanLayout& layout, const std::vector<d
   return theta;
 }
 
+// A kick set the tests' previous plans leave with.
+const std::vector<double> kLeftWith = {0.01, 0.1, -0.05, 0.08, 0.04};
+
 std::vector<float> ActionOf(const JuggleEnv& env, const SoccerPlanLayout& layout,
                             const std::vector<double>& theta, PlanClock clock) {
   std::vector<float> action(kNumActions);
@@ -99,9 +102,9 @@ TEST_F(SharedPrefixTest, ARestrictionHoldsTheKickThePreviousPlanLeftWith) {
   const SoccerJuggleTask task = Task();
   const SoccerPlanLayout& layout = task.layout();
   std::unique_ptr<JuggleEnv> env = Start();
-  std::vector<double> shifted(layout.dim(), 0.0);
-  const std::vector<double> left_with = {0.01, 0.1, -0.05, 0.08, 0.04};
-  std::copy(left_with.begin(), left_with.end(), shifted.begin() + layout.kick(0));
+  const std::vector<double> left_with = kLeftWith;
+  std::vector<double> shifted = PlanWith(layout, left_with, std::vector<double>(kKickVariables, 0));
+  shifted[layout.held_count()] = 0;  // nothing held yet
   auto restrict = [&](const std::vector<double>& from) {
     SearchSpace space = task.space();
     std::vector<std::vector<double>> seeds = task.Seeds(from);
@@ -139,9 +142,9 @@ TEST_F(SharedPrefixTest, AHoldAfterOneReplanLetsTheFirstReplanAfterTheReleaseMov
   const SoccerPlanLayout& layout = task.layout();
   std::unique_ptr<JuggleEnv> env = Start();
   ASSERT_TRUE(ZeroActionKick(env.get(), *walk_).valid);
-  std::vector<double> shifted(layout.dim(), 0.0);
-  const std::vector<double> first_after = {0.01, 0.1, -0.05, 0.08, 0.04};
-  std::copy(first_after.begin(), first_after.end(), shifted.begin() + layout.kick(0));
+  const std::vector<double> first_after = kLeftWith;
+  std::vector<double> shifted = PlanWith(layout, first_after, std::vector<double>(kKickVariables, 0));
+  shifted[layout.held_count()] = 0;  // nothing held yet
   auto restrict = [&](const std::vector<double>& from) {
     SearchSpace space = task.space();
     std::vector<std::vector<double>> seeds = task.Seeds(from);
@@ -168,9 +171,9 @@ TEST_F(SharedPrefixTest, ARescueAfterTheReleaseHoldsTheSetThePreviousPlanLeftWit
   const SoccerJuggleTask task = Task();
   const SoccerPlanLayout& layout = task.layout();
   std::unique_ptr<JuggleEnv> env = Start();
-  std::vector<double> shifted(layout.dim(), 0.0);
-  const std::vector<double> left_with = {0.01, 0.1, -0.05, 0.08, 0.04};
-  std::copy(left_with.begin(), left_with.end(), shifted.begin() + layout.kick(0));
+  const std::vector<double> left_with = kLeftWith;
+  std::vector<double> shifted = PlanWith(layout, left_with, std::vector<double>(kKickVariables, 0));
+  shifted[layout.held_count()] = 0;  // nothing held yet
   struct Narrowed {
     bool changed;
     SearchSpace space;

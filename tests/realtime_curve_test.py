@@ -8,7 +8,8 @@ A setting holding other episodes is refused. A recorded point ("old=@40000,3,2.5
 whose folder is gone) is plotted at its numbers; a malformed one is refused. A point whose
 rollout step costs half a reference step ("cheap=DIR~0.5") sits at half its steps. A plot of
 recorded points only says how many starts they hold by --starts=N, and is refused without it;
---starts that disagrees with a folder is refused.
+--starts that disagrees with a folder is refused. The picture is 860 px wide, wider for a
+legend line that would not fit.
 """
 import json
 import os
@@ -53,6 +54,15 @@ def main():
         assert svg.startswith('<svg') and svg.rstrip().endswith('</svg>'), svg[:80]
         for text in ('>1: cheap<', '>2: dear<', 'real time', '2 starts'):
             assert text in svg, text
+        assert 'width="860"' in svg.splitlines()[0], svg.splitlines()[0]
+        # A legend line too long for 860 px widens the picture (about 6 px per character).
+        long_label = 'a setting with a label of about a hundred characters, ' + 'x' * 45
+        wide = subprocess.run([sys.executable, SCRIPT, out, '10000', 'title',
+                               f'{long_label}={cheap}'], capture_output=True, text=True)
+        assert wide.returncode == 0, wide.stderr
+        head = open(out).read().splitlines()[0]
+        width = int(head.split('width="')[1].split('"')[0])
+        assert width >= 620 + 14 + 6 * len('1: ' + long_label), head
         refused = subprocess.run([sys.executable, SCRIPT, out, '10000', 'title',
                                   f'cheap={cheap}', f'other={other}'],
                                  capture_output=True, text=True)

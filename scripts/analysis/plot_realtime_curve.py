@@ -87,7 +87,10 @@ def main(out, steps_per_wall_s, title, settings, starts):
     def py(v):
         return top + height - height * v / y_hi
 
-    svg = ['<svg xmlns="http://www.w3.org/2000/svg" width="860" height="420">',
+    # Wide enough for the longest legend line (about 6 px per character at 11 px), at least 860.
+    legend = max(len(f"{i}: {p['label']}") for i, p in enumerate(points, 1))
+    width = max(860, right + 14 + 6 * legend + 10)
+    svg = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="420">',
            '<rect width="100%" height="100%" fill="white"/>',
            f'<rect x="{left}" y="{top}" width="{right - left}" height="{height}" fill="none" '
            f'stroke="#999"/>',

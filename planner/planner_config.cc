@@ -102,6 +102,8 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
                          : r.has_population_decay()          ? "population_decay"
                          : r.has_full_after_decay()          ? "full_after_decay"
                          : r.has_full_after_narrowed()       ? "full_after_narrowed"
+                         : r.has_narrowed_samples()          ? "narrowed_samples"
+                         : r.has_narrowed_iterations()       ? "narrowed_iterations"
                          : r.has_decay_half_fixed_only()     ? "decay_half_fixed_only"
                                                              : nullptr;
     if (beside != nullptr) {
@@ -116,6 +118,13 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
           r.bayes().evaluations(), " rollouts leave none for the model after the troubled plan "
           "and ", r.bayes().initial(), " initial samples; raise it above initial"));
     }
+  }
+  if (p.rescue().narrowed_samples() > 0 && p.rescue().narrowed_samples() < 4) {
+    // The cross-entropy search needs a few samples to fit its elites (RescueSearch.samples' 4).
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where({{"planner"}, {"rescue"}, {"narrowed_samples"}}), ": ",
+        p.rescue().narrowed_samples(), " samples are too few for a search; use 0 (the rescue's "
+        "samples) or at least 4"));
   }
   if (p.rescue().full_after_decay() && !(p.rescue().population_decay() > 1)) {
     // Without a decay the rescue is already the full one: it would run twice.

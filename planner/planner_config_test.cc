@@ -334,6 +334,7 @@ TEST(PlannerConfigTest, AModelBasedRescueBesideTheCrossEntropySettingsIsRefusedA
        {"rescue { samples: 32 bayes { } }", "rescue { iterations: 3 bayes { } }",
         "rescue { population_decay: 1.25 bayes { } }",
         "rescue { full_after_narrowed: true bayes { } }",
+        "rescue { narrowed_samples: 16 bayes { } }", "rescue { narrowed_iterations: 2 bayes { } }",
         "rescue { bayes { evaluations: 8 initial: 8 } }"}) {
     const std::string text = Config(fields);
     LoadedConfig config;
@@ -351,6 +352,24 @@ TEST(PlannerConfigTest, AModelBasedRescueBesideTheCrossEntropySettingsIsRefusedA
                    Config("rescue { stop_below: 100 bayes { evaluations: 64 } }"), &config)
                   .ok());
   EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
+}
+
+TEST(PlannerConfigTest, ANarrowedRescueOfFewerThanFourSamplesIsRefusedAtTheField) {
+  for (const char* fields : {"rescue { narrowed_samples: 1 }", "rescue { narrowed_samples: 3 }"}) {
+    const std::string text = Config(fields);
+    LoadedConfig config;
+    ASSERT_TRUE(Load("soccer_narrowed.textproto", text, &config).ok()) << fields;
+    const absl::Status s = ValidatePlannerConfig(config);
+    EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument) << fields;
+    EXPECT_THAT(std::string(s.message()),
+                StartsWith(::juggle::testing::Loc(config.config_path, text, "narrowed_samples")));
+  }
+  for (const char* fields : {"rescue { narrowed_samples: 0 }",
+                             "rescue { narrowed_samples: 4 narrowed_iterations: 1 }"}) {
+    LoadedConfig config;
+    ASSERT_TRUE(Load("soccer_narrowed.textproto", Config(fields), &config).ok()) << fields;
+    EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << fields << ValidatePlannerConfig(config);
+  }
 }
 
 TEST(PlannerConfigTest, ADecayConfinedToHalfFixedTroubleWithoutBothIsRefusedAtTheField) {

@@ -408,8 +408,13 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
   // A rescue that holds more (soccer's hold_in_rescue) shares another prefix, if any.
   const SearchSpace open_space = wide;
   const std::vector<std::vector<double>> open_seeds = seeds;
+  CemSettings open_settings = settings;
   bool narrowed = task_->RestrictRescue(env, r.shifted, &wide, &seeds);
-  if (narrowed) prefix_ = nullptr;
+  if (narrowed) {
+    prefix_ = nullptr;
+    if (rescue.narrowed_samples() > 0) settings.samples = rescue.narrowed_samples();
+    if (rescue.narrowed_iterations() > 0) settings.iterations = rescue.narrowed_iterations();
+  }
   const BatchCost cost = [&](const std::vector<double>& candidates, int n, double bound,
                              std::vector<double>* costs) {
     return ScoreBatch(r, candidates, n, bound, costs);
@@ -448,7 +453,9 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
       // The narrowed search failed here: the same search without the narrowing, from the
       // regular search's best plan; the better answer of the two.
       prefix_ = nullptr;
-      ASSIGN_OR_RETURN(CemResult open, MinimizeCem(open_space, settings, open_seeds, &r.rng, cost));
+      open_settings.population_decay = settings.population_decay;  // after full_after_decay
+      ASSIGN_OR_RETURN(CemResult open,
+                       MinimizeCem(open_space, open_settings, open_seeds, &r.rng, cost));
       totals_.rollouts += open.evaluations;
       ++totals_.full_after_narrowed;
       open.evaluations += second.evaluations;

@@ -3,6 +3,8 @@
 // with, whatever the plan's set becomes; the set acts again from the next cycle; and simulating
 // the steps where no variable acts once per re-plan chooses the same plans, predicted bit for
 // bit, from fewer rollout steps.
+#include <algorithm>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -46,6 +48,19 @@ class SharedPrefixTest : public ::testing::Test {
   }
 
   SoccerJuggleTask Task() const { return SoccerJuggleTask(spec_, config_.run.planner()); }
+
+  // The planner with settings `p` over 30 control steps from Start() (the kick's release at
+  // about step 20), or until the episode ends: its totals.
+  PlannerTotals PlanThirtySteps(const config::PlannerConfig& p) {
+    RecedingHorizonPlanner planner(std::make_shared<SoccerJuggleTask>(spec_, p), p, pool_.get(), 0);
+    std::unique_ptr<JuggleEnv> env = Start();
+    float action[kNumActions];
+    for (int t = 0; t < 30; ++t) {
+      EXPECT_TRUE(planner.Act(*env, action).ok());
+      if (env->Step(action, *walk_).outcome != Outcome::kRunning) break;
+    }
+    return planner.totals();
+  }
 
   LoadedConfig config_;
   std::shared_ptr<const JuggleSpec> spec_;
@@ -278,14 +293,7 @@ TEST_F(SharedPrefixTest, AnUnheldRescueFollowsAHeldOneOnlyWhenItEndsInTrouble) {
     kick.set_hold_in_rescue(arm.hold);
     p.mutable_rescue()->set_full_after_narrowed(arm.full_after);
     p.mutable_rescue()->set_cost_above(arm.cost_above);
-    RecedingHorizonPlanner planner(std::make_shared<SoccerJuggleTask>(spec_, p), p, pool_.get(), 0);
-    std::unique_ptr<JuggleEnv> env = Start();
-    float action[kNumActions];
-    for (int t = 0; t < 30; ++t) {  // the kick's release at about step 20
-      EXPECT_TRUE(planner.Act(*env, action).ok());
-      if (env->Step(action, *walk_).outcome != Outcome::kRunning) break;
-    }
-    return planner.totals();
+    return PlanThirtySteps(p);
   };
   // Every re-plan in trouble (a bar below any cost): every held rescue is followed.
   const PlannerTotals held = run({true, false, 1e-9});
@@ -301,6 +309,40 @@ TEST_F(SharedPrefixTest, AnUnheldRescueFollowsAHeldOneOnlyWhenItEndsInTrouble) {
   const PlannerTotals unheld = run({false, true, 1e-9});
   EXPECT_EQ(unheld.full_after_narrowed, 0);
   EXPECT_GT(unheld.rescues, 0);
+}
+
+// narrowed_samples and narrowed_iterations size the held rescue alone: with every re-plan in
+// trouble, a held search of 4 x 1 in place of 16 x 2 saves about 28 rollouts per held rescue,
+// each still followed by an unheld search of the full 16 x 2, every state as predicted.
+TEST_F(SharedPrefixTest, ANarrowedBudgetShrinksTheHeldRescueAndNotItsUnheldFollowUp) {
+  config::PlannerConfig& p = *config_.run.mutable_planner();
+  p.set_share_prefix(true);
+  auto& kick = *p.mutable_soccer_juggle()->mutable_kick();
+  kick.set_hold_after_replans(1000);
+  kick.set_hold_in_rescue(true);
+  config::RescueSearch& rescue = *p.mutable_rescue();
+  rescue.set_samples(16);
+  rescue.set_iterations(2);
+  rescue.set_full_after_narrowed(true);
+  rescue.set_cost_above(1e-9);  // every re-plan in trouble: every held rescue is followed
+  const PlannerTotals full = PlanThirtySteps(p);
+  rescue.set_narrowed_samples(4);
+  rescue.set_narrowed_iterations(1);
+  const PlannerTotals small = PlanThirtySteps(p);
+  rescue.set_full_after_narrowed(false);
+  const PlannerTotals small_alone = PlanThirtySteps(p);
+  for (const PlannerTotals* t : {&full, &small, &small_alone}) {
+    EXPECT_EQ(t->prediction_mismatches, 0);
+    EXPECT_EQ(t->rescues, full.rescues);  // one per re-plan in every arm
+  }
+  ASSERT_GT(small.full_after_narrowed, 0);
+  const int64_t held = std::min(full.full_after_narrowed, small.full_after_narrowed);
+  EXPECT_LT(small.rollouts + held * (16 * 2 - 4 * 1) / 2, full.rollouts)
+      << small.rollouts << " against " << full.rollouts << " over " << held << " held rescues";
+  // Without the follow-up, each held rescue loses its unheld search of about 16 x 2.
+  EXPECT_EQ(small_alone.full_after_narrowed, 0);
+  EXPECT_GT(small.rollouts, small_alone.rollouts + small.full_after_narrowed * 16 * 2 / 2)
+      << small.rollouts << " against " << small_alone.rollouts;
 }
 
 // The same episode with and without the shared prefix: every action and rescue alike, every

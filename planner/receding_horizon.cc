@@ -453,7 +453,8 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
       // The narrowed search failed here: the same search without the narrowing, from the
       // regular search's best plan; the better answer of the two.
       prefix_ = nullptr;
-      open_settings.population_decay = settings.population_decay;  // after full_after_decay
+      // The decay the narrowed search ended with (1 after full_after_decay), as before.
+      open_settings.population_decay = settings.population_decay;
       ASSIGN_OR_RETURN(CemResult open,
                        MinimizeCem(open_space, open_settings, open_seeds, &r.rng, cost));
       totals_.rollouts += open.evaluations;

@@ -81,6 +81,13 @@ std::vector<double> PlanWith(const SoccerPlanLayout& layout, const std::vector<d
 // A kick set the tests' previous plans leave with.
 const std::vector<double> kLeftWith = {0.01, 0.1, -0.05, 0.08, 0.04};
 
+// A previous plan, shifted: kick set 0 = kLeftWith, nothing held yet.
+std::vector<double> ShiftedLeftWith(const SoccerPlanLayout& layout) {
+  std::vector<double> shifted = PlanWith(layout, kLeftWith, std::vector<double>(kKickVariables, 0));
+  shifted[layout.held_count()] = 0;
+  return shifted;
+}
+
 std::vector<float> ActionOf(const JuggleEnv& env, const SoccerPlanLayout& layout,
                             const std::vector<double>& theta, PlanClock clock) {
   std::vector<float> action(kNumActions);
@@ -117,9 +124,8 @@ TEST_F(SharedPrefixTest, ARestrictionHoldsTheKickThePreviousPlanLeftWith) {
   const SoccerJuggleTask task = Task();
   const SoccerPlanLayout& layout = task.layout();
   std::unique_ptr<JuggleEnv> env = Start();
-  const std::vector<double> left_with = kLeftWith;
-  std::vector<double> shifted = PlanWith(layout, left_with, std::vector<double>(kKickVariables, 0));
-  shifted[layout.held_count()] = 0;  // nothing held yet
+  const std::vector<double>& left_with = kLeftWith;
+  std::vector<double> shifted = ShiftedLeftWith(layout);
   auto restrict = [&](const std::vector<double>& from) {
     SearchSpace space = task.space();
     std::vector<std::vector<double>> seeds = task.Seeds(from);
@@ -157,9 +163,8 @@ TEST_F(SharedPrefixTest, AHoldAfterOneReplanLetsTheFirstReplanAfterTheReleaseMov
   const SoccerPlanLayout& layout = task.layout();
   std::unique_ptr<JuggleEnv> env = Start();
   ASSERT_TRUE(ZeroActionKick(env.get(), *walk_).valid);
-  const std::vector<double> first_after = kLeftWith;
-  std::vector<double> shifted = PlanWith(layout, first_after, std::vector<double>(kKickVariables, 0));
-  shifted[layout.held_count()] = 0;  // nothing held yet
+  const std::vector<double>& first_after = kLeftWith;
+  std::vector<double> shifted = ShiftedLeftWith(layout);
   auto restrict = [&](const std::vector<double>& from) {
     SearchSpace space = task.space();
     std::vector<std::vector<double>> seeds = task.Seeds(from);
@@ -172,8 +177,9 @@ TEST_F(SharedPrefixTest, AHoldAfterOneReplanLetsTheFirstReplanAfterTheReleaseMov
   shifted[layout.held_count()] = 1;  // the first re-plan's plan, shifted
   const std::vector<double> second = restrict(shifted);
   EXPECT_EQ(second[layout.held_count()], 2);
-  EXPECT_EQ(std::vector<double>(second.begin() + layout.held(), second.begin() + layout.held_count()),
-            first_after);
+  EXPECT_EQ(
+      std::vector<double>(second.begin() + layout.held(), second.begin() + layout.held_count()),
+      first_after);
   EXPECT_FALSE(task.PlanActs(*env, second.data(), {0, 0}));
 }
 
@@ -186,9 +192,8 @@ TEST_F(SharedPrefixTest, ARescueAfterTheReleaseHoldsTheSetThePreviousPlanLeftWit
   const SoccerJuggleTask task = Task();
   const SoccerPlanLayout& layout = task.layout();
   std::unique_ptr<JuggleEnv> env = Start();
-  const std::vector<double> left_with = kLeftWith;
-  std::vector<double> shifted = PlanWith(layout, left_with, std::vector<double>(kKickVariables, 0));
-  shifted[layout.held_count()] = 0;  // nothing held yet
+  const std::vector<double>& left_with = kLeftWith;
+  std::vector<double> shifted = ShiftedLeftWith(layout);
   struct Narrowed {
     bool changed;
     SearchSpace space;

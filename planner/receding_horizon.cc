@@ -123,7 +123,10 @@ RecedingHorizonPlanner::RolloutResult RecedingHorizonPlanner::Rollout(
   int end = horizon;
   if (prefix != nullptr) {
     result.shared_steps = prefix->steps;
-    if (o.trace != nullptr) o.trace->insert(o.trace->end(), prefix->trace.begin(), prefix->trace.end());
+    if (o.trace != nullptr) {
+      const size_t n = std::min(prefix->trace.size(), size_t(std::max(o.trace_steps, 0)));
+      o.trace->insert(o.trace->end(), prefix->trace.begin(), prefix->trace.begin() + n);
+    }
   }
   for (; t < end; ++t, ++clock.step) {
     if (exact_env != nullptr) {
@@ -139,7 +142,9 @@ RecedingHorizonPlanner::RolloutResult RecedingHorizonPlanner::Rollout(
       for (int i = 0; i < act_dim_; ++i) action[i] = std::clamp(action[i] + n[i], -1.0f, 1.0f);
     }
     const StepResult r = env->Step(action.data(), walk_);
-    if (o.trace != nullptr) o.trace->push_back(StateFingerprint(*env, pool_->spec().model()));
+    if (o.trace != nullptr && static_cast<int>(o.trace->size()) < o.trace_steps) {
+      o.trace->push_back(StateFingerprint(*env, pool_->spec().model()));
+    }
     scorer->AfterStep(*env, action.data(), r);
     if (r.outcome != Outcome::kRunning) {
       result.end = r.outcome;
@@ -151,6 +156,7 @@ RecedingHorizonPlanner::RolloutResult RecedingHorizonPlanner::Rollout(
       result.steps = t + 1;
       result.cost = scorer->partial();
       result.later = scorer->later_cost();
+      result.pruned = true;
       return result;
     }
     // A horizon the task wants to run on (e.g. to a kick's release) gets one more step at a time.
@@ -253,15 +259,27 @@ RecedingHorizonPlanner::RolloutBatch(const EnvSnapshot& snapshot, PlanClock cloc
   std::vector<RolloutResult> all(size_t(n) * per);
   options.prefix = PrefixFor(snapshot, clock, candidates.data(), options.bound);
   const EnvSnapshot& start = options.prefix != nullptr ? *options.prefix->state : snapshot;
+  // The re-plan's own noiseless rollouts on the executed model are kept (SeenRollout); the
+  // others (Evaluate's, a planning model's) are not read again.
+  const bool keep = &snapshot == seen_from_ && per == 1 && exact_pool_ == nullptr;
+  std::vector<std::vector<uint64_t>> traces(keep ? size_t(n) : 0);
+  if (keep) options.terms = true;
+  options.trace_steps = TracedSteps();
   RETURN_IF_ERROR(pool_->Run(start, n * per, [&](int j, Env* copy) {
     RolloutOptions job = options;
     const int draw = j % per;
     job.noise = draw > 0 ? RobustNoise(draw) : nullptr;
+    if (keep) job.trace = &traces[size_t(j)];
     all[j] = Rollout(copy, candidates.data() + (j / per) * dim, job);
   }));
   for (const RolloutResult& r : all) {
     totals_.rollout_steps += r.steps - r.exact_steps - r.shared_steps;
     totals_.exact_rollout_steps += r.exact_steps;
+  }
+  for (int j = 0; keep && j < n; ++j) {
+    if (all[j].pruned) continue;
+    const double* x = candidates.data() + size_t(j) * dim;
+    seen_.push_back({std::vector<double>(x, x + dim), all[j], std::move(traces[size_t(j)])});
   }
   if (per == 1) return all;
   std::vector<RolloutResult> results(n);
@@ -297,6 +315,8 @@ RecedingHorizonPlanner::ReplanState RecedingHorizonPlanner::WarmStart(const Env&
   r.knot0 = task_->KnotAtOrBefore(env.steps());
   r.clock = {env.steps() - r.knot0, 0};
   r.snapshot = env.Snapshot();
+  seen_.clear();
+  seen_from_ = r.snapshot.get();
   // The previous plan shifted to now (the plan cost's reference and a held block's value), and
   // the search's start: the same, or zero (cold_start).
   r.shifted = has_plan_ ? task_->Shift(theta_, r.knot0 - knot0_step_, cycle_ - origin_cycle_)
@@ -347,14 +367,19 @@ absl::StatusOr<bool> RecedingHorizonPlanner::InTrouble(const ReplanState& r,
   if (measure != nullptr) *measure = result.best_cost;
   if (!config_.rescue().ignore_later_kicks()) return true;
   // Trouble that only later decisions make is left to the re-plans after the first one.
-  RolloutOptions plain;
-  plain.clock = r.clock;
-  plain.prefix = PrefixFor(*r.snapshot, r.clock, result.best.data(), plain.bound);
   RolloutResult best;
-  RETURN_IF_ERROR(pool_->Run(plain.prefix != nullptr ? *plain.prefix->state : *r.snapshot, 1,
-                             [&](int, Env* copy) { best = Rollout(copy, result.best.data(), plain); }));
-  ++totals_.rollouts;
-  totals_.rollout_steps += best.steps - best.shared_steps;
+  if (const SeenRollout* seen = Seen(result.best); seen != nullptr) {
+    best = seen->result;
+  } else {
+    RolloutOptions plain;
+    plain.clock = r.clock;
+    plain.prefix = PrefixFor(*r.snapshot, r.clock, result.best.data(), plain.bound);
+    RETURN_IF_ERROR(
+        pool_->Run(plain.prefix != nullptr ? *plain.prefix->state : *r.snapshot, 1,
+                   [&](int, Env* copy) { best = Rollout(copy, result.best.data(), plain); }));
+    ++totals_.rollouts;
+    totals_.rollout_steps += best.steps - best.shared_steps;
+  }
   if (measure != nullptr) *measure = best.cost - best.later;
   return best.cost - best.later > above;
 }
@@ -633,10 +658,14 @@ absl::Status RecedingHorizonPlanner::Commit(const Env& env, const ReplanState& r
   absl::Status status;
   if (exact_pool_ != nullptr) {
     status = ChooseOnExact(r, had_plan, &chosen);
+  } else if (const SeenRollout* seen = Seen(theta_); seen != nullptr) {
+    chosen = seen->result;
+    predicted_ = seen->trace;
   } else {
     RolloutOptions options;
     options.clock = r.clock;
     options.trace = &predicted_;
+    options.trace_steps = TracedSteps();
     options.terms = true;
     options.prefix = PrefixFor(*r.snapshot, r.clock, theta_.data(), options.bound);
     status = pool_->Run(options.prefix != nullptr ? *options.prefix->state : *r.snapshot, 1,
@@ -644,6 +673,8 @@ absl::Status RecedingHorizonPlanner::Commit(const Env& env, const ReplanState& r
     ++totals_.rollouts;
     totals_.rollout_steps += chosen.steps - chosen.shared_steps;
   }
+  seen_.clear();  // the re-plan is over: its snapshot goes
+  seen_from_ = nullptr;
   has_plan_ = true;
   origin_step_ = env.steps();
   knot0_step_ = r.knot0;
@@ -669,6 +700,19 @@ absl::Status RecedingHorizonPlanner::Commit(const Env& env, const ReplanState& r
                      : std::min(2 * interval_, config_.replan_every_max());
   }
   return status;
+}
+
+int RecedingHorizonPlanner::TracedSteps() const {
+  if (config_.replan_at_cycle_start()) return std::numeric_limits<int>::max();
+  return std::max(config_.replan_every(), config_.replan_every_max());
+}
+
+const RecedingHorizonPlanner::SeenRollout* RecedingHorizonPlanner::Seen(
+    const std::vector<double>& theta) const {
+  for (const SeenRollout& s : seen_) {
+    if (s.theta == theta) return &s;
+  }
+  return nullptr;
 }
 
 absl::Status RecedingHorizonPlanner::Replan(const Env& env) {

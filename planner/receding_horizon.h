@@ -142,16 +142,18 @@ class RecedingHorizonPlanner {
     int shared_steps = 0;  // of `steps`, the shared prefix's (simulated once per re-plan)
     std::vector<double> first_outcome;
     std::vector<double> terms;  // only when asked for (the chosen plan's rollout)
-    double later = 0;  // RolloutScorer::later_cost
+    double later = 0;     // RolloutScorer::later_cost
+    bool pruned = false;  // stopped at the bound: `cost` is its cost so far
   };
   // How a rollout runs: the plan's clock at its first state; with `trace`, the fingerprint of
-  // the state after every step is appended to it; with config.prune it stops once the cost so far
-  // reaches `bound`; `noise`: added to the action of step t from noise[t·act_dim] on
-  // (robust_rows() steps), or none.
+  // the state after each of the first `trace_steps` steps is appended to it; with config.prune
+  // it stops once the cost so far reaches `bound`; `noise`: added to the action of step t from
+  // noise[t·act_dim] on (robust_rows() steps), or none.
   struct SharedPrefix;  // below
   struct RolloutOptions {
     PlanClock clock;
     std::vector<uint64_t>* trace = nullptr;
+    int trace_steps = std::numeric_limits<int>::max();
     double bound = std::numeric_limits<double>::infinity();
     const float* noise = nullptr;
     bool terms = false;
@@ -172,6 +174,18 @@ class RecedingHorizonPlanner {
   // What one re-plan works on: the snapshot of the state, its clock, the previous plan shifted
   // to now, the search's seeds and space, and its random stream.
   struct ReplanState;
+  // A noiseless rollout of the current re-plan that ran to its end: the chosen plan's
+  // prediction and InTrouble's measure are read from it instead of simulated again (the
+  // simulation is deterministic: a second rollout of `theta` would give the same).
+  struct SeenRollout {
+    std::vector<double> theta;
+    RolloutResult result;         // with its terms
+    std::vector<uint64_t> trace;  // its first TracedSteps() state fingerprints
+  };
+  // The fingerprints a prediction needs: the most steps a plan acts before the next re-plan.
+  int TracedSteps() const;
+  // The current re-plan's rollout of `theta`, or null if none ran to its end.
+  const SeenRollout* Seen(const std::vector<double>& theta) const;
 
   // Simulates `theta` from `env`'s restored state.
   RolloutResult Rollout(Env* env, const double* theta, const RolloutOptions& options) const;
@@ -267,8 +281,11 @@ class RecedingHorizonPlanner {
   int troubled_ = 0;
   // The current re-plan's robust noise: draws × robust_rows() × act_dim.
   std::vector<float> robust_noise_;
-  // The chosen plan's predicted state fingerprints, from origin_step_ + 1 on.
+  // The chosen plan's predicted state fingerprints, from origin_step_ + 1 on (TracedSteps).
   std::vector<uint64_t> predicted_;
+  // The current re-plan's rollouts (reset by WarmStart), and the snapshot they start from.
+  std::vector<SeenRollout> seen_;
+  const EnvSnapshot* seen_from_ = nullptr;
   ReplanReport last_;
   PlannerTotals totals_;
   RescueSampleLog* rescue_log_ = nullptr;

@@ -80,6 +80,27 @@ TEST_F(RecedingHorizonTest, DrivesThePointMassToItsTargetAndStopsThere) {
   EXPECT_NEAR(r.terms[0] + r.terms[1] + r.terms[2], r.best_cost, 1e-9 * (1 + r.best_cost));
 }
 
+TEST_F(RecedingHorizonTest, TheChosenPlanIsReadFromItsSearchRolloutNotSimulatedAgain) {
+  // One re-plan from rest: its rollouts are the search's evaluations only, and what it reports
+  // about its plan is what a fresh rollout of that plan gives.
+  RecedingHorizonPlanner planner(task_, SmallSearch(), &pool_, 0);
+  std::unique_ptr<Env> start = spec_->NewEnv(Rng(1));
+  start->Reset(walk_);
+  Drive(&planner, 1);
+  const ReplanReport& r = planner.last_replan();
+  EXPECT_EQ(planner.totals().replans, 1);
+  EXPECT_EQ(planner.totals().rollouts, r.evaluations);
+  absl::StatusOr<double> fresh = planner.Evaluate(*start, planner.plan(), nullptr);
+  ASSERT_TRUE(fresh.ok());
+  EXPECT_EQ(*fresh, r.best_cost);  // the point mass has no plan cost
+  ASSERT_EQ(r.terms.size(), task_->term_names().size());
+  EXPECT_NEAR(r.terms[0] + r.terms[1] + r.terms[2], *fresh, 1e-9 * (1 + *fresh));
+  // The prediction read from the search holds bit for bit over the steps to the next re-plans.
+  Drive(&planner, 60);
+  EXPECT_GT(planner.totals().prediction_checks, 40);
+  EXPECT_EQ(planner.totals().prediction_mismatches, 0);
+}
+
 TEST_F(RecedingHorizonTest, ReplansThatNoLongerPayComeLessOftenAndTheTargetIsStillReached) {
   config::PlannerConfig p = SmallSearch();
   p.set_replan_every_max(20);

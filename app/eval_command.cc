@@ -246,6 +246,15 @@ int Evaluate(EvalFlags f) {
         "prediction_checks=%d prediction_mismatches=%d wall_s=%.1f wall_s_per_sim_s=%.3f",
         t.replans, t.rollouts, t.rollout_steps, t.rescues, t.prediction_checks, t.prediction_mismatches,
         wall, wall / std::max(sim_seconds, 1e-9)));
+    if (t.rescues > 0) {
+      // The rollout steps the rescues simulated (the rest: the regular searches).
+      absl::StrAppend(&line,
+                      absl::StrFormat(" planner_rescue_rollout_steps=%d", t.rescue_rollout_steps));
+    }
+    if (t.light_replans > 0) {
+      // Re-plans that kept their healthy warm start without a search (planner.search_every).
+      absl::StrAppend(&line, absl::StrFormat(" planner_light_replans=%d", t.light_replans));
+    }
     if (t.refined_out_of_trouble > 0) {
       // Troubled re-plans the refinement before the rescue fixed (planner.rescue.refine_first).
       absl::StrAppend(&line, absl::StrFormat(" planner_refined_out_of_trouble=%d",

@@ -162,6 +162,28 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
                      " steps leaves steps past the horizon of ", p.horizon_steps(),
                      " without a plan"));
   }
+  if ((p.search_every() > 1) != (p.search_skip_below() > 0)) {
+    const bool every = p.search_every() > 1;
+    return absl::InvalidArgumentError(absl::StrCat(
+        where(every ? "search_every" : "search_skip_below"), ": light re-plans need both ",
+        "planner.search_every above 1 and planner.search_skip_below above 0 (",
+        every ? "search_skip_below is 0: no warm start is healthy enough to skip a search"
+              : "search_every is 1: every re-plan searches",
+        ")"));
+  }
+  if (p.search_every() > 1 && p.cold_start()) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        where("search_every"),
+        ": light re-plans keep the previous plan, and "
+        "planner.cold_start starts every re-plan from the configured swing; remove one"));
+  }
+  if (p.search_skip_below() > 0 && p.rescue().cost_above() > 0 &&
+      p.search_skip_below() >= p.rescue().cost_above()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(where("search_skip_below"), ": ", p.search_skip_below(),
+                     " is not below planner.rescue.cost_above (", p.rescue().cost_above(),
+                     "): a re-plan in trouble would keep its plan without a search"));
+  }
   if (p.replan_every_max() > p.horizon_steps()) {
     return absl::InvalidArgumentError(
         absl::StrCat(where("replan_every_max"), ": re-planning up to every ", p.replan_every_max(),

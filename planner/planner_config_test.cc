@@ -311,6 +311,36 @@ TEST(PlannerConfigTest, AHalfFixedBarNotBelowTheRescuesCostAboveIsRefusedAtTheFi
   EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
 }
 
+TEST(PlannerConfigTest, LightReplansNeedBothFieldsABarBelowTheRescueAndNoColdStart) {
+  // Each case: the fields, the field the error names, what it says.
+  const struct {
+    const char* fields;
+    const char* named;
+    const char* says;
+  } cases[] = {
+      {"search_every: 3", "search_every: 3", "search_skip_below is 0"},
+      {"search_skip_below: 100", "search_skip_below: 100", "search_every is 1"},
+      {"search_every: 2 search_skip_below: 500", "search_skip_below: 500", "cost_above (500)"},
+      {"search_every: 2 search_skip_below: 100 cold_start: true", "search_every: 2", "cold_start"},
+  };
+  for (const auto& c : cases) {
+    const std::string text = Config(c.fields);
+    LoadedConfig config;
+    ASSERT_TRUE(Load("soccer_light.textproto", text, &config).ok()) << c.fields;
+    const absl::Status s = ValidatePlannerConfig(config);
+    EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument) << c.fields;
+    EXPECT_THAT(std::string(s.message()),
+                StartsWith(::juggle::testing::Loc(config.config_path, text, c.named)))
+        << c.fields;
+    EXPECT_THAT(std::string(s.message()), HasSubstr(c.says)) << c.fields;
+  }
+  LoadedConfig config;
+  ASSERT_TRUE(
+      Load("soccer_light.textproto", Config("search_every: 2 search_skip_below: 100"), &config)
+          .ok());
+  EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
+}
+
 TEST(PlannerConfigTest, AFullRescueAfterADecayWithoutADecayIsRefusedAtTheField) {
   for (const char* fields : {"rescue { full_after_decay: true }",
                              "rescue { population_decay: 1 full_after_decay: true }"}) {

@@ -42,6 +42,8 @@ void PlannerTotals::Add(const PlannerTotals& other) {
   rollouts += other.rollouts;
   rollout_steps += other.rollout_steps;
   rescues += other.rescues;
+  rescue_rollout_steps += other.rescue_rollout_steps;
+  light_replans += other.light_replans;
   refined_out_of_trouble += other.refined_out_of_trouble;
   full_after_decay += other.full_after_decay;
   full_after_narrowed += other.full_after_narrowed;
@@ -265,21 +267,45 @@ RecedingHorizonPlanner::RolloutBatch(const EnvSnapshot& snapshot, PlanClock cloc
   std::vector<std::vector<uint64_t>> traces(keep ? size_t(n) : 0);
   if (keep) options.terms = true;
   options.trace_steps = TracedSteps();
-  RETURN_IF_ERROR(pool_->Run(start, n * per, [&](int j, Env* copy) {
-    RolloutOptions job = options;
-    const int draw = j % per;
-    job.noise = draw > 0 ? RobustNoise(draw) : nullptr;
-    if (keep) job.trace = &traces[size_t(j)];
-    all[j] = Rollout(copy, candidates.data() + (j / per) * dim, job);
-  }));
-  for (const RolloutResult& r : all) {
-    totals_.rollout_steps += r.steps - r.exact_steps - r.shared_steps;
-    totals_.exact_rollout_steps += r.exact_steps;
+  // A candidate this re-plan already simulated to its end is read, not simulated again, where
+  // nothing may be pruned (an infinite bound): its result is the one a rollout would give.
+  // The callers count every candidate as a rollout; the ones read are taken off here.
+  std::vector<int> simulated;  // the candidates that run
+  simulated.reserve(size_t(n));
+  for (int i = 0; i < n; ++i) {
+    const double* x = candidates.data() + size_t(i) * dim;
+    const SeenRollout* seen =
+        keep && std::isinf(options.bound) ? Seen(std::vector<double>(x, x + dim)) : nullptr;
+    if (seen == nullptr) {
+      simulated.push_back(i);
+    } else {
+      all[size_t(i)] = seen->result;
+      --totals_.rollouts;
+    }
   }
-  for (int j = 0; keep && j < n; ++j) {
-    if (all[j].pruned) continue;
-    const double* x = candidates.data() + size_t(j) * dim;
-    seen_.push_back({std::vector<double>(x, x + dim), all[j], std::move(traces[size_t(j)])});
+  if (!simulated.empty()) {
+    RETURN_IF_ERROR(
+        pool_->Run(start, static_cast<int>(simulated.size()) * per, [&](int j, Env* copy) {
+          const int i = simulated[size_t(j / per)];
+          const int draw = j % per;
+          RolloutOptions job = options;
+          job.noise = draw > 0 ? RobustNoise(draw) : nullptr;
+          if (keep) job.trace = &traces[size_t(i)];
+          all[size_t(i) * per + draw] = Rollout(copy, candidates.data() + size_t(i) * dim, job);
+        }));
+  }
+  for (const int i : simulated) {
+    for (int d = 0; d < per; ++d) {
+      const RolloutResult& r = all[size_t(i) * per + d];
+      totals_.rollout_steps += r.steps - r.exact_steps - r.shared_steps;
+      totals_.exact_rollout_steps += r.exact_steps;
+    }
+  }
+  for (const int i : simulated) {
+    if (!keep || all[size_t(i)].pruned) continue;
+    const double* x = candidates.data() + size_t(i) * dim;
+    seen_.push_back(
+        {std::vector<double>(x, x + dim), all[size_t(i)], std::move(traces[size_t(i)])});
   }
   if (per == 1) return all;
   std::vector<RolloutResult> results(n);
@@ -355,6 +381,23 @@ absl::StatusOr<CemResult> RecedingHorizonPlanner::Search(ReplanState& r) {
                              std::vector<double>* costs) {
     return ScoreBatch(r, candidates, n, bound, costs);
   };
+  last_.light = false;
+  if (has_plan_ && config_.search_every() > 1 && light_streak_ + 1 < config_.search_every()) {
+    // The warm start alone (its horizon extended); kept while it is healthy.
+    CemSettings alone = settings_;
+    alone.samples = 1;
+    alone.iterations = 1;
+    ASSIGN_OR_RETURN(CemResult kept, MinimizeCem(r.space, alone, r.seeds, &r.rng, cost));
+    totals_.rollouts += kept.evaluations;
+    if (kept.best_cost <= config_.search_skip_below()) {
+      ++light_streak_;
+      ++totals_.light_replans;
+      last_.light = true;
+      return kept;
+    }
+    // Not healthy: the search below reads the warm start's rollout (RolloutBatch).
+  }
+  light_streak_ = 0;
   ASSIGN_OR_RETURN(CemResult result, MinimizeCem(r.space, settings_, r.seeds, &r.rng, cost));
   totals_.rollouts += result.evaluations;
   return result;
@@ -516,6 +559,7 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
 
 absl::Status RecedingHorizonPlanner::RefineBest(const Env& env, ReplanState& r,
                                                 CemResult* result) {
+  if (last_.light) return absl::OkStatus();  // a kept plan is not refined either
   return RefineNextKick(env, r, config_.refine_iterations(), result);
 }
 
@@ -718,7 +762,9 @@ const RecedingHorizonPlanner::SeenRollout* RecedingHorizonPlanner::Seen(
 absl::Status RecedingHorizonPlanner::Replan(const Env& env) {
   ReplanState r = WarmStart(env);
   ASSIGN_OR_RETURN(CemResult result, Search(r));
+  const int64_t steps_before_rescue = totals_.rollout_steps;
   RETURN_IF_ERROR(Rescue(env, r, &result));
+  if (last_.rescued) totals_.rescue_rollout_steps += totals_.rollout_steps - steps_before_rescue;
   RETURN_IF_ERROR(RefineBest(env, r, &result));
   return Commit(env, r, result);
 }
@@ -748,6 +794,7 @@ void RecedingHorizonPlanner::TrackCycles(const Env& env) {
     cycle_ = 0;
     interval_ = config_.replan_every();
     troubled_ = 0;
+    light_streak_ = 0;
     last_node_ = env.node();
   } else if (env.node() != last_node_) {
     last_node_ = env.node();

@@ -38,6 +38,7 @@ struct ReplanReport {
   int evaluations = 0;         // rollouts simulated
   bool rescued = false;        // the wider second search ran (PlannerConfig.rescue)
   bool refined_out = false;    // in trouble, and the refinement before the rescue fixed it
+  bool light = false;          // the warm start kept without a search (search_skip_below)
   bool predicts_failure = false;  // the best plan's rollout ends the episode
   Outcome predicted_end = Outcome::kRunning;  // how, and after how many steps
   int predicted_end_step = 0;
@@ -55,6 +56,9 @@ struct PlannerTotals {
   int64_t rollouts = 0;
   int64_t rollout_steps = 0;   // control steps simulated by rollouts
   int64_t rescues = 0;         // re-plans that ran the wider second search
+  int64_t rescue_rollout_steps = 0;  // the part of rollout_steps the rescues simulated
+  // Re-plans that simulated their warm start alone and kept it (PlannerConfig.search_skip_below).
+  int64_t light_replans = 0;
   // Re-plans in trouble that the refinement before the rescue (RescueSearch.refine_first)
   // brought out of it, so no rescue ran.
   int64_t refined_out_of_trouble = 0;
@@ -279,6 +283,8 @@ class RecedingHorizonPlanner {
   int interval_ = 0;
   // Re-plans in a row whose regular search ended above the rescue's threshold.
   int troubled_ = 0;
+  // Light re-plans in a row since the last search (PlannerConfig.search_every).
+  int light_streak_ = 0;
   // The current re-plan's robust noise: draws × robust_rows() × act_dim.
   std::vector<float> robust_noise_;
   // The chosen plan's predicted state fingerprints, from origin_step_ + 1 on (TracedSteps).

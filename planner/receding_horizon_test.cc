@@ -121,6 +121,53 @@ TEST_F(RecedingHorizonTest, ReplansThatNoLongerPayComeLessOftenAndTheTargetIsSti
   EXPECT_EQ(fixed.totals().replans, 30);
 }
 
+TEST_F(RecedingHorizonTest, ALightReplanKeepsAHealthyPlanAndEverySearchEveryReplanSearches) {
+  config::PlannerConfig p = SmallSearch();
+  p.set_search_every(3);
+  p.set_search_skip_below(1e9);  // every warm start is healthy
+  RecedingHorizonPlanner planner(task_, p, &pool_, 0);
+  std::unique_ptr<Env> env = spec_->NewEnv(Rng(1));
+  env->Reset(walk_);
+  float a[2];
+  int replans = 0;
+  for (int t = 0; t < 150; ++t) {
+    const int64_t rollouts = planner.totals().rollouts;
+    ASSERT_TRUE(planner.Act(*env, a).ok());
+    env->Step(a, walk_);
+    if (planner.totals().replans == replans) continue;
+    replans = static_cast<int>(planner.totals().replans);
+    const ReplanReport& r = planner.last_replan();
+    // The first re-plan has no plan to keep; then two kept for each search.
+    const bool searches = replans % 3 == 1;
+    EXPECT_EQ(r.light, !searches) << "re-plan " << replans;
+    if (searches) {
+      EXPECT_GT(r.evaluations, 20) << "re-plan " << replans;
+    } else {
+      EXPECT_EQ(r.evaluations, 1) << "re-plan " << replans;
+      EXPECT_EQ(planner.totals().rollouts - rollouts, 1) << "re-plan " << replans;
+      EXPECT_EQ(r.best_cost, r.incumbent_cost) << "re-plan " << replans;
+    }
+  }
+  EXPECT_EQ(planner.totals().replans, 30);
+  EXPECT_EQ(planner.totals().light_replans, 20);
+  // A kept plan's prediction holds like a searched one's.
+  EXPECT_GT(planner.totals().prediction_checks, 100);
+  EXPECT_EQ(planner.totals().prediction_mismatches, 0);
+}
+
+TEST_F(RecedingHorizonTest, LightReplansWhoseBarNoWarmStartMeetsChangeNothing) {
+  // Every warm start costs more than the bar: each re-plan searches as without light re-plans,
+  // and the warm start's rollout is read by the search, so the rollouts are the same too.
+  config::PlannerConfig p = SmallSearch();
+  p.set_search_every(3);
+  p.set_search_skip_below(1e-300);
+  RecedingHorizonPlanner light(task_, p, &pool_, 0), plain(task_, SmallSearch(), &pool_, 0);
+  EXPECT_EQ(Drive(&light, 60), Drive(&plain, 60));
+  EXPECT_EQ(light.totals().light_replans, 0);
+  EXPECT_EQ(light.totals().rollouts, plain.totals().rollouts);
+  EXPECT_EQ(light.totals().rollout_steps, plain.totals().rollout_steps);
+}
+
 TEST_F(RecedingHorizonTest, TheSameSeedGivesTheSameActionsAndAnotherSeedOthers) {
   RecedingHorizonPlanner a(task_, SmallSearch(1), &pool_, 0), b(task_, SmallSearch(1), &pool_, 0),
       c(task_, SmallSearch(2), &pool_, 0);
@@ -193,6 +240,9 @@ TEST_F(RecedingHorizonTest, ARescueRunsOnlyAboveItsThresholdAndNeverRaisesTheCos
   EXPECT_GT(plain.last_replan().best_cost, 0.5);
   EXPECT_LE(rescued.last_replan().best_cost, plain.last_replan().best_cost);
   EXPECT_EQ(rescued.last_replan().incumbent_cost, plain.last_replan().incumbent_cost);
+  // The rescue's two seeds (the regular search's best and the warm start) were simulated by
+  // that search: read, not simulated again.
+  EXPECT_EQ(rescued.totals().rollouts, rescued.last_replan().evaluations - 2);
 }
 
 TEST_F(RecedingHorizonTest, ARescueStopsAtTheFirstIterationBelowItsStopCost) {

@@ -27,6 +27,7 @@ std::string FormatReplanTrace(const PlanningTask& task, const EnvSpec& spec, int
       absl::StrFormat("  re-plan slot %d step %d node %d: cost %.4g -> %.4g (%d rollouts)", slot,
                       r.env_step, r.node, r.incumbent_cost, r.best_cost, r.evaluations);
   if (r.rescued) absl::StrAppend(&line, " rescue");
+  if (r.light) absl::StrAppend(&line, " light");
   if (r.refined_out) absl::StrAppend(&line, " refined");
   if (r.predicts_failure) {
     absl::StrAppendFormat(&line, " ends %s at step %d",

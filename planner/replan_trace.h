@@ -12,8 +12,8 @@
 
 namespace juggle::planner {
 
-// "  re-plan slot S step N node K: cost A -> B (R rollouts)[ rescue][ ends ...]<decision>  terms:
-// name=value ..." without a newline.
+// "  re-plan slot S step N node K: cost A -> B (R rollouts)[ rescue][ light][ ends ...]<decision>
+// terms: name=value ..." without a newline.
 std::string FormatReplanTrace(const PlanningTask& task, const EnvSpec& spec, int slot,
                               const ReplanReport& r);
 

@@ -171,6 +171,13 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
               : "search_every is 1: every re-plan searches",
         ")"));
   }
+  if ((p.light_from() > 0 || p.light_to() > 0) &&
+      !(p.search_every() > 1 && p.light_from() < p.light_to())) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        where(p.light_to() > 0 ? "light_to" : "light_from"), ": a window of light re-plans (",
+        p.light_from(), " to ", p.light_to(), " after a rescue) needs planner.search_every above ",
+        "1 and light_from below light_to"));
+  }
   if (p.search_every() > 1 && p.cold_start()) {
     return absl::InvalidArgumentError(absl::StrCat(
         where("search_every"),

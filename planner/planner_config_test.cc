@@ -311,7 +311,7 @@ TEST(PlannerConfigTest, AHalfFixedBarNotBelowTheRescuesCostAboveIsRefusedAtTheFi
   EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
 }
 
-TEST(PlannerConfigTest, LightReplansNeedBothFieldsABarBelowTheRescueAndNoColdStart) {
+TEST(PlannerConfigTest, LightReplansNeedBothFieldsABarBelowTheRescueAWindowAndNoColdStart) {
   // Each case: the fields, the field the error names, what it says.
   const struct {
     const char* fields;
@@ -322,6 +322,9 @@ TEST(PlannerConfigTest, LightReplansNeedBothFieldsABarBelowTheRescueAndNoColdSta
       {"search_skip_below: 100", "search_skip_below: 100", "search_every is 1"},
       {"search_every: 2 search_skip_below: 500", "search_skip_below: 500", "cost_above (500)"},
       {"search_every: 2 search_skip_below: 100 cold_start: true", "search_every: 2", "cold_start"},
+      {"light_from: 3 light_to: 12", "light_to: 12", "search_every above 1"},
+      {"search_every: 99 search_skip_below: 100 light_from: 5 light_to: 5", "light_to: 5",
+       "light_from below light_to"},
   };
   for (const auto& c : cases) {
     const std::string text = Config(c.fields);
@@ -335,10 +338,12 @@ TEST(PlannerConfigTest, LightReplansNeedBothFieldsABarBelowTheRescueAndNoColdSta
     EXPECT_THAT(std::string(s.message()), HasSubstr(c.says)) << c.fields;
   }
   LoadedConfig config;
-  ASSERT_TRUE(
-      Load("soccer_light.textproto", Config("search_every: 2 search_skip_below: 100"), &config)
-          .ok());
-  EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
+  for (const char* fields :
+       {"search_every: 2 search_skip_below: 100",
+        "search_every: 99 search_skip_below: 100 light_from: 3 light_to: 12"}) {
+    ASSERT_TRUE(Load("soccer_light.textproto", Config(fields), &config).ok()) << fields;
+    EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
+  }
 }
 
 TEST(PlannerConfigTest, AFullRescueAfterADecayWithoutADecayIsRefusedAtTheField) {

@@ -382,7 +382,11 @@ absl::StatusOr<CemResult> RecedingHorizonPlanner::Search(ReplanState& r) {
     return ScoreBatch(r, candidates, n, bound, costs);
   };
   last_.light = false;
-  if (has_plan_ && config_.search_every() > 1 && light_streak_ + 1 < config_.search_every()) {
+  const int after_rescue = since_rescue_ + 1;  // this re-plan's count after the last rescue
+  const bool in_window = config_.light_to() == 0 || (after_rescue >= config_.light_from() &&
+                                                     after_rescue < config_.light_to());
+  if (has_plan_ && config_.search_every() > 1 && light_streak_ + 1 < config_.search_every() &&
+      in_window) {
     // The warm start alone (its horizon extended); kept while it is healthy.
     CemSettings alone = settings_;
     alone.samples = 1;
@@ -765,6 +769,7 @@ absl::Status RecedingHorizonPlanner::Replan(const Env& env) {
   const int64_t steps_before_rescue = totals_.rollout_steps;
   RETURN_IF_ERROR(Rescue(env, r, &result));
   if (last_.rescued) totals_.rescue_rollout_steps += totals_.rollout_steps - steps_before_rescue;
+  since_rescue_ = last_.rescued ? 0 : std::min(since_rescue_ + 1, kNoRescueYet);
   RETURN_IF_ERROR(RefineBest(env, r, &result));
   return Commit(env, r, result);
 }
@@ -795,6 +800,7 @@ void RecedingHorizonPlanner::TrackCycles(const Env& env) {
     interval_ = config_.replan_every();
     troubled_ = 0;
     light_streak_ = 0;
+    since_rescue_ = kNoRescueYet;
     last_node_ = env.node();
   } else if (env.node() != last_node_) {
     last_node_ = env.node();

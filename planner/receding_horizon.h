@@ -285,6 +285,9 @@ class RecedingHorizonPlanner {
   int troubled_ = 0;
   // Light re-plans in a row since the last search (PlannerConfig.search_every).
   int light_streak_ = 0;
+  // Re-plans since the last rescue (1: the one after it; PlannerConfig.light_from).
+  int since_rescue_ = kNoRescueYet;
+  static constexpr int kNoRescueYet = 1 << 30;
   // The current re-plan's robust noise: draws × robust_rows() × act_dim.
   std::vector<float> robust_noise_;
   // The chosen plan's predicted state fingerprints, from origin_step_ + 1 on (TracedSteps).

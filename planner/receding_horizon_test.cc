@@ -155,6 +155,46 @@ TEST_F(RecedingHorizonTest, ALightReplanKeepsAHealthyPlanAndEverySearchEveryRepl
   EXPECT_EQ(planner.totals().prediction_mismatches, 0);
 }
 
+TEST_F(RecedingHorizonTest, LightReplansInAWindowComeOnlyThatManyReplansAfterARescue) {
+  config::PlannerConfig p = SmallSearch();
+  p.set_search_every(1000);
+  p.set_search_skip_below(1e9);  // every warm start is healthy
+  p.set_light_from(2);
+  p.set_light_to(4);
+  // No rescue: no window, every re-plan searches.
+  RecedingHorizonPlanner never(task_, p, &pool_, 0);
+  Drive(&never, 60);
+  EXPECT_EQ(never.totals().light_replans, 0);
+  // A rescue at every re-plan whose search leaves more than 0.05 (from rest: the first ones).
+  p.mutable_rescue()->set_cost_above(0.05);
+  p.mutable_rescue()->set_samples(16);
+  p.mutable_rescue()->set_iterations(2);
+  RecedingHorizonPlanner planner(task_, p, &pool_, 0);
+  std::unique_ptr<Env> env = spec_->NewEnv(Rng(1));
+  env->Reset(walk_);
+  float a[2];
+  int replans = 0;
+  int after_rescue = -1;  // -1: no rescue yet
+  int light = 0;
+  for (int t = 0; t < 150; ++t) {
+    ASSERT_TRUE(planner.Act(*env, a).ok());
+    env->Step(a, walk_);
+    if (planner.totals().replans == replans) continue;
+    replans = static_cast<int>(planner.totals().replans);
+    if (after_rescue >= 0) ++after_rescue;
+    const ReplanReport& r = planner.last_replan();
+    const bool in_window = after_rescue >= 2 && after_rescue < 4;
+    EXPECT_EQ(r.light, in_window) << "re-plan " << replans << ", " << after_rescue
+                                  << " after a rescue";
+    if (r.rescued) after_rescue = 0;
+    light += r.light;
+  }
+  EXPECT_GT(planner.totals().rescues, 0);
+  EXPECT_GT(light, 0);
+  EXPECT_EQ(planner.totals().light_replans, light);
+  EXPECT_EQ(planner.totals().prediction_mismatches, 0);
+}
+
 TEST_F(RecedingHorizonTest, LightReplansWhoseBarNoWarmStartMeetsChangeNothing) {
   // Every warm start costs more than the bar: each re-plan searches as without light re-plans,
   // and the warm start's rollout is read by the search, so the rollouts are the same too.

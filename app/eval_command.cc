@@ -255,6 +255,11 @@ int Evaluate(EvalFlags f) {
       // Re-plans that kept their healthy warm start without a search (planner.search_every).
       absl::StrAppend(&line, absl::StrFormat(" planner_light_replans=%d", t.light_replans));
     }
+    if (t.rescues_paused > 0) {
+      // Troubled re-plans without a rescue after one that still predicted the episode's end
+      // (planner.rescue.pause_after_lost).
+      absl::StrAppend(&line, absl::StrFormat(" planner_rescues_paused=%d", t.rescues_paused));
+    }
     if (t.refined_out_of_trouble > 0) {
       // Troubled re-plans the refinement before the rescue fixed (planner.rescue.refine_first).
       absl::StrAppend(&line, absl::StrFormat(" planner_refined_out_of_trouble=%d",

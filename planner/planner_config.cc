@@ -119,6 +119,12 @@ absl::Status ValidatePlannerConfig(const LoadedConfig& config) {
           "and ", r.bayes().initial(), " initial samples; raise it above initial"));
     }
   }
+  if (p.rescue().pause_after_lost() > 0 && !(p.rescue().cost_above() > 0)) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        config.root.Where({{"planner"}, {"rescue"}, {"pause_after_lost"}}),
+        ": a pause after a lost rescue needs a rescue (planner.rescue.cost_above is 0); set "
+        "cost_above or remove it"));
+  }
   if (p.rescue().narrowed_samples() > 0 && p.rescue().narrowed_samples() < 4) {
     // The cross-entropy search needs a few samples to fit its elites (RescueSearch.samples' 4).
     return absl::InvalidArgumentError(absl::StrCat(

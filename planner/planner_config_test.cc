@@ -346,6 +346,19 @@ TEST(PlannerConfigTest, LightReplansNeedBothFieldsABarBelowTheRescueAWindowAndNo
   }
 }
 
+TEST(PlannerConfigTest, APauseAfterALostRescueWithoutARescueIsRefusedAtTheField) {
+  const std::string text = Config("rescue { cost_above: 0 pause_after_lost: 5 }");
+  LoadedConfig config;
+  ASSERT_TRUE(Load("soccer_pause.textproto", text, &config).ok());
+  const absl::Status s = ValidatePlannerConfig(config);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(s.message()),
+              StartsWith(::juggle::testing::Loc(config.config_path, text, "pause_after_lost: 5")));
+  ASSERT_TRUE(
+      Load("soccer_pause.textproto", Config("rescue { pause_after_lost: 5 }"), &config).ok());
+  EXPECT_TRUE(ValidatePlannerConfig(config).ok()) << ValidatePlannerConfig(config);
+}
+
 TEST(PlannerConfigTest, AFullRescueAfterADecayWithoutADecayIsRefusedAtTheField) {
   for (const char* fields : {"rescue { full_after_decay: true }",
                              "rescue { population_decay: 1 full_after_decay: true }"}) {

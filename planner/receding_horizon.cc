@@ -48,6 +48,7 @@ void PlannerTotals::Add(const PlannerTotals& other) {
   full_after_decay += other.full_after_decay;
   full_after_narrowed += other.full_after_narrowed;
   half_fixed_rescues += other.half_fixed_rescues;
+  rescues_paused += other.rescues_paused;
   proposal_tried += other.proposal_tried;
   proposal_chosen += other.proposal_chosen;
   proposal_weight_sum += other.proposal_weight_sum;
@@ -448,6 +449,11 @@ absl::Status RecedingHorizonPlanner::Rescue(const Env& env, ReplanState& r, CemR
   }
   if (++troubled_ < rescue.patience()) return absl::OkStatus();
   troubled_ = 0;
+  if (rescue_pause_ > 0) {
+    // A rescue just failed to avert the episode's end: not again yet.
+    ++totals_.rescues_paused;
+    return absl::OkStatus();
+  }
   if (rescue.refine_first() > 0) {
     // A linear step on the next kick first; the wide search only if still in trouble.
     RETURN_IF_ERROR(RefineNextKick(env, r, rescue.refine_first(), result));
@@ -740,6 +746,11 @@ absl::Status RecedingHorizonPlanner::Commit(const Env& env, const ReplanState& r
   last_.predicted_end_step = env.steps() + chosen.steps;
   last_.predicts_failure = chosen.end != Outcome::kRunning && chosen.end != Outcome::kTimeLimit;
   last_.predicts_miss = chosen.missed;
+  if (last_.rescued && last_.predicts_failure) {
+    rescue_pause_ = config_.rescue().pause_after_lost();
+  } else if (rescue_pause_ > 0) {
+    --rescue_pause_;
+  }
   // The next re-plan: sooner when this one paid, later (up to replan_every_max) when not.
   if (config_.replan_every_max() > config_.replan_every()) {
     const double gain = result.incumbent_cost - result.best_cost;
@@ -800,6 +811,7 @@ void RecedingHorizonPlanner::TrackCycles(const Env& env) {
     interval_ = config_.replan_every();
     troubled_ = 0;
     light_streak_ = 0;
+    rescue_pause_ = 0;
     since_rescue_ = kNoRescueYet;
     last_node_ = env.node();
   } else if (env.node() != last_node_) {

@@ -70,6 +70,9 @@ struct PlannerTotals {
   // Rescues of half-fixed re-plans: the best plan in trouble only by RescueSearch.half_fixed_above
   // (below cost_above after a troubled warm start).
   int64_t half_fixed_rescues = 0;
+  // Troubled re-plans that ran no rescue after one that still predicted the episode's end
+  // (RescueSearch.pause_after_lost).
+  int64_t rescues_paused = 0;
   // With a proposing prior (PlannerConfig.policy_prior and a policy set): re-plans that tried
   // the proposal alone (zero offsets) as a candidate, and those that chose it (the policy's
   // share of chosen candidates, issue 48).
@@ -283,6 +286,8 @@ class RecedingHorizonPlanner {
   int interval_ = 0;
   // Re-plans in a row whose regular search ended above the rescue's threshold.
   int troubled_ = 0;
+  // Re-plans left that run no rescue (RescueSearch.pause_after_lost).
+  int rescue_pause_ = 0;
   // Light re-plans in a row since the last search (PlannerConfig.search_every).
   int light_streak_ = 0;
   // Re-plans since the last rescue (1: the one after it; PlannerConfig.light_from).

@@ -466,6 +466,56 @@ TEST_F(SoccerPlannerTest, AHorizonEndingPastAMissedContactCostsAFailure) {
 
 // The rescue search (PlannerConfig.rescue) runs only for a re-plan whose best plan costs more
 // than its threshold, starts from that plan, and so never returns a costlier one.
+TEST_F(SoccerPlannerTest, AfterARescueThatStillLosesTheBallTheNextReplansRunNone) {
+  // The ball 0.6 m ahead of its target at the apex: no kick reaches it, and every rescue's best
+  // plan still predicts the lost ball.
+  config::RescueSearch& rescue = *config_.run.mutable_planner()->mutable_rescue();
+  rescue.set_cost_above(500);
+  rescue.set_samples(8);
+  rescue.set_iterations(2);
+  struct Replan {
+    bool rescued;
+    bool predicts_failure;
+  };
+  std::vector<Replan> arms[2];
+  PlannerTotals totals[2];
+  for (int arm = 0; arm < 2; ++arm) {
+    rescue.set_pause_after_lost(arm == 0 ? 0 : 3);
+    std::unique_ptr<JuggleEnv> env = StartWithBallAhead(0.6);
+    std::unique_ptr<SoccerPlanner> planner = NewPlanner();
+    float action[kNumActions];
+    for (int t = 0; t < 200; ++t) {
+      const int64_t replans = planner->totals().replans;
+      ASSERT_TRUE(planner->Act(*env, action).ok());
+      if (planner->totals().replans > replans) {
+        arms[arm].push_back(
+            {planner->last_replan().rescued, planner->last_replan().predicts_failure});
+      }
+      if (env->Step(action, *walk_).outcome != Outcome::kRunning) break;
+    }
+    totals[arm] = planner->totals();
+  }
+  // Without a pause every re-plan rescues, and each rescue still predicts the loss.
+  ASSERT_GE(arms[0].size(), 6u);
+  for (const Replan& r : arms[0]) {
+    EXPECT_TRUE(r.rescued);
+    EXPECT_TRUE(r.predicts_failure);
+  }
+  EXPECT_EQ(totals[0].rescues_paused, 0);
+  // With a pause of 3: a rescue, then three re-plans without one, then a rescue again (the
+  // plans differ, so the episode may end at another step).
+  ASSERT_GE(arms[1].size(), 6u);
+  int paused = 0;
+  for (size_t i = 0; i < arms[1].size(); ++i) {
+    EXPECT_EQ(arms[1][i].rescued, i % 4 == 0) << "re-plan " << i;
+    paused += !arms[1][i].rescued;
+  }
+  EXPECT_EQ(totals[1].rescues_paused, paused);
+  EXPECT_LT(totals[1].rollout_steps / double(arms[1].size()),
+            totals[0].rollout_steps / double(arms[0].size()));
+  EXPECT_EQ(totals[1].prediction_mismatches, 0);
+}
+
 TEST_F(SoccerPlannerTest, ARescueSearchRunsOnlyAboveItsCostAndNeverRaisesIt) {
   struct Arm {
     double cost_above;

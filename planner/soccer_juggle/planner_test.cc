@@ -643,7 +643,9 @@ TEST_F(SoccerPlannerTest, AModelBasedRescueSpendsItsRolloutsAndStopsOnceOutOfTro
   const ReplanReport bayes = PlanOnce(ahead, &planner);
   ASSERT_TRUE(bayes.rescued);
   EXPECT_EQ(planner->totals().rescues, 1);
-  EXPECT_EQ(planner->totals().rollouts - plain_rollouts, 24);
+  // Its first batch's three seeds (the regular search's best, the warm start, the nominal kick)
+  // are read from the regular search's rollouts, not simulated again.
+  EXPECT_EQ(planner->totals().rollouts - plain_rollouts, 24 - 3);
   EXPECT_LT(bayes.best_cost, plain.best_cost);
   // Stopping at the regular search's best (a seed of the rescue's first batch): the first
   // batch ends it. (A loaded config keeps stop_below at or below cost_above; the driver reads
@@ -692,7 +694,7 @@ std::vector<double> LoggedArray(const std::string& line, const std::string& key)
 }
 
 // --rescue-samples-out: one rescue's record holds its state, every rollout its search scored
-// (as many as the planner counted), and its best; re-simulating logged candidates from the
+// (as many as the planner counted, and the seeds it read), and its best; re-simulating logged candidates from the
 // same state is the independent path to their logged costs and outcomes.
 TEST_F(SoccerPlannerTest, TheRescueLogHoldsEveryRescueRolloutAsItsSearchScoredIt) {
   config::PlannerConfig& p = *config_.run.mutable_planner();
@@ -716,7 +718,10 @@ TEST_F(SoccerPlannerTest, TheRescueLogHoldsEveryRescueRolloutAsItsSearchScoredIt
   ASSERT_TRUE(planner->Act(*env, action).ok());
   ASSERT_TRUE(planner->last_replan().rescued);
   ASSERT_TRUE((*log)->Close().ok());
-  const int64_t rescue_rollouts = planner->totals().rollouts - plain_rollouts;
+  // Every candidate the rescue scored: those it simulated, and its first batch's three seeds
+  // (the regular search's best, the warm start, the nominal kick), read from the regular
+  // search's rollouts.
+  const int64_t rescue_rollouts = planner->totals().rollouts - plain_rollouts + 3;
   EXPECT_EQ((*log)->rescues(), 1);
   EXPECT_EQ((*log)->rollouts(), rescue_rollouts);
 

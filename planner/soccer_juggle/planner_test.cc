@@ -694,8 +694,8 @@ std::vector<double> LoggedArray(const std::string& line, const std::string& key)
 }
 
 // --rescue-samples-out: one rescue's record holds its state, every rollout its search scored
-// (as many as the planner counted, and the seeds it read), and its best; re-simulating logged candidates from the
-// same state is the independent path to their logged costs and outcomes.
+// (as many as the planner counted, and the seeds it read), and its best; re-simulating logged
+// candidates from the same state is the independent path to their logged costs and outcomes.
 TEST_F(SoccerPlannerTest, TheRescueLogHoldsEveryRescueRolloutAsItsSearchScoredIt) {
   config::PlannerConfig& p = *config_.run.mutable_planner();
   p.set_prune(false);  // every candidate a whole rollout

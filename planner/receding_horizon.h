@@ -35,7 +35,9 @@ struct ReplanReport {
   int node = 0;                // the env's graph node then (Env::node)
   double incumbent_cost = 0;   // the warm start's cost
   double best_cost = 0;
-  int evaluations = 0;         // rollouts simulated
+  // Candidates scored; a few may be read from this re-plan's own earlier rollouts
+  // (PlannerTotals.rollouts counts only the simulated ones).
+  int evaluations = 0;
   bool rescued = false;        // the wider second search ran (PlannerConfig.rescue)
   bool refined_out = false;    // in trouble, and the refinement before the rescue fixed it
   bool light = false;          // the warm start kept without a search (search_skip_below)
@@ -290,7 +292,8 @@ class RecedingHorizonPlanner {
   int rescue_pause_ = 0;
   // Light re-plans in a row since the last search (PlannerConfig.search_every).
   int light_streak_ = 0;
-  // Re-plans since the last rescue (1: the one after it; PlannerConfig.light_from).
+  // Re-plans since the last rescue (0 after the rescue's own; a re-plan's count for
+  // PlannerConfig.light_from is this + 1).
   int since_rescue_ = kNoRescueYet;
   static constexpr int kNoRescueYet = 1 << 30;
   // The current re-plan's robust noise: draws × robust_rows() × act_dim.

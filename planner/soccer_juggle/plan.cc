@@ -77,6 +77,7 @@ SoccerPlanLayout MakeSoccerPlanLayout(const config::PlannerConfig& config,
   layout.hold_follow_through = kick.enabled() && kick.hold_follow_through();
   layout.hold_after = kick.hold_after_replans();
   layout.hold_in_rescue = layout.hold_follow_through && kick.hold_in_rescue();
+  layout.act_from_phase = kick.act_from_phase();
   layout.horizon = config.horizon_steps();
   layout.knot_steps = config.body_knot_steps();
   if (layout.knot_steps > 0) {
@@ -85,6 +86,13 @@ SoccerPlanLayout MakeSoccerPlanLayout(const config::PlannerConfig& config,
     layout.body_knots = (layout.knot_steps + layout.horizon - 2) / layout.knot_steps + 2;
   }
   return layout;
+}
+
+double SoccerPlanLayout::kick_ramp(double phase) const {
+  if (act_from_phase <= 0 || phase >= 0.5) return 1;
+  if (phase < act_from_phase) return 0;
+  const double s = std::sin(0.5 * M_PI * (phase - act_from_phase) / (0.5 - act_from_phase));
+  return s * s;
 }
 
 SearchSpace MakeSoccerSearchSpace(const SoccerPlanLayout& layout,
@@ -194,10 +202,17 @@ void KickReferences(const JuggleEnv& env, const double* kick, double cycle_s, Ch
   }
 }
 
-// Adds the kick variables' torque (in action units) at `env`'s state to `out`. In a stall (the
-// phase held at the contact) the angles hold the pose moved at full envelope and the timing
-// moves nothing.
-void AddKickAction(const JuggleEnv& env, const double* kick, double* out) {
+// Adds the kick variables' torque (in action units) at `env`'s state to `out`, their moves
+// scaled by `ramp` (SoccerPlanLayout::kick_ramp; nothing added at 0). In a stall (the phase
+// held at the contact) the angles hold the pose moved at full envelope and the timing moves
+// nothing.
+void AddKickAction(const JuggleEnv& env, const double* kick, double ramp, double* out) {
+  if (ramp == 0) return;
+  double ramped[kKickVariables];
+  if (ramp != 1) {
+    for (int v = 0; v < kKickVariables; ++v) ramped[v] = ramp * kick[v];
+    kick = ramped;
+  }
   const JuggleSpec& spec = env.spec();
   const soccer_juggle::CursorState& c = env.cursor();
   const double cycle_s = c.phase_speed > 0 ? spec.control_dt() / c.phase_speed
@@ -213,10 +228,11 @@ void SoccerPlanAction(const JuggleEnv& env, const SoccerPlanLayout& layout, cons
                       PlanClock clock, float* action, const double* prior) {
   double a[kNumActions] = {0};
   if (prior != nullptr) std::copy_n(prior, kNumActions, a);
+  const double ramp = layout.kick_ramp(env.cursor().phase);
   if (layout.follows_held(theta, clock.cycle)) {
-    AddKickAction(env, theta + layout.held(), a);
+    AddKickAction(env, theta + layout.held(), ramp, a);
   } else if (const int set = layout.acting_kick_set(clock.cycle); set >= 0) {
-    AddKickAction(env, theta + layout.kick(set), a);
+    AddKickAction(env, theta + layout.kick(set), ramp, a);
   }
   if (layout.body_knots > 0) {
     for (int i = 0; i < layout.knot_size(); ++i) {

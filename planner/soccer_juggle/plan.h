@@ -51,6 +51,7 @@ struct SoccerPlanLayout {
   bool hold_follow_through = false;  // KickVariables.hold_follow_through
   int hold_after = 0;                // KickVariables.hold_after_replans
   bool hold_in_rescue = false;       // KickVariables.hold_in_rescue
+  double act_from_phase = 0;         // KickVariables.act_from_phase (0: no ramp)
   int knot_steps = 0;    // 0: no whole-body corrections
   int body_knots = 0;    // enough to span a horizon from anywhere between two grid knots
   int horizon = 1;
@@ -76,6 +77,10 @@ struct SoccerPlanLayout {
     return std::clamp(cycle, 0, kick_sets - 1);
   }
   int knot(int k) const { return kick_dim() + k * knot_size(); }
+  // The share of a kick set's moves that acts at cycle phase `phase` (KickVariables.
+  // act_from_phase): 0 before act_from_phase, sin²(π/2 · u) up to the contact (0.5), 1 from
+  // there; exactly 1 everywhere without a ramp.
+  double kick_ramp(double phase) const;
 };
 
 // The action indices named by PlannerConfig.body_actions (all 28 when empty), or

@@ -2,7 +2,8 @@
 // (PlannerConfig.share_prefix): after a release the leg's way back follows the kick it left
 // with, whatever the plan's set becomes; the set acts again from the next cycle; and simulating
 // the steps where no variable acts once per re-plan chooses the same plans, predicted bit for
-// bit, from fewer rollout steps.
+// bit, from fewer rollout steps; a kick ramp (KickVariables.act_from_phase) shares the steps
+// before its phase the same way.
 #include <algorithm>
 #include <cstdint>
 #include <memory>
@@ -382,6 +383,95 @@ TEST_F(SharedPrefixTest, SharingThePrefixChoosesTheSamePlansFromFewerRolloutStep
   EXPECT_EQ(totals[1].prediction_mismatches, 0);
   EXPECT_LT(totals[1].rollout_steps, totals[0].rollout_steps * 0.9)
       << totals[1].rollout_steps << " against " << totals[0].rollout_steps;
+}
+
+// KickVariables.act_from_phase: no share of a set acts before that phase of the cycle, half
+// of it midway to the contact, all of it from the contact on; exactly all without a ramp.
+TEST_F(SharedPrefixTest, AKickRampIsZeroBeforeItsPhaseAndWholeFromTheContact) {
+  SoccerPlanLayout layout = Task().layout();
+  EXPECT_EQ(layout.kick_ramp(0.0), 1);
+  EXPECT_EQ(layout.kick_ramp(0.3), 1);
+  layout.act_from_phase = 0.25;
+  EXPECT_EQ(layout.kick_ramp(0.0), 0);
+  EXPECT_EQ(layout.kick_ramp(0.2499), 0);
+  EXPECT_NEAR(layout.kick_ramp(0.375), 0.5, 1e-12);
+  EXPECT_LT(layout.kick_ramp(0.3), layout.kick_ramp(0.45));
+  EXPECT_EQ(layout.kick_ramp(0.5), 1);
+  EXPECT_EQ(layout.kick_ramp(0.8), 1);
+}
+
+// With a ramp the set moves nothing before its phase (PlanActs false, two sets the same
+// action), moves the swing after it, and from the contact on acts as without the ramp.
+TEST_F(SharedPrefixTest, ARampedKickSetActsFromItsPhaseAndAsUnrampedAfterTheContact) {
+  auto& kick = *config_.run.mutable_planner()->mutable_soccer_juggle()->mutable_kick();
+  kick.set_hold_follow_through(false);
+  const SoccerJuggleTask unramped = Task();
+  kick.set_act_from_phase(0.25);
+  const SoccerJuggleTask task = Task();
+  const SoccerPlanLayout& layout = task.layout();
+  ASSERT_EQ(layout.dim(), kKickVariables);
+  const std::vector<double> a = {0, 0, 0, 0, 0};
+  const std::vector<double> b = {0.02, 0.2, 0.1, -0.2, 0.1};
+  std::unique_ptr<JuggleEnv> env = Start();
+  ASSERT_LT(env->cursor().phase, 0.25);
+  EXPECT_FALSE(task.PlanActs(*env, b.data(), {0, 0}));
+  EXPECT_EQ(ActionOf(*env, layout, a, {0, 0}), ActionOf(*env, layout, b, {0, 0}));
+  EXPECT_TRUE(unramped.PlanActs(*env, b.data(), {0, 0}));
+  EXPECT_NE(ActionOf(*env, unramped.layout(), a, {0, 0}),
+            ActionOf(*env, unramped.layout(), b, {0, 0}));
+  // Zero action up to the ramp's middle.
+  std::vector<float> zero(kNumActions, 0.0f);
+  while (env->cursor().phase < 0.375) {
+    ASSERT_EQ(env->Step(zero.data(), *walk_).outcome, Outcome::kRunning);
+  }
+  ASSERT_LT(env->cursor().phase, 0.5);
+  EXPECT_TRUE(task.PlanActs(*env, b.data(), {0, 0}));
+  EXPECT_NE(ActionOf(*env, layout, a, {0, 0}), ActionOf(*env, layout, b, {0, 0}));
+  EXPECT_NE(ActionOf(*env, layout, b, {0, 0}), ActionOf(*env, unramped.layout(), b, {0, 0}));
+  // After the kick, in the follow-through: the same actions as without the ramp.
+  ASSERT_TRUE(ZeroActionKick(env.get(), *walk_).valid);
+  ASSERT_GE(env->cursor().phase, 0.5);
+  EXPECT_EQ(ActionOf(*env, layout, b, {0, 0}), ActionOf(*env, unramped.layout(), b, {0, 0}));
+  EXPECT_NE(ActionOf(*env, layout, a, {0, 0}), ActionOf(*env, layout, b, {0, 0}));
+}
+
+// Before the contact only a ramp lets a re-plan's candidates share steps: with it, sharing
+// chooses the same plans (every action, rollout and rescue alike, every state as predicted)
+// from fewer rollout steps; without it sharing simulates exactly as many steps as not sharing.
+TEST_F(SharedPrefixTest, ARampedKickSharesTheStepsBeforeItsPhaseAndChoosesTheSamePlans) {
+  config::PlannerConfig& p = *config_.run.mutable_planner();
+  p.mutable_rescue()->set_cost_above(1e-9);  // a rescue at every re-plan
+  p.mutable_rescue()->set_samples(16);
+  p.mutable_rescue()->set_iterations(2);
+  auto run = [&](double act_from, bool share, std::vector<float>* actions) {
+    p.mutable_soccer_juggle()->mutable_kick()->set_act_from_phase(act_from);
+    p.set_share_prefix(share);
+    RecedingHorizonPlanner planner(std::make_shared<SoccerJuggleTask>(spec_, p), p, pool_.get(), 0);
+    std::unique_ptr<JuggleEnv> env = Start();
+    float action[kNumActions];
+    for (int t = 0; t < 12; ++t) {  // the DOWN node's first half and a bit: no release yet
+      EXPECT_TRUE(planner.Act(*env, action).ok());
+      actions->insert(actions->end(), action, action + kNumActions);
+      EXPECT_EQ(env->Step(action, *walk_).outcome, Outcome::kRunning) << "step " << t;
+      EXPECT_FALSE(env->state().kick_touched) << "step " << t;
+    }
+    return planner.totals();
+  };
+  std::vector<float> shared, simulated, unramped_shared, unramped;
+  const PlannerTotals with = run(0.25, true, &shared);
+  const PlannerTotals without = run(0.25, false, &simulated);
+  EXPECT_EQ(shared, simulated);
+  EXPECT_EQ(with.rollouts, without.rollouts);
+  EXPECT_EQ(with.rescues, without.rescues);
+  EXPECT_GT(with.rescues, 0);
+  EXPECT_GE(with.prediction_checks, 10);
+  EXPECT_EQ(with.prediction_mismatches, 0);
+  EXPECT_LT(with.rollout_steps, without.rollout_steps * 0.9)
+      << with.rollout_steps << " against " << without.rollout_steps;
+  const PlannerTotals plain_shared = run(0, true, &unramped_shared);
+  const PlannerTotals plain = run(0, false, &unramped);
+  EXPECT_EQ(unramped_shared, unramped);
+  EXPECT_EQ(plain_shared.rollout_steps, plain.rollout_steps);
 }
 
 }  // namespace

@@ -127,6 +127,7 @@ void SoccerJuggleTask::FixHeld(const double* held, SearchSpace* space,
 bool SoccerJuggleTask::PlanActs(const Env& env, const double* theta, PlanClock clock) const {
   if (layout_.body_knots > 0) return true;
   if (layout_.follows_held(theta, clock.cycle)) return false;
+  if (layout_.kick_ramp(static_cast<const JuggleEnv&>(env).cursor().phase) == 0) return false;
   return layout_.acting_kick_set(clock.cycle) >= 0;
 }
 

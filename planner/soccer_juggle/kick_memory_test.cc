@@ -186,5 +186,33 @@ TEST_F(KickMemoryPlannerTest, AMemoryFileThatDoesNotReadIsAConfigErrorAtItsField
   EXPECT_NE(status.message().find(":1: 3 numbers"), std::string::npos) << status;
 }
 
+// MinimizeCem drops the seeds its first iteration cannot hold, so a memory whose neighbours
+// (with the warm start, the nominal kick and, in a rescue, the troubled plan) outnumber a
+// search's samples is refused at its field rather than partly ignored.
+TEST_F(KickMemoryPlannerTest, MoreRememberedKicksThanASearchHoldsAreAConfigErrorAtNeighbours) {
+  const std::string file = WriteTemp("memory.txt", "0 0 0 0 0 0  0.03 0.1 -0.2 0.3 0\n");
+  config::PlannerConfig& p = *config_.run.mutable_planner();
+  p.mutable_soccer_juggle()->mutable_kick_memory()->set_file(file);
+  p.mutable_soccer_juggle()->mutable_kick_memory()->set_neighbours(6);  // 8 seeds, 8 samples
+  EXPECT_TRUE(ValidateSoccerJuggleTask(config_).ok()) << ValidateSoccerJuggleTask(config_);
+  p.mutable_soccer_juggle()->mutable_kick_memory()->set_neighbours(7);
+  absl::Status status = ValidateSoccerJuggleTask(config_);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("neighbours"), std::string::npos) << status;
+  EXPECT_NE(status.message().find(": 7 remembered kicks"), std::string::npos) << status;
+  EXPECT_NE(status.message().find("more than the 8 samples of planner.samples"), std::string::npos)
+      << status;
+  // A rescue's first iteration also holds the troubled plan: 2 neighbours fit 4 samples of
+  // the rescue only without it.
+  p.mutable_soccer_juggle()->mutable_kick_memory()->set_neighbours(2);
+  p.mutable_rescue()->set_cost_above(1000);
+  p.mutable_rescue()->set_narrowed_samples(4);
+  status = ValidateSoccerJuggleTask(config_);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("the rescue's first iteration"), std::string::npos) << status;
+  p.mutable_soccer_juggle()->mutable_kick_memory()->set_neighbours(1);
+  EXPECT_TRUE(ValidateSoccerJuggleTask(config_).ok()) << ValidateSoccerJuggleTask(config_);
+}
+
 }  // namespace
 }  // namespace juggle::planner

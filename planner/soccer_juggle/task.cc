@@ -342,6 +342,24 @@ absl::Status ValidateSoccerJuggleTask(const LoadedConfig& config) {
       return absl::InvalidArgumentError(absl::StrCat(where_file, ": kick_memory.file: ",
                                                      m.status().message()));
     }
+    // A search's first iteration holds its seeds (planner/cem_search.h): the warm start, the
+    // nominal kick, the remembered kicks and, in a rescue, the troubled best before them.
+    // MinimizeCem drops seeds that do not fit, so too many neighbours would be ignored.
+    const int seeds = 2 + memory.neighbours();
+    const int rescue_samples = p.rescue().narrowed_samples() > 0
+                                   ? std::min(p.rescue().samples(), p.rescue().narrowed_samples())
+                                   : p.rescue().samples();
+    const bool rescues = p.rescue().cost_above() > 0;
+    if (seeds > p.samples() || (rescues && seeds + 1 > rescue_samples)) {
+      const bool regular = seeds > p.samples();
+      return absl::InvalidArgumentError(absl::StrCat(
+          config.root.Where({{"planner"}, {"soccer_juggle"}, {"kick_memory"}, {"neighbours"}}),
+          ": ", memory.neighbours(), " remembered kicks with the warm start and the nominal kick",
+          regular ? "" : " and the troubled plan", " are ", regular ? seeds : seeds + 1,
+          " seeds, more than the ", regular ? p.samples() : rescue_samples, " samples of ",
+          regular ? "planner.samples" : "the rescue's first iteration",
+          "; the rest would be dropped: lower neighbours or raise the samples"));
+    }
   }
   if (!kick.enabled() && (p.refine_iterations() > 0 || p.rescue().refine_first() > 0 ||
                           p.rescue().refine_after() > 0)) {

@@ -76,8 +76,14 @@ TEST_F(FootballTrapTaskTest, MeetsALobWithTheFootWhereStandingStillDoesNotAndAsP
 
 // The shipped rescue (a wider search for a re-plan that predicts a miss): on a foot lob that the
 // regular search alone lets reach the turf first, it meets the ball with the foot and keeps it,
-// every prediction exact.
+// every prediction exact. The foot's own wider sampling (`foot { angle_sigma }`) is left out:
+// with it the regular search alone meets this lob with the foot, so no miss calls the rescue,
+// which is what this checks (docs/football.md, "A wider search for the foot").
 TEST_F(FootballTrapTaskTest, TheRescueKeepsAFootLobThatTheRegularSearchLetsReachTheTurf) {
+  ASSERT_TRUE(config_.run.planner().football().trap().has_foot());
+  LoadedConfig without_foot = config_;
+  without_foot.run.mutable_planner()->mutable_football()->mutable_trap()->clear_foot();
+  Use(without_foot);
   ASSERT_GT(Settings().rescue().cost_above(), 0);
   RolloutPool pool(spec_, 2);
   config::PlannerConfig regular = Settings();

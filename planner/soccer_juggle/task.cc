@@ -349,15 +349,15 @@ absl::Status ValidateSoccerJuggleTask(const LoadedConfig& config) {
     const int rescue_samples = p.rescue().narrowed_samples() > 0
                                    ? std::min(p.rescue().samples(), p.rescue().narrowed_samples())
                                    : p.rescue().samples();
-    const bool rescues = p.rescue().cost_above() > 0;
-    if (seeds > p.samples() || (rescues && seeds + 1 > rescue_samples)) {
-      const bool regular = seeds > p.samples();
+    const bool regular = seeds > p.samples();
+    if (regular || (p.rescue().cost_above() > 0 && seeds + 1 > rescue_samples)) {
       return absl::InvalidArgumentError(absl::StrCat(
           config.root.Where({{"planner"}, {"soccer_juggle"}, {"kick_memory"}, {"neighbours"}}),
           ": ", memory.neighbours(), " remembered kicks with the warm start and the nominal kick",
-          regular ? "" : " and the troubled plan", " are ", regular ? seeds : seeds + 1,
-          " seeds, more than the ", regular ? p.samples() : rescue_samples, " samples of ",
-          regular ? "planner.samples" : "the rescue's first iteration",
+          regular ? " are " : " and the troubled plan are ", regular ? seeds : seeds + 1,
+          " seeds, more than the ",
+          regular ? absl::StrCat(p.samples(), " samples of planner.samples")
+                  : absl::StrCat(rescue_samples, " samples of the rescue's first iteration"),
           "; the rest would be dropped: lower neighbours or raise the samples"));
     }
   }

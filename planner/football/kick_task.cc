@@ -255,11 +255,8 @@ absl::Status ValidateFootballTask(const LoadedConfig& config) {
   const config::TrapPlanning& trap = p.football().trap();
   // The trap's settings and each part's (TrapPlanning.foot, ...), by their field names.
   const std::pair<const char*, const config::TrapPlanning*> parts[] = {
-      {nullptr, &trap},
-      {"foot", &trap.foot()},
-      {"lower_leg", &trap.lower_leg()},
-      {"torso", &trap.torso()},
-      {"head", &trap.head()}};
+      {nullptr, &trap},         {"foot", &trap.foot()}, {"lower_leg", &trap.lower_leg()},
+      {"torso", &trap.torso()}, {"head", &trap.head()}, {"ground", &trap.ground()}};
   for (const auto& [name, part] : parts) {
     FieldPath path = {{"planner"}, {"football"}, {"trap"}};
     if (name != nullptr) path.push_back({name});
@@ -271,7 +268,7 @@ absl::Status ValidateFootballTask(const LoadedConfig& config) {
           config::FootballTask_Name(config.run.football().task())));
     }
     if (name != nullptr && (part->has_foot() || part->has_lower_leg() || part->has_torso() ||
-                            part->has_head())) {
+                            part->has_head() || part->has_ground())) {
       return absl::InvalidArgumentError(absl::StrCat(
           config.root.Where(path), ": a part's settings cannot hold part settings of their own"));
     }

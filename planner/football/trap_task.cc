@@ -78,7 +78,7 @@ class TrapScorer final : public RolloutScorer {
 
   void Begin(const Env& env) override {
     const TrapEpisode& t = AsFootballEnv(env).state().trap;
-    p_ = &task_.Planning(t.part);
+    p_ = &task_.PlanningFor(t);
     touched_at_begin_ = t.first_body >= 0;
     arms_at_begin_ = t.arms_touched;
     frames_at_begin_ = static_cast<int>(t.attempt.relative_speed_after_touch.size());
@@ -163,12 +163,14 @@ class TrapScorer final : public RolloutScorer {
 
 }  // namespace
 
-config::TrapPlanning TrapPlanningFor(const config::TrapPlanning& p, config::TrapPart part) {
+config::TrapPlanning TrapPlanningFor(const config::TrapPlanning& p, config::TrapPart part,
+                                     bool ground_pass) {
   config::TrapPlanning out = p;
   out.clear_foot();
   out.clear_lower_leg();
   out.clear_torso();
   out.clear_head();
+  out.clear_ground();
   switch (part) {
     case config::FOOT: out.MergeFrom(p.foot()); break;
     case config::LOWER_LEG: out.MergeFrom(p.lower_leg()); break;
@@ -176,6 +178,7 @@ config::TrapPlanning TrapPlanningFor(const config::TrapPlanning& p, config::Trap
     case config::HEAD: out.MergeFrom(p.head()); break;
     default: break;
   }
+  if (ground_pass) out.MergeFrom(p.ground());
   return out;
 }
 
@@ -241,10 +244,20 @@ FootballTrapTask::FootballTrapTask(std::shared_ptr<const football::FootballSpec>
                                    kTrapVariables - 2, p.angle_limit(), p.angle_sigma(),
                                    p.give_max());
   }
+  ground_ = TrapPlanningFor(settings_.trap(), config::FOOT, /*ground_pass=*/true);
+  ground_space_ = ReachSpace(-ground_.timing_limit_s(), ground_.timing_limit_s(),
+                             ground_.timing_sigma_s(), kTrapVariables - 2, ground_.angle_limit(),
+                             ground_.angle_sigma(), ground_.give_max());
+}
+
+const config::TrapPlanning& FootballTrapTask::PlanningFor(
+    const football::TrapEpisode& episode) const {
+  return episode.pass.kind == football::PassKind::kGround ? ground_ : by_part_[episode.part];
 }
 
 const SearchSpace& FootballTrapTask::PartSpace(const Env& env) const {
-  return part_space_[AsFootballEnv(env).state().trap.part];
+  const football::TrapEpisode& t = AsFootballEnv(env).state().trap;
+  return t.pass.kind == football::PassKind::kGround ? ground_space_ : part_space_[t.part];
 }
 
 SearchSpace FootballTrapTask::RescueSpaceAt(const Env& env) const { return PartSpace(env); }
@@ -268,7 +281,7 @@ void FootballTrapTask::ActionWithLeg(const Env& env, const double* theta, const 
   if (prior != nullptr) std::copy_n(prior, football::kNumActions, a);
   humanoid::CharacterPose to;
   TrapReachPose(*spec_, theta, e.state().trap.pass.meet_s, e.time_s(),
-                ReachRampsOf(by_part_[e.state().trap.part]), &to, extra);
+                ReachRampsOf(PlanningFor(e.state().trap)), &to, extra);
   AddPoseChangeAction(spec_->joints(), spec_->standing_pose(), to,
                       spec_->football().action_torque(), a);
   for (int i = 0; i < football::kNumActions; ++i) {

@@ -44,8 +44,10 @@ struct ReachRamps {
 ReachRamps ReachRampsOf(const config::TrapPlanning& p);
 
 // `p` with the settings for passes designated to `part` (TrapPlanning.foot, .lower_leg, .torso,
-// .head) over it, and no part settings of its own.
-config::TrapPlanning TrapPlanningFor(const config::TrapPlanning& p, config::TrapPart part);
+// .head) over it, for a ground pass TrapPlanning.ground's over those, and no part settings of
+// its own.
+config::TrapPlanning TrapPlanningFor(const config::TrapPlanning& p, config::TrapPart part,
+                                     bool ground_pass = false);
 
 // The reach pose of plan `theta` (kTrapVariables values) at episode time `t` for a pass that
 // meets its point at `meet_s`: the standing pose plus w × the changes, w rising as
@@ -101,6 +103,8 @@ class FootballTrapTask final : public PlanningTask {
 
   // The trap's settings for passes designated to `part` (TrapPlanningFor).
   const config::TrapPlanning& Planning(config::TrapPart part) const { return by_part_[part]; }
+  // The trap's settings for `episode`'s pass: its part's, or the ground passes'.
+  const config::TrapPlanning& PlanningFor(const football::TrapEpisode& episode) const;
 
  private:
   std::shared_ptr<const football::FootballSpec> spec_;
@@ -109,6 +113,8 @@ class FootballTrapTask final : public PlanningTask {
   // By TrapPart number (0: the settings without a part's).
   std::array<config::TrapPlanning, config::TrapPart_ARRAYSIZE> by_part_;
   std::array<SearchSpace, config::TrapPart_ARRAYSIZE> part_space_;
+  config::TrapPlanning ground_;  // ground passes' (they go to the foot)
+  SearchSpace ground_space_;
 
   // The space of `env`'s pass's part.
   const SearchSpace& PartSpace(const Env& env) const;

@@ -181,6 +181,14 @@ TEST_F(FootballTrapTaskTest, APartsOwnSettingsReplaceTheTrapsForItsPassesOnly) {
   const config::TrapPlanning for_chest = TrapPlanningFor(c.run.planner().football().trap(), config::TORSO);
   EXPECT_EQ(for_chest.give_max(), base.give_max());
   EXPECT_EQ(for_chest.miss(), base.miss());
+  // A ground pass takes the foot's settings, then the ground passes' over them.
+  c.run.mutable_planner()->mutable_football()->mutable_trap()->mutable_ground()->set_give_max(0.5);
+  const config::TrapPlanning for_ground =
+      TrapPlanningFor(c.run.planner().football().trap(), config::FOOT, /*ground_pass=*/true);
+  EXPECT_EQ(for_ground.give_max(), 0.5);
+  EXPECT_EQ(ReachRampsOf(for_ground).give_s, 0.1);
+  EXPECT_FALSE(for_ground.has_ground());
+  EXPECT_EQ(TrapPlanningFor(c.run.planner().football().trap(), config::FOOT).give_max(), 2);
 
   // The first chest lob among the env seeds after the foot lob kSeeds[0].
   auto part_of = [&](uint64_t seed) {
@@ -244,6 +252,9 @@ TEST_F(FootballTrapTaskTest, APartsSettingsOutsideTheTrapTaskOrNestedAreConfigEr
   EXPECT_THAT(ValidateFootballTask(c).message(), ::testing::HasSubstr("trap.head"));
   EXPECT_THAT(ValidateFootballTask(c).message(), ::testing::HasSubstr("cannot hold part settings"));
   trap->clear_head();
+  trap->mutable_ground()->mutable_foot()->set_give_max(2);
+  EXPECT_THAT(ValidateFootballTask(c).message(), ::testing::HasSubstr("trap.ground"));
+  trap->clear_ground();
   trap->mutable_torso()->set_keep_margin_m(c.run.football().trap().reach_m());
   EXPECT_THAT(ValidateFootballTask(c).message(), ::testing::HasSubstr("torso.keep_margin_m"));
   trap->clear_torso();

@@ -234,20 +234,25 @@ SearchSpace ReachSpace(double earliest_s, double latest_s, double timing_sigma_s
   return out;
 }
 
+namespace {
+
+// The regular and the rescue search's space for passes planned with `p`.
+SearchSpace ReachSpaceOf(const config::TrapPlanning& p) {
+  return ReachSpace(-p.timing_limit_s(), p.timing_limit_s(), p.timing_sigma_s(), kTrapVariables - 2,
+                    p.angle_limit(), p.angle_sigma(), p.give_max());
+}
+
+}  // namespace
+
 FootballTrapTask::FootballTrapTask(std::shared_ptr<const football::FootballSpec> spec,
                                    const config::PlannerConfig& config)
     : spec_(std::move(spec)), settings_(config.football()), horizon_(config.horizon_steps()) {
   for (int part = 0; part < config::TrapPart_ARRAYSIZE; ++part) {
-    const config::TrapPlanning& p = by_part_[part] =
-        TrapPlanningFor(settings_.trap(), static_cast<config::TrapPart>(part));
-    part_space_[part] = ReachSpace(-p.timing_limit_s(), p.timing_limit_s(), p.timing_sigma_s(),
-                                   kTrapVariables - 2, p.angle_limit(), p.angle_sigma(),
-                                   p.give_max());
+    by_part_[part] = TrapPlanningFor(settings_.trap(), static_cast<config::TrapPart>(part));
+    part_space_[part] = ReachSpaceOf(by_part_[part]);
   }
   ground_ = TrapPlanningFor(settings_.trap(), config::FOOT, /*ground_pass=*/true);
-  ground_space_ = ReachSpace(-ground_.timing_limit_s(), ground_.timing_limit_s(),
-                             ground_.timing_sigma_s(), kTrapVariables - 2, ground_.angle_limit(),
-                             ground_.angle_sigma(), ground_.give_max());
+  ground_space_ = ReachSpaceOf(ground_);
 }
 
 const config::TrapPlanning& FootballTrapTask::PlanningFor(

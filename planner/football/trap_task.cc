@@ -124,7 +124,8 @@ class TrapScorer final : public RolloutScorer {
     const mjData* d = e.data();
     const double upright[4] = {M_SQRT1_2, M_SQRT1_2, 0, 0};
     const double dot = mju_dot(d->qpos + 3, upright, 4);
-    upright_ = s_.upright() * std::pow(std::max(0.0, 1 - dot * dot) / 0.01, 2);
+    upright_ = (p.has_upright() ? p.upright() : s_.upright()) *
+               std::pow(std::max(0.0, 1 - dot * dot) / 0.01, 2);
     return partial();
   }
 
@@ -191,9 +192,9 @@ double ReachWeight(double reached, double give, double t, const ReachRamps& ramp
                       : 1 - give * Smoothstep((t - reached) / ramps.give_s);
 }
 
-void TrapReachPose(const football::FootballSpec& spec, const double* theta, double meet_s,
-                   double t, const ReachRamps& ramps, humanoid::CharacterPose* pose,
-                   const LegChange& extra) {
+void TrapReachPose(const football::FootballSpec& spec, const double* theta, double meet_s, double t,
+                   const ReachRamps& ramps, humanoid::CharacterPose* pose, const LegChange& extra,
+                   bool squat) {
   *pose = spec.standing_pose();
   const double w = ReachWeight(meet_s + theta[0], theta[8], t, ramps);
   const bool leg = extra.hip != 0 || extra.abduction != 0 || extra.knee != 0 || extra.ankle != 0;
@@ -201,15 +202,24 @@ void TrapReachPose(const football::FootballSpec& spec, const double* theta, doub
   const humanoid::Joints& joints = spec.joints();
   // Flexion about z and abduction about x (−x moves the right limb outward), as the kick's; the
   // trunk's lean flexes both hips (with the feet on the turf it tilts the pelvis forward).
+  // A squat bends both knees by the knee variable and keeps the shins and thighs at equal and
+  // opposite tilts: hips and ankles (toes up, +z) by half of it.
+  const double knee = w * theta[3];
+  const double half = squat ? knee / 2 : 0;
   const double lean = w * theta[5];
   const double right_hip[3] = {-(w * theta[2] + extra.abduction), 0,
-                               w * theta[1] + extra.hip + lean};
+                               w * theta[1] + extra.hip + lean + half};
   humanoid::SetBallJointRotation(joints, humanoid::kRightHip, right_hip, pose);
-  const double left_hip[3] = {0, 0, lean};
+  const double left_hip[3] = {0, 0, lean + half};
   humanoid::SetBallJointRotation(joints, humanoid::kLeftHip, left_hip, pose);
-  humanoid::SetHinge(joints, humanoid::kRightKnee, -(w * theta[3] + extra.knee), pose);
-  const double ankle[3] = {0, 0, w * theta[4] + extra.ankle};
+  humanoid::SetHinge(joints, humanoid::kRightKnee, -(knee + extra.knee), pose);
+  const double ankle[3] = {0, 0, w * theta[4] + extra.ankle + half};
   humanoid::SetBallJointRotation(joints, humanoid::kRightAnkle, ankle, pose);
+  if (squat) {
+    humanoid::SetHinge(joints, humanoid::kLeftKnee, -knee, pose);
+    const double left_ankle[3] = {0, 0, half};
+    humanoid::SetBallJointRotation(joints, humanoid::kLeftAnkle, left_ankle, pose);
+  }
   const double chest[3] = {0, 0, w * theta[6]};
   humanoid::SetBallJointRotation(joints, humanoid::kChest, chest, pose);
   const double neck[3] = {0, 0, w * theta[7]};
@@ -285,8 +295,9 @@ void FootballTrapTask::ActionWithLeg(const Env& env, const double* theta, const 
   double a[football::kNumActions] = {0};
   if (prior != nullptr) std::copy_n(prior, football::kNumActions, a);
   humanoid::CharacterPose to;
-  TrapReachPose(*spec_, theta, e.state().trap.pass.meet_s, e.time_s(),
-                ReachRampsOf(PlanningFor(e.state().trap)), &to, extra);
+  const config::TrapPlanning& p = PlanningFor(e.state().trap);
+  TrapReachPose(*spec_, theta, e.state().trap.pass.meet_s, e.time_s(), ReachRampsOf(p), &to, extra,
+                p.squat());
   AddPoseChangeAction(spec_->joints(), spec_->standing_pose(), to,
                       spec_->football().action_torque(), a);
   for (int i = 0; i < football::kNumActions; ++i) {

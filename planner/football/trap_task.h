@@ -1,14 +1,16 @@
 // Football's trap as a planning task (planner/planning_task.h; docs/football.md, "The trap by
 // search"; settings: FootballPlanning.trap, proto/planner.proto). One episode of the TRAP task
 // is one trap. A plan is one reach pose around the pass's meeting time — changes of the
-// standing pose's right hip (flexion, abduction), right knee (bend), right ankle (pitch), the
-// trunk's lean (both hips' flexion), chest and neck (pitch), reached with a smoothstep over
+// standing pose's right hip (flexion, abduction), right knee (bend; both knees in a squat for a
+// part with TrapPlanning.squat), right ankle (pitch), the trunk's lean (both hips' flexion),
+// chest and neck (pitch), reached with a smoothstep over
 // `ramp_s` that ends `timing` s after the meeting time, then partly taken back (the give, a
 // cushion) — turned into the feed-forward torques that make that change of the PD
 // target (planner/pose_action.h), so a plan is an action sequence a policy could produce. A
 // rollout is scored by the designated part's closest approach to the ball's path before the
 // touch, the ball's speed relative to the root after it (seed 002's RBSPT) and where its free
-// path leaves it at the trap's end against the reach, another part or the turf first, the arms, a fall and the root's tilt. Immutable; thread-safe.
+// path leaves it at the trap's end against the reach, another part or the turf first, the arms, a
+// fall and the root's tilt. Immutable; thread-safe.
 #ifndef JUGGLE_PLANNER_FOOTBALL_TRAP_TASK_H_
 #define JUGGLE_PLANNER_FOOTBALL_TRAP_TASK_H_
 
@@ -53,10 +55,12 @@ config::TrapPlanning TrapPlanningFor(const config::TrapPlanning& p, config::Trap
 // meets its point at `meet_s`: the standing pose plus w × the changes, w rising as
 // smoothstep((t − (reach − rise_s)) / rise_s) up to reach = meet_s + timing, then falling as
 // 1 − give × smoothstep((t − reach) / give_s) (below 0 for a give above 1: past the standing
-// pose, away from the reach); `extra` added to the right leg's.
-void TrapReachPose(const football::FootballSpec& spec, const double* theta, double meet_s,
-                   double t, const ReachRamps& ramps, humanoid::CharacterPose* pose,
-                   const LegChange& extra = {});
+// pose, away from the reach); `extra` added to the right leg's. With `squat` the knee variable
+// bends both knees, and flexes both hips and both ankles (toes up) by half of it
+// (TrapPlanning.squat).
+void TrapReachPose(const football::FootballSpec& spec, const double* theta, double meet_s, double t,
+                   const ReachRamps& ramps, humanoid::CharacterPose* pose,
+                   const LegChange& extra = {}, bool squat = false);
 
 // The weight of a reach complete at `reached` that rises and gives back by `ramps`, at `t`.
 double ReachWeight(double reached, double give, double t, const ReachRamps& ramps);

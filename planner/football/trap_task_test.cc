@@ -6,6 +6,8 @@
 // holds the standing pose before its ramp and moves the named joints after it.
 #include "planner/football/trap_task.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -15,9 +17,9 @@
 #include "envs/football/env.h"
 #include "envs/football/outcomes.h"
 #include "envs/testing/test_configs.h"
-#include "planner/football/kick_task.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "planner/football/kick_task.h"
 #include "planner/planner_config.h"
 #include "planner/receding_horizon.h"
 #include "planner/tasks.h"
@@ -126,6 +128,66 @@ TEST_F(FootballTrapTaskTest, TheReachPoseIsStandingBeforeItsRampAndMovesTheNamed
     EXPECT_NE(after[joints[j].qpos_adr], before[joints[j].qpos_adr]) << j;
   }
   EXPECT_EQ(after[joints[humanoid::kLeftKnee].qpos_adr], before[joints[humanoid::kLeftKnee].qpos_adr]);
+}
+
+// trap.squat: the knee variable bends both knees and half of it flexes both hips and ankles,
+// so both feet stay level and the pelvis lowers over them (the model's forward kinematics).
+TEST_F(FootballTrapTaskTest, ASquatBendsBothKneesAndLowersThePelvisOverLevelFeet) {
+  const auto& spec = static_cast<const football::FootballSpec&>(*spec_);
+  const mjModel* m = spec.model();
+  const humanoid::Joints& joints = spec.joints();
+  const double theta[kTrapVariables] = {0.0, 0.0, 0.0, 0.8, 0.0, 0.0, 0.0, 0.0, 0.0};
+  humanoid::CharacterPose standing, knee_alone, squat;
+  TrapReachPose(spec, theta, 1.0, 0.0, {0.3, 0.3}, &standing);  // before the ramp
+  TrapReachPose(spec, theta, 1.0, 1.0, {0.3, 0.3}, &knee_alone);
+  TrapReachPose(spec, theta, 1.0, 1.0, {0.3, 0.3}, &squat, LegChange{}, /*squat=*/true);
+  EXPECT_DOUBLE_EQ(squat[joints[humanoid::kLeftKnee].qpos_adr], -0.8);
+  EXPECT_EQ(knee_alone[joints[humanoid::kLeftKnee].qpos_adr],
+            standing[joints[humanoid::kLeftKnee].qpos_adr]);
+
+  struct Leg {
+    double hip[3], ankle[3], foot[9];
+  };
+  // The pelvis upright at the origin, the joints as `pose` says.
+  mjData* d = mj_makeData(m);
+  const auto legs_of = [&](const humanoid::CharacterPose& pose) {
+    std::copy(pose.begin(), pose.end(), d->qpos);
+    const double upright[7] = {0, 0, 1, M_SQRT1_2, M_SQRT1_2, 0, 0};
+    std::copy_n(upright, 7, d->qpos);
+    mj_kinematics(m, d);
+    std::array<Leg, 2> out;
+    const humanoid::JointId hips[2] = {humanoid::kRightHip, humanoid::kLeftHip};
+    const humanoid::JointId ankles[2] = {humanoid::kRightAnkle, humanoid::kLeftAnkle};
+    for (int s = 0; s < 2; ++s) {
+      const int hip = m->dof_jntid[joints[hips[s]].dof_adr];
+      const int ankle = m->dof_jntid[joints[ankles[s]].dof_adr];
+      std::copy_n(d->xanchor + 3 * hip, 3, out[s].hip);
+      std::copy_n(d->xanchor + 3 * ankle, 3, out[s].ankle);
+      std::copy_n(d->xmat + 9 * m->jnt_bodyid[ankle], 9, out[s].foot);
+    }
+    return out;
+  };
+  const std::array<Leg, 2> stand = legs_of(standing), alone = legs_of(knee_alone),
+                           low = legs_of(squat);
+  mj_deleteData(d);
+  const auto drop = [](const Leg& a, const Leg& b) {  // the ankle's rise towards the hip
+    return (b.ankle[2] - b.hip[2]) - (a.ankle[2] - a.hip[2]);
+  };
+  const auto shift = [](const Leg& a, const Leg& b) {  // the ankle's move under the hip
+    return std::hypot((b.ankle[0] - b.hip[0]) - (a.ankle[0] - a.hip[0]),
+                      (b.ankle[1] - b.hip[1]) - (a.ankle[1] - a.hip[1]));
+  };
+  for (int s = 0; s < 2; ++s) {
+    SCOPED_TRACE(s == 0 ? "right leg" : "left leg");
+    for (int i = 0; i < 9; ++i) EXPECT_NEAR(low[s].foot[i], stand[s].foot[i], 1e-9) << i;
+    EXPECT_GT(drop(stand[s], low[s]), 0.05);  // the pelvis 5 cm or more lower over the foot
+    EXPECT_LT(shift(stand[s], low[s]), 0.05);
+  }
+  // The right knee bent alone swings its foot back and tilts it; the squat's stays under the hip.
+  EXPECT_GT(shift(stand[0], alone[0]), 0.2);
+  EXPECT_GT(
+      std::abs(alone[0].foot[0] - stand[0].foot[0]) + std::abs(alone[0].foot[4] - stand[0].foot[4]),
+      0.1);
 }
 
 // trap.give_ramp_s and trap.give_max: the give runs on its own ramp, and a give above 1 takes
@@ -241,6 +303,62 @@ TEST_F(FootballTrapTaskTest, APartsOwnSettingsReplaceTheTrapsForItsPassesOnly) {
   EXPECT_EQ(at, spec.standing_pose());
   TrapReachPose(spec, plan.data(), meet, meet + 0.1 + 1e-9, ReachRampsOf(base), &at);
   EXPECT_NE(at, spec.standing_pose());
+}
+
+// trap.torso { squat upright } (shipped): a chest pass's knee variable bends both knees and its
+// tilt term takes the chest's weight; a foot pass's actions and terms stay the trap's to the bit.
+TEST_F(FootballTrapTaskTest, TheChestsSquatAndUprightWeightActOnChestPassesOnly) {
+  LoadedConfig c = config_;
+  config::TrapPlanning* torso =
+      c.run.mutable_planner()->mutable_football()->mutable_trap()->mutable_torso();
+  ASSERT_TRUE(torso->squat());
+  torso->Clear();
+  Use(c);
+  auto part_of = [&](uint64_t seed) {
+    const std::unique_ptr<Env> env = spec_->NewEnv(Rng(seed));
+    env->Reset(*walk_);
+    return static_cast<const football::FootballEnv&>(*env).state().trap.part;
+  };
+  uint64_t chest_seed = kSeeds[0] + 1;
+  while (part_of(chest_seed) != config::TORSO) ++chest_seed;
+  ASSERT_EQ(part_of(kSeeds[0]), config::FOOT);
+
+  std::vector<double> plan(task_->dim(), 0.0);
+  plan[3] = 0.6;   // the knee
+  plan[5] = -0.3;  // the trunk's lean, back
+  const int upright = 6;
+  ASSERT_EQ(task_->term_names()[upright], "upright");
+  const auto run = [&](uint64_t seed) {
+    const std::unique_ptr<Env> env = spec_->NewEnv(Rng(seed));
+    env->Reset(*walk_);
+    const auto& e = static_cast<const football::FootballEnv&>(*env);
+    std::vector<float> a(spec_->act_dim());
+    // The reach complete: the pass's meeting time.
+    while (e.time_s() < e.state().trap.pass.meet_s) {
+      task_->Action(*env, plan.data(), {0, 0}, nullptr, a.data());
+      env->Step(a.data(), *walk_);
+    }
+    task_->Action(*env, plan.data(), {0, 0}, nullptr, a.data());
+    return std::make_pair(a, ExpectTermsAddUpToTheCost(seed, plan, 200)->terms()[upright]);
+  };
+  const auto [chest_action, chest_tilt] = run(chest_seed);
+  const auto [foot_action, foot_tilt] = run(kSeeds[0]);
+  ASSERT_GT(chest_tilt, 0);
+
+  torso->set_upright(0.1);
+  Use(c);
+  // The weight alone scales the chest's term: the same rollout.
+  EXPECT_NEAR(run(chest_seed).second, 0.1 * chest_tilt, 1e-9 * chest_tilt);
+  EXPECT_EQ(run(kSeeds[0]).second, foot_tilt);
+  torso->set_squat(true);
+  Use(c);
+  const std::vector<float> squat_action = run(chest_seed).first;
+  const humanoid::Joints& joints = static_cast<const football::FootballSpec&>(*spec_).joints();
+  const int left_knee = joints[humanoid::kLeftKnee].dof_adr - 6;  // actions skip the root's dofs
+  // Before, the right knee alone moved.
+  EXPECT_EQ(chest_action[left_knee], 0.0f);
+  EXPECT_NE(squat_action[left_knee], 0.0f);
+  EXPECT_EQ(run(kSeeds[0]).first, foot_action);
 }
 
 // A part's settings are for TRAP alone (trap then kick plans the trap inside its own space) and

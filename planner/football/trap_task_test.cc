@@ -48,6 +48,20 @@ class FootballTrapTaskTest : public testing::ShippedTaskTest {
     ASSERT_EQ(task_->family(), "football");
     ASSERT_EQ(task_->dim(), kTrapVariables);
   }
+
+  // The designated part of env seed `seed`'s pass.
+  config::TrapPart PartOf(uint64_t seed) const {
+    const std::unique_ptr<Env> env = spec_->NewEnv(Rng(seed));
+    env->Reset(*walk_);
+    return static_cast<const football::FootballEnv&>(*env).state().trap.part;
+  }
+
+  // The first chest lob among the env seeds after the foot lob kSeeds[0].
+  uint64_t ChestSeed() const {
+    uint64_t seed = kSeeds[0] + 1;
+    while (PartOf(seed) != config::TORSO) ++seed;
+    return seed;
+  }
 };
 
 TEST_F(FootballTrapTaskTest, MeetsALobWithTheFootWhereStandingStillDoesNotAndAsPredicted) {
@@ -252,15 +266,8 @@ TEST_F(FootballTrapTaskTest, APartsOwnSettingsReplaceTheTrapsForItsPassesOnly) {
   EXPECT_FALSE(for_ground.has_ground());
   EXPECT_EQ(TrapPlanningFor(c.run.planner().football().trap(), config::FOOT).give_max(), 2);
 
-  // The first chest lob among the env seeds after the foot lob kSeeds[0].
-  auto part_of = [&](uint64_t seed) {
-    const std::unique_ptr<Env> env = spec_->NewEnv(Rng(seed));
-    env->Reset(*walk_);
-    return static_cast<const football::FootballEnv&>(*env).state().trap.part;
-  };
-  uint64_t chest_seed = kSeeds[0] + 1;
-  while (part_of(chest_seed) != config::TORSO) ++chest_seed;
-  ASSERT_EQ(part_of(kSeeds[0]), config::FOOT);
+  const uint64_t chest_seed = ChestSeed();
+  ASSERT_EQ(PartOf(kSeeds[0]), config::FOOT);
 
   // Standing still meets the foot lob with the shin: the miss term, with and without the foot's.
   const std::vector<double> standing(task_->dim(), 0.0);
@@ -314,14 +321,8 @@ TEST_F(FootballTrapTaskTest, TheChestsSquatAndUprightWeightActOnChestPassesOnly)
   ASSERT_TRUE(torso->squat());
   torso->Clear();
   Use(c);
-  auto part_of = [&](uint64_t seed) {
-    const std::unique_ptr<Env> env = spec_->NewEnv(Rng(seed));
-    env->Reset(*walk_);
-    return static_cast<const football::FootballEnv&>(*env).state().trap.part;
-  };
-  uint64_t chest_seed = kSeeds[0] + 1;
-  while (part_of(chest_seed) != config::TORSO) ++chest_seed;
-  ASSERT_EQ(part_of(kSeeds[0]), config::FOOT);
+  const uint64_t chest_seed = ChestSeed();
+  ASSERT_EQ(PartOf(kSeeds[0]), config::FOOT);
 
   std::vector<double> plan(task_->dim(), 0.0);
   plan[3] = 0.6;   // the knee

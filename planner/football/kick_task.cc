@@ -261,10 +261,12 @@ absl::Status ValidateFootballTask(const LoadedConfig& config) {
     FieldPath path = {{"planner"}, {"football"}, {"trap"}};
     if (name != nullptr) path.push_back({name});
     if (name != nullptr && part->ByteSizeLong() > 0 &&
-        config.run.football().task() != config::TRAP) {
+        config.run.football().task() != config::TRAP &&
+        config.run.football().task() != config::TRAP_KICK) {
       return absl::InvalidArgumentError(absl::StrCat(
           config.root.Where(path),
-          ": a part's own trap settings are for the TRAP task; this config's football.task is ",
+          ": a part's own trap settings are for the TRAP and TRAP_KICK tasks; this config's "
+          "football.task is ",
           config::FootballTask_Name(config.run.football().task())));
     }
     if (name != nullptr && (part->has_foot() || part->has_lower_leg() || part->has_torso() ||

@@ -45,9 +45,9 @@ SearchSpace Concat(const SearchSpace& a, const SearchSpace& b) {
 // kick's from there; the zone and out_of_reach terms of its own.
 class TrapKickScorer final : public RolloutScorer {
  public:
-  TrapKickScorer(const config::FootballPlanning& s, std::unique_ptr<RolloutScorer> trap,
+  TrapKickScorer(const FootballTrapTask& trap_task, std::unique_ptr<RolloutScorer> trap,
                  const FootballKickTask& kick)
-      : s_(s), trap_(std::move(trap)), kick_task_(kick) {}
+      : trap_task_(trap_task), trap_(std::move(trap)), kick_task_(kick) {}
 
   void Begin(const Env& env) override {
     if (AsFootballEnv(env).kicking()) {
@@ -65,7 +65,7 @@ class TrapKickScorer final : public RolloutScorer {
       return;
     }
     trap_->AfterStep(env, action, r);
-    if (r.outcome == football::kOutOfReach) out_of_reach_ = s_.trap().miss();
+    if (r.outcome == football::kOutOfReach) out_of_reach_ = Planning(env).miss();
     if (AsFootballEnv(env).kicking()) {
       trap_->Finish(env);  // the trap's terms at the switch
       trap_running_ = false;
@@ -84,7 +84,7 @@ class TrapKickScorer final : public RolloutScorer {
     if (!e.kicking() && out_of_reach_ == 0 && t.first_body >= 0 &&
         t.first_body == e.spec().trap_bodies().body[t.part]) {
       const double d = FreePathZoneDistance(env) / kZoneScale;
-      zone_ = s_.trap().reach() * 4 * (std::sqrt(1 + d * d) - 1);
+      zone_ = Planning(env).reach() * 4 * (std::sqrt(1 + d * d) - 1);
     }
     return partial();
   }
@@ -116,7 +116,12 @@ class TrapKickScorer final : public RolloutScorer {
     kick_->Begin(env);
   }
 
-  const config::FootballPlanning& s_;
+  // The trap's settings for `env`'s pass (its part's, TrapPlanningFor).
+  const config::TrapPlanning& Planning(const Env& env) const {
+    return trap_task_.PlanningFor(AsFootballEnv(env).state().trap);
+  }
+
+  const FootballTrapTask& trap_task_;
   std::unique_ptr<RolloutScorer> trap_;
   const FootballKickTask& kick_task_;
   std::unique_ptr<RolloutScorer> kick_;  // from the switch on
@@ -154,7 +159,6 @@ double FreePathZoneDistance(const Env& env) {
 FootballTrapKickTask::FootballTrapKickTask(std::shared_ptr<const football::FootballSpec> spec,
                                            const config::PlannerConfig& config)
     : spec_(spec),
-      settings_(config.football()),
       horizon_(config.horizon_steps()),
       trap_(spec, config),
       kick_(spec, config),
@@ -172,13 +176,25 @@ LegChange FootballTrapKickTask::SecondTouchChange(const Env& env, const double* 
   const football::TrapEpisode& t = AsFootballEnv(env).state().trap;
   if (t.first_touch_s < 0) return out;  // its own decision, after the touch
   const double w = ReachWeight(t.first_touch_s + v[0], v[5], AsFootballEnv(env).time_s(),
-                               ReachRampsOf(settings_.trap()));
+                               ReachRampsOf(trap_.PlanningFor(t)));
   if (w <= 0) return out;
   out.hip = w * v[1];
   out.abduction = w * v[2];
   out.knee = w * v[3];
   out.ankle = w * v[4];
   return out;
+}
+
+SearchSpace FootballTrapKickTask::WithPartSpace(const Env& env, SearchSpace space) const {
+  const SearchSpace part = trap_.RescueSpaceAt(env);
+  std::copy(part.lower.begin(), part.lower.end(), space.lower.begin());
+  std::copy(part.upper.begin(), part.upper.end(), space.upper.begin());
+  std::copy(part.sigma.begin(), part.sigma.end(), space.sigma.begin());
+  return space;
+}
+
+SearchSpace FootballTrapKickTask::RescueSpaceAt(const Env& env) const {
+  return WithPartSpace(env, rescue_space_);
 }
 
 int FootballTrapKickTask::KnotAtOrBefore(int step) const { return kick_.KnotAtOrBefore(step); }
@@ -203,6 +219,7 @@ void FootballTrapKickTask::Restrict(const Env& env, const std::vector<double>& s
                                     SearchSpace* space,
                                     std::vector<std::vector<double>>* seeds) const {
   const FootballEnv& e = AsFootballEnv(env);
+  *space = WithPartSpace(env, std::move(*space));
   // After the switch the trap is over: its reach and the second touch are held. With a second
   // touch the search before the designated part's touch is the trap's alone (the second touch
   // held at no change), and after it the second touch's (the trap's reach held).
@@ -234,7 +251,7 @@ void FootballTrapKickTask::Action(const Env& env, const double* theta, PlanClock
 }
 
 std::unique_ptr<RolloutScorer> FootballTrapKickTask::NewScorer() const {
-  return std::make_unique<TrapKickScorer>(settings_, trap_.NewScorer(), kick_);
+  return std::make_unique<TrapKickScorer>(trap_, trap_.NewScorer(), kick_);
 }
 
 std::vector<std::string> FootballTrapKickTask::term_names() const {

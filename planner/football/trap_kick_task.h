@@ -5,7 +5,8 @@
 // trap's terms until the switch (at the switch's state), with a `zone` term for a trapped ball
 // whose free path does not come to rest in the kick's zone (envs/football/trap_kick.h) and
 // `out_of_reach` when the env says so, and by the kick's terms from the switch on (each named
-// kick_*). After the switch the trap's variables are held. With
+// kick_*). After the switch the trap's variables are held. A part's own trap settings
+// (TrapPlanning.foot, ...) act as in TRAP: its space, its pose, its weights. With
 // FootballPlanning.second_touch the plan has a second decision between the two
 // (kSecondTouchVariables): a reach of the right leg complete a searched time after the trap's
 // touch, added to the trap's pose — a stop or a tap that steers the bounced ball into the
@@ -46,6 +47,8 @@ class FootballTrapKickTask final : public PlanningTask {
   std::string family() const override { return "football"; }
   const SearchSpace& space() const override { return space_; }
   const SearchSpace& rescue_space() const override { return rescue_space_; }
+  // The rescue space with the trap's variables in the pass's part's space (TrapPlanningFor).
+  SearchSpace RescueSpaceAt(const Env& env) const override;
   int horizon() const override { return horizon_; }
   int max_run_on_steps() const override;
   // The kick's decision grid (its body knots, when set).
@@ -66,7 +69,6 @@ class FootballTrapKickTask final : public PlanningTask {
 
  private:
   std::shared_ptr<const football::FootballSpec> spec_;
-  config::FootballPlanning settings_;
   int horizon_;
   FootballTrapTask trap_;
   FootballKickTask kick_;
@@ -74,6 +76,8 @@ class FootballTrapKickTask final : public PlanningTask {
   SearchSpace space_, rescue_space_;
 
   int kick_offset() const { return kTrapVariables + second_; }
+  // `space` with the trap's variables in the space of `env`'s pass's part.
+  SearchSpace WithPartSpace(const Env& env, SearchSpace space) const;
   // The second touch's leg change now (none when off or before its ramp).
   LegChange SecondTouchChange(const Env& env, const double* theta) const;
 };

@@ -6,12 +6,14 @@
 // terms (the trap's, zone, out_of_reach, the kick's) add up to its cost; a ball at rest in the
 // zone is 0 from it and a ball rolling away is as far as its free path's stop; the free path
 // bounces as the simulated ball does, and a ball still hopping is not in the zone; a second
-// touch is searched only after the touch, the trap only before it.
+// touch is searched only after the touch, the trap only before it; a part's own trap settings
+// set its passes' reach space.
 #include "planner/football/trap_kick_task.h"
 
 #include <cmath>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "absl/strings/str_cat.h"
@@ -235,6 +237,50 @@ TEST_F(FootballTrapKickTaskTest, ASecondTouchIsSearchedOnlyAfterTheTouchAndTheTr
   task_->Action(*env, with.data(), PlanClock{}, nullptr, a.data());
   task_->Action(*env, without.data(), PlanClock{}, nullptr, b.data());
   EXPECT_NE(a, b) << "the second touch acts after the touch";
+}
+
+// trap.foot (a part's own trap settings, trap_task.h's TrapPlanningFor) reaches the trap inside
+// trap then kick: a foot pass's reach angles are searched at the foot's spread in the regular
+// and the rescue search, a chest pass's at the trap's, and the kick's variables at the kick's.
+TEST_F(FootballTrapKickTaskTest, APartsOwnTrapSettingsSetItsPassesReachSpaceOnly) {
+  absl::StatusOr<LoadedConfig> loaded = LoadRunConfig(RepoPath(kShipped));
+  ASSERT_TRUE(loaded.ok()) << loaded.status();
+  LoadedConfig c = *loaded;
+  const config::TrapPlanning& base = c.run.planner().football().trap();
+  const double foot_sigma = 3 * base.angle_sigma();
+  c.run.mutable_planner()->mutable_football()->mutable_trap()->mutable_foot()->set_angle_sigma(
+      foot_sigma);
+  ASSERT_TRUE(ValidatePlannerConfig(c).ok()) << ValidatePlannerConfig(c);
+  Use(c);
+  const auto part_of = [&](uint64_t seed) {
+    const std::unique_ptr<Env> env = spec_->NewEnv(Rng(seed));
+    env->Reset(*walk_);
+    const football::TrapEpisode& t = static_cast<const football::FootballEnv&>(*env).state().trap;
+    return t.pass.kind == football::PassKind::kGround ? config::TRAP_PART_UNSPECIFIED : t.part;
+  };
+  int checked = 0;
+  for (config::TrapPart part : {config::FOOT, config::TORSO}) {
+    uint64_t seed = kSeed;
+    while (part_of(seed) != part) ++seed;
+    const std::unique_ptr<Env> env = spec_->NewEnv(Rng(seed));
+    env->Reset(*walk_);
+    const std::vector<double> shifted(task_->dim(), 0.0);
+    std::vector<std::vector<double>> seeds = {shifted};
+    SearchSpace space = task_->space();
+    task_->Restrict(*env, shifted, &space, &seeds);
+    const double want = part == config::FOOT ? foot_sigma : base.angle_sigma();
+    const std::pair<SearchSpace, const SearchSpace*> searches[] = {
+        {space, &task_->space()}, {task_->RescueSpaceAt(*env), &task_->rescue_space()}};
+    for (const auto& [s, unrestricted] : searches) {
+      for (int v = 1; v < kTrapVariables - 1; ++v) EXPECT_EQ(s.sigma[v], want) << seed << " " << v;
+      EXPECT_EQ(s.sigma[0], base.timing_sigma_s()) << seed;
+      for (int v = kTrapVariables; v < task_->dim(); ++v) {
+        EXPECT_EQ(s.sigma[v], unrestricted->sigma[v]) << seed << " " << v;
+      }
+    }
+    ++checked;
+  }
+  EXPECT_EQ(checked, 2);
 }
 
 TEST_F(FootballTrapKickTaskTest, ASecondTouchOutsideTrapThenKickOrOutOfOrderIsRefusedAtTheField) {

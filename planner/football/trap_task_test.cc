@@ -362,9 +362,9 @@ TEST_F(FootballTrapTaskTest, TheChestsSquatAndUprightWeightActOnChestPassesOnly)
   EXPECT_EQ(run(kSeeds[0]).first, foot_action);
 }
 
-// A part's settings are for TRAP alone (trap then kick plans the trap inside its own space) and
+// A part's settings are for the tasks with a trap (TRAP, TRAP_KICK), not for the kick, and
 // cannot nest; a part's keep margin is checked as the trap's.
-TEST_F(FootballTrapTaskTest, APartsSettingsOutsideTheTrapTaskOrNestedAreConfigErrors) {
+TEST_F(FootballTrapTaskTest, APartsSettingsForTheKickOrNestedAreConfigErrors) {
   LoadedConfig c = config_;
   config::TrapPlanning* trap = c.run.mutable_planner()->mutable_football()->mutable_trap();
   trap->mutable_head()->mutable_foot()->set_give_max(2);
@@ -380,7 +380,10 @@ TEST_F(FootballTrapTaskTest, APartsSettingsOutsideTheTrapTaskOrNestedAreConfigEr
   trap->mutable_foot()->set_give_max(2);
   EXPECT_TRUE(ValidateFootballTask(c).ok());
   c.run.mutable_football()->set_task(config::TRAP_KICK);
-  EXPECT_THAT(ValidateFootballTask(c).message(), ::testing::HasSubstr("for the TRAP task"));
+  EXPECT_TRUE(ValidateFootballTask(c).ok());
+  c.run.mutable_football()->set_task(config::KICK);
+  EXPECT_THAT(ValidateFootballTask(c).message(), ::testing::HasSubstr("trap.foot"));
+  EXPECT_THAT(ValidateFootballTask(c).message(), ::testing::HasSubstr("TRAP and TRAP_KICK tasks"));
 }
 
 // Whole-body knots asked of the trap (whose plan is the reach pose alone) would be ignored: a

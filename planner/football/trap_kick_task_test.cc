@@ -36,16 +36,25 @@ using ::juggle::testing::RepoPath;
 
 constexpr char kShipped[] = "configs/football_trap_kick.textproto";
 // A pass that standing still does not bring into the kick's zone (env seed Rng(kSeed); the
-// shipped settings were chosen on juggle eval's seed 1000000, other streams). With the ball's
-// restitution on the body at seed 002's 0.40 (configs/models/football_ball.xml) the first such
-// seed after 1000023 (the one before it, at 0.80) that the search turns into a kick is 1000039
-// (1000024-1000038 fail this test).
-constexpr uint64_t kSeed = 1000039;
+// shipped settings were chosen on juggle eval's seed 1000000, other streams). With the trap's
+// settings of configs/football_trap.textproto (2026-12-06; the rescue off, SetUp) the first
+// such seed after 1000039 (the one before them) that the search turns into a kick is 1000042
+// (1000040 and 1000041 fail this test).
+constexpr uint64_t kSeed = 1000042;
 
 class FootballTrapKickTaskTest : public testing::ShippedTaskTest {
  protected:
   void SetUp() override {
-    Use(LoadRunConfig(RepoPath(kShipped)));
+    // The shipped config without its rescue search: a sequence with it plans from 3.7 times the
+    // rollouts (docs/football.md, "Trap then kick with the trap's settings and its rescue"), and
+    // what these tests check (the switch, the exact predictions, the seed's determinism) does
+    // not depend on it; the rescue's space for a part is checked on its own below, the rescue's
+    // search by the trap's tests (trap_task_test.cc), which run the shipped TRAP config with it.
+    absl::StatusOr<LoadedConfig> c = LoadRunConfig(RepoPath(kShipped));
+    ASSERT_TRUE(c.ok()) << c.status();
+    ASSERT_GT(c->run.planner().rescue().cost_above(), 0) << "the shipped config has a rescue";
+    c->run.mutable_planner()->mutable_rescue()->set_cost_above(0);
+    Use(*c);
     ASSERT_EQ(task_->family(), "football");
     ASSERT_EQ(task_->dim(), kTrapVariables + kKickVariables);
   }
@@ -175,7 +184,8 @@ TEST_F(FootballTrapKickTaskTest, ABallStillHoppingAtTheEndOfItsPathIsNotInTheZon
 // trap's and the kick's; every visited state is as predicted and its actions replay bit for bit.
 TEST_F(FootballTrapKickTaskTest, ASecondTouchIsPlannedBetweenTrapAndKickAndAsPredicted) {
   const std::string text = absl::StrCat("base_config: \"", RepoPath(kShipped),
-                                        "\"\nplanner { football { second_touch { enabled: true } } }\n");
+                                        "\"\nplanner { football { second_touch { enabled: true } } "
+                                        "rescue { cost_above: 0 } }\n");  // as SetUp
   Use(LoadRunConfig(::juggle::testing::WriteTemp("football_second_touch.textproto", text)));
   ASSERT_EQ(task_->dim(), kTrapVariables + kSecondTouchVariables + kKickVariables);
   RolloutPool pool(spec_, 2);
@@ -193,7 +203,8 @@ TEST_F(FootballTrapKickTaskTest, ASecondTouchIsPlannedBetweenTrapAndKickAndAsPre
 // holds the trap's reach and moves the second touch.
 TEST_F(FootballTrapKickTaskTest, ASecondTouchIsSearchedOnlyAfterTheTouchAndTheTrapOnlyBefore) {
   const std::string text = absl::StrCat("base_config: \"", RepoPath(kShipped),
-                                        "\"\nplanner { football { second_touch { enabled: true } } }\n");
+                                        "\"\nplanner { football { second_touch { enabled: true } } "
+                                        "rescue { cost_above: 0 } }\n");  // as SetUp
   Use(LoadRunConfig(::juggle::testing::WriteTemp("football_second_touch_own.textproto", text)));
   const int second = kTrapVariables, kick = kTrapVariables + kSecondTouchVariables;
   std::unique_ptr<Env> env = spec_->NewEnv(Rng(kSeed));

@@ -186,7 +186,7 @@ LegChange FootballTrapKickTask::SecondTouchChange(const Env& env, const double* 
 }
 
 SearchSpace FootballTrapKickTask::WithPartSpace(const Env& env, SearchSpace space) const {
-  const SearchSpace part = trap_.RescueSpaceAt(env);
+  const SearchSpace& part = trap_.PartSpace(env);
   std::copy(part.lower.begin(), part.lower.end(), space.lower.begin());
   std::copy(part.upper.begin(), part.upper.end(), space.upper.begin());
   std::copy(part.sigma.begin(), part.sigma.end(), space.sigma.begin());

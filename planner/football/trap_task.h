@@ -109,6 +109,8 @@ class FootballTrapTask final : public PlanningTask {
   const config::TrapPlanning& Planning(config::TrapPart part) const { return by_part_[part]; }
   // The trap's settings for `episode`'s pass: its part's, or the ground passes'.
   const config::TrapPlanning& PlanningFor(const football::TrapEpisode& episode) const;
+  // The reach's search space for `env`'s pass: its part's, or the ground passes'.
+  const SearchSpace& PartSpace(const Env& env) const;
 
  private:
   std::shared_ptr<const football::FootballSpec> spec_;
@@ -119,9 +121,6 @@ class FootballTrapTask final : public PlanningTask {
   std::array<SearchSpace, config::TrapPart_ARRAYSIZE> part_space_;
   config::TrapPlanning ground_;  // ground passes' (they go to the foot)
   SearchSpace ground_space_;
-
-  // The space of `env`'s pass's part.
-  const SearchSpace& PartSpace(const Env& env) const;
 };
 
 }  // namespace juggle::planner

@@ -3,7 +3,8 @@
 traps (three lobs, one ground pass), one failed but touched first by another part, one a
 handball; TSR counts every attempt, seed 002's TSR any first touch before the turf, HRTS and
 RBSPT the successes only, lobs split by part; TRAP_KICK's lines add the sequences' table (the
-share switched to the kick, succeeded, out of reach; KDD and KSD over successful kicks)."""
+share switched to the kick, succeeded, out of reach; KDD and KSD over successful kicks) and the
+count of the kick's first touches by part."""
 import json
 import os
 import subprocess
@@ -44,7 +45,7 @@ assert not any(l.startswith('seq:') for l in lines), 'no sequence table for TRAP
 
 # TRAP_KICK lines: two sequences reach the kick (one kicked well, one kick failed), one ends
 # out of reach.
-def sequence(part, lob, switched, ok, kdd=None, ksd=None, outcome='kicked'):
+def sequence(part, lob, switched, ok, kdd=None, ksd=None, outcome='kicked', touch=None):
     r = trap(part, lob, switched, True, rbspt=1.0)
     r.update({'outcome': outcome, 'trap_kick_switched': 1.0 if switched else 0.0,
               'trap_kick_success': 1.0 if ok else 0.0})
@@ -52,11 +53,15 @@ def sequence(part, lob, switched, ok, kdd=None, ksd=None, outcome='kicked'):
         r['kick_success'] = 1.0 if kdd is not None else 0.0
     if kdd is not None:
         r.update({'kick_direction_deviation_deg': kdd, 'kick_speed_deviation_mps': ksd})
+    if touch is not None:
+        for part in ('kicking_leg', 'standing_leg', 'upper_body'):
+            r[f'kick_touch_{part}'] = 1.0 if touch == part else 0.0
     return r
 
 
-seq = [sequence(1, False, True, True, kdd=4.0, ksd=2.0),
-       sequence(3, True, True, False, outcome='fell'),
+seq = [sequence(1, False, True, True, kdd=4.0, ksd=2.0, touch='kicking_foot'),
+       sequence(3, True, True, False, outcome='wrong_touch', touch='standing_leg'),
+       sequence(4, True, True, False, outcome='wrong_touch', touch='standing_leg'),
        sequence(3, True, False, False, outcome='out_of_reach')]
 with tempfile.NamedTemporaryFile('w', suffix='.jsonl', delete=False) as h:
     for r in seq:
@@ -64,8 +69,9 @@ with tempfile.NamedTemporaryFile('w', suffix='.jsonl', delete=False) as h:
 out = subprocess.run([sys.executable, SCRIPT, h.name], capture_output=True, text=True,
                      check=True).stdout.splitlines()
 seqs = {l.split()[0]: l.split() for l in out if l.startswith('seq:')}
-assert seqs['seq:all'][1:] == ['3', '0.667', '0.333', '0.333', '4.00', '2.00'], seqs['seq:all']
+assert seqs['seq:all'][1:] == ['4', '0.750', '0.250', '0.250', '4.00', '2.00'], seqs['seq:all']
 assert seqs['seq:lob:torso'][1:5] == ['2', '0.500', '0.000', '0.500'], seqs['seq:lob:torso']
+assert out[-1] == 'first touch of the kick: standing_leg 2, kicking_foot 1', out[-1]
 assert seqs['seq:ground'][1:4] == ['1', '1.000', '1.000'], seqs['seq:ground']
 
 # No trap lines: a clear error.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "common/status_macros.h"
 #include "envs/divergence.h"
@@ -24,6 +25,19 @@ Outcome TrapFailure(const FootballSpec& spec, const TrapEpisode& e) {
   if (e.turf_before_touch && e.pass.kind == PassKind::kLob) return kGroundFirst;
   if (e.first_body >= 0 && e.first_body != spec.trap_bodies().body[e.part]) return kWrongPart;
   return Outcome::kRunning;
+}
+
+// Which part of the character a body is, for the kick's first touch (env.h): by the humanoid's
+// body names (configs/models/humanoid.xml; the right leg kicks, the left stands).
+enum class TouchPart { kKickingFoot, kKickingLeg, kStandingLeg, kUpperBody };
+
+TouchPart TouchPartOf(const mjModel* m, int body) {
+  const char* name = mj_id2name(m, mjOBJ_BODY, body);
+  const std::string n = name == nullptr ? "" : name;
+  if (n == "right_ankle") return TouchPart::kKickingFoot;
+  if (n == "right_knee" || n == "right_hip") return TouchPart::kKickingLeg;
+  if (n == "left_ankle" || n == "left_knee" || n == "left_hip") return TouchPart::kStandingLeg;
+  return TouchPart::kUpperBody;
 }
 
 }  // namespace
@@ -446,6 +460,12 @@ void FootballEnv::AppendKickMetrics(std::vector<NamedValue>* out) const {
   if (s_.kick.touched) {
     out->push_back({"kick_foot_speed_mps", s_.touch_foot_speed});
     out->push_back({"kick_touch_s", s_.touch_time_s});
+  }
+  if (s_.touch_body >= 0) {
+    const TouchPart part = TouchPartOf(model_, s_.touch_body);
+    out->push_back({"kick_touch_kicking_leg", part == TouchPart::kKickingLeg ? 1.0 : 0.0});
+    out->push_back({"kick_touch_standing_leg", part == TouchPart::kStandingLeg ? 1.0 : 0.0});
+    out->push_back({"kick_touch_upper_body", part == TouchPart::kUpperBody ? 1.0 : 0.0});
   }
 }
 

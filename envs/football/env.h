@@ -87,7 +87,11 @@ class FootballEnv : public juggle::Env {
   // (config::TrapPart), trap_lob (0/1), trap_meet_speed_mps, trap_end_distance_m, fell.
   // KICK: kick_success (0/1), and for a success kick_direction_deviation_deg and
   // kick_speed_deviation_mps; kick_target_speed_mps; kick_speed_mps (the mean measured speed);
-  // kick_foot_speed_mps (the kicking foot's speed at the touch), kick_touch_s (when); fell (0/1).
+  // kick_foot_speed_mps (the kicking foot's speed at the touch), kick_touch_s (when); once
+  // anything touched the ball, which part did first, as 0/1 (all 0: the kicking foot; else the
+  // kick ends as wrong_touch): kick_touch_kicking_leg (its lower leg or thigh),
+  // kick_touch_standing_leg (the standing foot, lower leg or thigh), kick_touch_upper_body (the
+  // trunk, head or an arm); fell (0/1).
   // TRAP_KICK: TRAP's; trap_kick_switched (0/1: the ball came into the kick's zone) and
   // trap_kick_switch_s (when); once switched, KICK's; trap_kick_success (0/1: switched, the
   // kick a success, no fall).

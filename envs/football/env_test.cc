@@ -8,6 +8,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "absl/strings/str_cat.h"
@@ -190,6 +191,54 @@ TEST_F(FootballEnvTest, TheKickMetricsAreThoseRecomputedFromTheBallVelocityAfter
     EXPECT_LE(value("kick_speed_floor_mps"), value("kick_speed_deviation_mps") + 1e-12);
   }
   EXPECT_GT(kicks, 0) << "the scripted kick touched no ball with zero action";
+}
+
+TEST_F(FootballEnvTest, TheFirstTouchNamesThePartOfTheCharacterThatMadeIt) {
+  const std::vector<float> zero(kNumActions, 0.0f);
+  // The three first-touch metrics as a string, "kicking_leg standing_leg upper_body".
+  auto touch_part = [&](FootballEnv& env, Outcome* outcome) {
+    StepResult r;
+    while (r.outcome == Outcome::kRunning) r = env.Step(zero.data(), *walk_);
+    *outcome = r.outcome;
+    std::vector<NamedValue> metrics;
+    env.AppendEpisodeMetrics(&metrics);
+    std::string parts;
+    for (const char* name :
+         {"kick_touch_kicking_leg", "kick_touch_standing_leg", "kick_touch_upper_body"}) {
+      std::string value = "-";
+      for (const NamedValue& m : metrics) {
+        if (m.name == name) value = absl::StrCat(m.value);
+      }
+      absl::StrAppend(&parts, parts.empty() ? "" : " ", value);
+    }
+    return parts;
+  };
+  // The scripted kick with zero action: the kicking foot first.
+  std::unique_ptr<FootballEnv> kick = NewEnv(0);
+  Outcome outcome;
+  EXPECT_EQ(touch_part(*kick, &outcome), "0 0 0");
+  EXPECT_EQ(outcome, kKicked);
+  // The ball dropped at rest onto a body (the head, the standing boot's toe ahead of its shin,
+  // the kicking shin): that body's part first, a wrong touch.
+  const mjModel* m = spec_->model();
+  // (body, metres ahead of its origin, metres above it, the metrics expected)
+  for (const auto& [body, ahead, above, part] :
+       std::vector<std::tuple<const char*, double, double, std::string>>{
+           {"neck", 0, 0.4, "0 0 1"},
+           {"left_ankle", 0.18, 0.2, "0 1 0"},
+           {"right_ankle", 0.15, 0.2, "1 0 0"}}) {
+    SCOPED_TRACE(body);
+    std::unique_ptr<FootballEnv> env = NewEnv(0);
+    mjData* d = env->data();
+    const double* at = d->xpos + 3 * mj_name2id(m, mjOBJ_BODY, body);
+    double* ball = d->qpos + spec_->ball().qpos;
+    ball[0] = at[0] + ahead;
+    ball[1] = at[1];
+    ball[2] = at[2] + above;
+    for (int i = 0; i < 6; ++i) d->qvel[spec_->ball().dof + i] = 0;
+    EXPECT_EQ(touch_part(*env, &outcome), part);
+    EXPECT_EQ(outcome, kWrongTouch);
+  }
 }
 
 TEST(FootballConfigTest, ConfigErrorsNameFileLineAndField) {

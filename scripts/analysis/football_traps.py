@@ -11,7 +11,8 @@ relative speed over successes, m/s); the ball's speed at the meeting point; fall
 TRAP_KICK task (lines with trap_kick_success) a second table, its groups named seq:<group>:
 the share of sequences that reached the kick (trap_kick_switched), that succeeded
 (trap_kick_success: the trap, the kick, no fall), that ended out_of_reach, and KDD (deg) and
-KSD (m/s) over the successful kicks. Reads only "table": "episode" lines.
+KSD (m/s) over the successful kicks, then which part touched the ball first in the kicks that
+reached a touch (kick_touch_*). Reads only "table": "episode" lines.
 """
 import argparse
 import json
@@ -19,6 +20,8 @@ import math
 import sys
 
 PARTS = {1: 'foot', 2: 'lower_leg', 3: 'torso', 4: 'head'}
+# The kick's first-touch metrics (0/1, envs/football/env.h); all 0: the kicking foot.
+TOUCH_PARTS = ('kicking_leg', 'standing_leg', 'upper_body')
 
 
 def load(path):
@@ -97,6 +100,14 @@ def main(argv):
     for label, group in groups:
         if group:
             print(sequence_row(label, summarize_sequences(group)))
+    touches = {}
+    for r in sequences:
+        if 'kick_touch_upper_body' in r:
+            name = next((p for p in TOUCH_PARTS if r[f'kick_touch_{p}'] > 0.5), 'kicking_foot')
+            touches[name] = touches.get(name, 0) + 1
+    if touches:
+        print('\nfirst touch of the kick: ' +
+              ', '.join(f'{name} {n}' for name, n in sorted(touches.items(), key=lambda x: -x[1])))
 
 
 if __name__ == '__main__':

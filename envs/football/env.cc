@@ -27,14 +27,14 @@ Outcome TrapFailure(const FootballSpec& spec, const TrapEpisode& e) {
   return Outcome::kRunning;
 }
 
-// Which part of the character a body is, for the kick's first touch (env.h): by the humanoid's
-// body names (configs/models/humanoid.xml; the right leg kicks, the left stands).
+// Which part of the character a body is, for the kick's first touch (env.h): the spec's kicking
+// foot, else by the humanoid's body names (configs/models/humanoid.xml; the left leg stands).
 enum class TouchPart { kKickingFoot, kKickingLeg, kStandingLeg, kUpperBody };
 
-TouchPart TouchPartOf(const mjModel* m, int body) {
-  const char* name = mj_id2name(m, mjOBJ_BODY, body);
+TouchPart TouchPartOf(const FootballSpec& spec, int body) {
+  if (body == spec.kick_foot_body()) return TouchPart::kKickingFoot;
+  const char* name = mj_id2name(spec.model(), mjOBJ_BODY, body);
   const std::string n = name == nullptr ? "" : name;
-  if (n == "right_ankle") return TouchPart::kKickingFoot;
   if (n == "right_knee" || n == "right_hip") return TouchPart::kKickingLeg;
   if (n == "left_ankle" || n == "left_knee" || n == "left_hip") return TouchPart::kStandingLeg;
   return TouchPart::kUpperBody;
@@ -462,7 +462,7 @@ void FootballEnv::AppendKickMetrics(std::vector<NamedValue>* out) const {
     out->push_back({"kick_touch_s", s_.touch_time_s});
   }
   if (s_.touch_body >= 0) {
-    const TouchPart part = TouchPartOf(model_, s_.touch_body);
+    const TouchPart part = TouchPartOf(*spec_, s_.touch_body);
     out->push_back({"kick_touch_kicking_leg", part == TouchPart::kKickingLeg ? 1.0 : 0.0});
     out->push_back({"kick_touch_standing_leg", part == TouchPart::kStandingLeg ? 1.0 : 0.0});
     out->push_back({"kick_touch_upper_body", part == TouchPart::kUpperBody ? 1.0 : 0.0});

@@ -48,7 +48,11 @@ void KickReferencePose(const FootballSpec& spec, double t, const KickAdjust& adj
   if (t < times.swing) {
     leg = Blend(rest, back, (t - times.start) / (times.swing - times.start));
   } else if (t < times.recover) {
-    leg = Blend(back, forward, (t - times.swing) / (times.recover - times.swing));
+    const double u = (t - times.swing) / (times.recover - times.swing);
+    leg = Blend(back, forward, u);
+    // The knee's own ease, lagging the hip's by knee_lag of the swing.
+    const double lag = m.knee_lag();
+    if (lag > 0) leg.knee = Blend(back, forward, (u - lag) / (1 - lag)).knee;
   } else {
     leg = Blend(forward, rest, (t - times.recover) / (times.end - times.recover));
   }

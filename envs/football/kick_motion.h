@@ -1,7 +1,8 @@
 // The scripted kick the football env's PD tracks (proto/envs/football.proto, KickMotion): the
 // standing pose with the right leg's back-swing, swing and recovery as functions of the
-// episode's time, and its changes by the planner's kick variables (timing, hip, abduction, knee,
-// ankle). Pure functions; allocation-free.
+// episode's time (the knee's opening may lag the hip's: KickMotion.knee_lag), and its changes by
+// the planner's kick variables (timing, hip, abduction, knee, ankle). Pure functions;
+// allocation-free.
 #ifndef JUGGLE_ENVS_FOOTBALL_KICK_MOTION_H_
 #define JUGGLE_ENVS_FOOTBALL_KICK_MOTION_H_
 

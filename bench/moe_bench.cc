@@ -2,15 +2,16 @@
 // same MoE at several batch sizes, PPO update throughput at the reference's sizes, and Eigen
 // inference throughput at a worker-sized batch — all in one run. The last line is key=value
 // pairs (layerwise_speedup_b512=, layerwise_speedup_b10000=, ...).
+#include <torch/torch.h>
+
 #include <chrono>
 #include <cstdio>
 #include <string>
 #include <vector>
 
-#include <torch/torch.h>
-
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "bench/bench_clock.h"
 #include "bench/benchmarks.h"
 #include "common/eigen_policy.h"
 #include "common/rng.h"
@@ -22,10 +23,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double Seconds(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
 // Median-free best-of-`reps` time of one forward+backward pass.
 double TimeForwardBackward(TorchNetwork* net, int batch, bool blended, int reps) {
   const torch::Tensor x = torch::randn({batch, 157});
@@ -35,7 +32,7 @@ double TimeForwardBackward(TorchNetwork* net, int batch, bool blended, int reps)
     const auto t0 = Clock::now();
     const torch::Tensor y = blended ? net->ForwardWeightBlended(x) : net->forward(x);
     y.pow(2).sum().backward();
-    best = std::min(best, Seconds(t0));
+    best = std::min(best, SecondsSince(t0));
   }
   return best;
 }
@@ -88,7 +85,7 @@ absl::Status RunMoeBench(const MoeBenchOptions& o) {
   batch.policy_version.assign(batch.num_unrolls, 0);
   const auto t0 = Clock::now();
   absl::StatusOr<UpdateStats> stats = trainer.Update(batch);
-  const double update_s = Seconds(t0);
+  const double update_s = SecondsSince(t0);
   if (!stats.ok()) return stats.status();
   const int passes = ppo.epochs() * 2;  // critic epochs + actor epochs
   const double per_epoch = batch.num_samples() * passes / update_s;
@@ -104,11 +101,11 @@ absl::Status RunMoeBench(const MoeBenchOptions& o) {
   for (float& x : obs) x = static_cast<float>(rng.Normal());
   int calls = 0;
   const auto t1 = Clock::now();
-  while (Seconds(t1) < 1.0) {
+  while (SecondsSince(t1) < 1.0) {
     const RowMatrix m = policy.MeanActions(obs.data(), wb);
     calls += m.rows() > 0;
   }
-  const double eigen_rate = double(calls) * wb / Seconds(t1);
+  const double eigen_rate = double(calls) * wb / SecondsSince(t1);
   std::printf("Eigen inference (actor, 1 thread): batch %d, %.0f samples/s\n", wb, eigen_rate);
   absl::StrAppend(&kv, absl::StrFormat("ppo_samples_per_s_per_epoch=%.0f "
                                        "ppo_iteration_samples_per_s=%.0f eigen_samples_per_s_b%d=%.0f",

@@ -12,11 +12,12 @@
 #include <memory>
 #include <vector>
 
+#include "bench/bench_clock.h"
 #include "bench/benchmarks.h"
 #include "bench/physics_reference.h"
+#include "common/eigen_policy.h"
 #include "envs/registry.h"
 #include "envs/soccer_juggle/env.h"
-#include "common/eigen_policy.h"
 #include "planner/planner_config.h"
 #include "planner/planner_set.h"
 
@@ -27,10 +28,6 @@ using soccer_juggle::JuggleEnv;
 using soccer_juggle::JuggleSpec;
 using soccer_juggle::kNumActions;
 using Clock = std::chrono::steady_clock;
-
-double Seconds(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 struct SearchRate {
   double substeps_per_s = 0;      // physics substeps of the rollouts per wall second
@@ -83,7 +80,7 @@ absl::StatusOr<SearchRate> PlannerEpisodeRate(std::shared_ptr<const JuggleSpec> 
     ++control_steps;
     if (env->Step(action, walk).outcome != Outcome::kRunning) env = next_env();
   }
-  const double seconds = Seconds(start);
+  const double seconds = SecondsSince(start);
   const planner::PlannerTotals totals = (*set)->totals();
   const double sim_s = control_steps * spec->control_dt();
   // Physics substeps the rollouts made: a planning model (planner.planning_model) takes
@@ -162,7 +159,7 @@ absl::Status RunPlannerBench(const PlannerBenchOptions& o) {
     const auto start = Clock::now();
     constexpr int kRestores = 2000;
     for (int i = 0; i < kRestores; ++i) (void)env.Restore(*visited[i % visited.size()]);
-    restore_s = std::min(restore_s, Seconds(start) / kRestores);
+    restore_s = std::min(restore_s, SecondsSince(start) / kRestores);
     std::printf("repeat %d: mj_step/s %.0f  rollout substeps/s 1 thread %.0f  2 threads %.0f  "
                 "restore %.1f us",
                 r + 1, mj, plain.one.substeps_per_s, plain.two.substeps_per_s, restore_s * 1e6);

@@ -3,26 +3,27 @@
 //   juggle bench broadcast  time until 32 connected workers hold a new policy snapshot
 //   juggle bench local      local-mode iteration time vs sampling alone + update alone
 // The last line of each is key=value pairs.
+#include <grpcpp/grpcpp.h>
+
 #include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <thread>
 #include <vector>
 
-#include <grpcpp/grpcpp.h>
-
 #include "absl/strings/str_cat.h"
+#include "bench/bench_clock.h"
 #include "bench/benchmarks.h"
 #include "bench/synthetic_contribution.h"
 #include "common/chunk_codec.h"
-#include "envs/registry.h"
 #include "common/testing/temp_dir.h"
+#include "envs/registry.h"
+#include "envs/soccer_juggle/spec.h"
 #include "learner/learner_server.h"
-#include "learner/testing/recording_observer.h"
 #include "learner/ppo_trainer.h"
+#include "learner/testing/recording_observer.h"
 #include "proto/rollout.grpc.pb.h"
 #include "worker/env_pool.h"
-#include "envs/soccer_juggle/spec.h"
 #include "worker/rollout_collector.h"
 #include "worker/worker_client.h"
 
@@ -34,8 +35,6 @@ using soccer_juggle::kNumActions;
 using soccer_juggle::ObservationSize;
 
 using Clock = std::chrono::steady_clock;
-
-double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 absl::StatusOr<std::unique_ptr<LearnerServer>> StartLearner(const LoadedConfig& config,
                                                             bool discard,
@@ -103,7 +102,7 @@ absl::Status RunIngestBench(const IngestBenchOptions& o) {
       rpc::TrajectoryChunk chunk = chunks[0];
       const int64_t chunk_bytes = static_cast<int64_t>(chunk.ByteSizeLong());
       int64_t seq = 0;
-      while (Since(start) < seconds) {
+      while (SecondsSince(start) < seconds) {
         chunk.set_sequence(seq++);
         rpc::ChunkAck ack;
         if (!stream->Write(chunk) || !stream->Read(&ack)) break;
@@ -119,7 +118,7 @@ absl::Status RunIngestBench(const IngestBenchOptions& o) {
     });
   }
   for (std::thread& t : threads) t.join();
-  const double elapsed = Since(start);
+  const double elapsed = SecondsSince(start);
   stop = true;
   trainer.join();
   (*server)->Shutdown();
@@ -229,7 +228,7 @@ absl::Status RunLocalBench(const LocalBenchOptions& o) {
     if (!trainer.Update(batch).ok()) return absl::InternalError("update failed");
     if (it == 0) continue;  // warm-up
     sample_s += std::chrono::duration<double>(t1 - t0).count();
-    update_s += Since(t1);
+    update_s += SecondsSince(t1);
   }
   sample_s /= iterations;
   update_s /= iterations;

@@ -5,13 +5,14 @@
 #include <cstdio>
 #include <vector>
 
+#include "bench/bench_clock.h"
 #include "bench/benchmarks.h"
 #include "bench/physics_reference.h"
-#include "envs/registry.h"
-#include "worker/env_pool.h"
 #include "envs/mujoco_model.h"
+#include "envs/registry.h"
 #include "envs/soccer_juggle/env.h"
 #include "envs/soccer_juggle/spec.h"
+#include "worker/env_pool.h"
 
 namespace juggle {
 namespace {
@@ -22,10 +23,6 @@ using soccer_juggle::kNumActions;
 
 using Clock = std::chrono::steady_clock;
 
-double Seconds(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
 // Env control steps per second with zero actions (automatic resets included).
 double EnvStepRate(std::shared_ptr<const JuggleSpec> spec, int envs, int threads, int steps) {
   auto pool = EnvPool::Create(spec, envs, threads, /*seed=*/1);
@@ -34,7 +31,7 @@ double EnvStepRate(std::shared_ptr<const JuggleSpec> spec, int envs, int threads
   for (int i = 0; i < 10; ++i) (*pool)->Step(actions.data());  // warm up
   const auto start = Clock::now();
   for (int i = 0; i < steps; ++i) (*pool)->Step(actions.data());
-  return double(steps) * envs / Seconds(start);
+  return double(steps) * envs / SecondsSince(start);
 }
 
 }  // namespace

@@ -6,24 +6,24 @@
 // --resume. Every 10 s the learner's /metrics and RSS are sampled. At the end the workers stop,
 // the learner drains, and the unroll accounts of the resumed learner must reconcile:
 // accepted = trained + dropped + held + partial. The last line is key=value pairs.
+#include <grpcpp/grpcpp.h>
 #include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <chrono>
-#include <filesystem>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <random>
 #include <thread>
 #include <vector>
 
-#include <grpcpp/grpcpp.h>
-
 #include "absl/strings/str_cat.h"
-#include "bench/benchmarks.h"
+#include "bench/bench_clock.h"
 #include "bench/bench_processes.h"
+#include "bench/benchmarks.h"
 #include "bench/synthetic_contribution.h"
 #include "common/chunk_codec.h"
 #include "common/testing/temp_dir.h"
@@ -34,8 +34,6 @@ namespace juggle {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // One synthetic worker: registers in its slot, streams two-part contributions at a steady pace,
 // heartbeats, re-registers when the learner forgets it or restarts. `kill` makes it stop after
@@ -110,7 +108,7 @@ class SyntheticWorker {
         }
       }
       ++contributions_;
-      if (Since(last_heartbeat) > 1) {
+      if (SecondsSince(last_heartbeat) > 1) {
         grpc::ClientContext ctx;
         ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(2));
         rpc::HeartbeatRequest req;
@@ -133,7 +131,7 @@ class SyntheticWorker {
         }
         if (!reader->Finish().ok()) return;
       }
-      while (!kill_ && Since(start) < interval_s_) {
+      while (!kill_ && SecondsSince(start) < interval_s_) {
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
       }
     }
@@ -194,9 +192,9 @@ absl::Status RunSoakBench(const SoakBenchOptions& o) {
   double iteration_at_kill = 0, resumed_at = 0;
   std::string resumed_line;
   const double total_s = o.minutes * 60, warmup_s = std::min(60.0, total_s / 10);
-  while (Since(start) < total_s) {
+  while (SecondsSince(start) < total_s) {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    const double t = Since(start);
+    const double t = SecondsSince(start);
     // Chaos: kill a random live worker; restart the due ones.
     if (std::chrono::duration<double>(Clock::now() - last_kill).count() > o.kill_every_s) {
       last_kill = Clock::now();
@@ -286,15 +284,16 @@ absl::Status RunSoakBench(const SoakBenchOptions& o) {
   std::string reasons;
   for (const auto& [reason, n] : last.dropped_by_reason) absl::StrAppend(&reasons, " ", reason, "=", n);
   std::printf("dropped by reason:%s\n", reasons.c_str());
-  std::printf("soak: minutes=%.1f workers=%d worker_kills=%d learner_kills=1 "
-              "iteration_at_kill=%.0f resumed_at_iteration=%.0f iterations_per_minute=%.1f "
-              "rss1_start_mb=%.0f rss1_end_mb=%.0f rss2_start_mb=%.0f rss2_end_mb=%.0f "
-              "accepted_unrolls=%.0f trained_unrolls=%.0f dropped_unrolls=%.0f held_unrolls=%.0f "
-              "partial_unrolls=%.0f unaccounted_unrolls=%.0f\n",
-              o.minutes, o.workers, worker_kills, iteration_at_kill, resumed_at,
-              iterations_total / std::max(1e-9, Since(start) / 60), rss1_start, rss1_end,
-              rss2_start, rss2_end, last.accepted, last.trained, last.dropped, last.held,
-              last.partial, last.unaccounted());
+  std::printf(
+      "soak: minutes=%.1f workers=%d worker_kills=%d learner_kills=1 "
+      "iteration_at_kill=%.0f resumed_at_iteration=%.0f iterations_per_minute=%.1f "
+      "rss1_start_mb=%.0f rss1_end_mb=%.0f rss2_start_mb=%.0f rss2_end_mb=%.0f "
+      "accepted_unrolls=%.0f trained_unrolls=%.0f dropped_unrolls=%.0f held_unrolls=%.0f "
+      "partial_unrolls=%.0f unaccounted_unrolls=%.0f\n",
+      o.minutes, o.workers, worker_kills, iteration_at_kill, resumed_at,
+      iterations_total / std::max(1e-9, SecondsSince(start) / 60), rss1_start, rss1_end, rss2_start,
+      rss2_end, last.accepted, last.trained, last.dropped, last.held, last.partial,
+      last.unaccounted());
   if (!last.ok) return absl::UnavailableError("the resumed learner did not answer /metrics");
   if (last.unaccounted() != 0) {
     return absl::DataLossError(absl::StrCat(last.unaccounted(), " accepted unrolls are unaccounted for"));

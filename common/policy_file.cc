@@ -10,17 +10,17 @@
 namespace juggle {
 namespace {
 
-constexpr char kMagic[8] = {'J', 'G', 'L', 'P', 'O', 'L', 'C', 'Y'};
-constexpr size_t kHeaderSize = sizeof(kMagic) + sizeof(uint32_t) + 2 * sizeof(uint64_t);
+constexpr char kPolicyMagic[8] = {'J', 'G', 'L', 'P', 'O', 'L', 'C', 'Y'};
+constexpr size_t kHeaderSize = sizeof(kPolicyMagic) + sizeof(uint32_t) + 2 * sizeof(uint64_t);
 constexpr char kHowToWrite[] = "write one with `juggle export-policy`";
 
 template <typename T>
-void Put(std::string* out, T v) {
+void PutRaw(std::string* out, T v) {
   out->append(reinterpret_cast<const char*>(&v), sizeof(T));
 }
 
 template <typename T>
-T Get(std::string_view in, size_t pos) {
+T GetRaw(std::string_view in, size_t pos) {
   T v;
   std::memcpy(&v, in.data() + pos, sizeof(T));
   return v;
@@ -50,31 +50,32 @@ absl::StatusOr<PolicyFile> ParseFormat1(std::string_view bytes, const std::strin
 
 std::string SerializePolicyFile(const config::ExportedPolicy& policy) {
   const std::string payload = policy.SerializeAsString();
-  std::string file(kMagic, sizeof(kMagic));
-  Put<uint32_t>(&file, kPolicyFileFormat);
-  Put<uint64_t>(&file, payload.size());
-  Put<uint64_t>(&file, Fnv1a64(payload));
+  std::string file(kPolicyMagic, sizeof(kPolicyMagic));
+  PutRaw<uint32_t>(&file, kPolicyFileFormat);
+  PutRaw<uint64_t>(&file, payload.size());
+  PutRaw<uint64_t>(&file, Fnv1a64(payload));
   file += payload;
   return file;
 }
 
 absl::StatusOr<PolicyFile> ParsePolicyFile(std::string_view bytes, const std::string& path) {
-  if (bytes.size() < sizeof(kMagic) || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
+  if (bytes.size() < sizeof(kPolicyMagic) ||
+      std::memcmp(bytes.data(), kPolicyMagic, sizeof(kPolicyMagic)) != 0) {
     return ParseFormat1(bytes, path);
   }
   auto loss = [&](const std::string& what) {
     return absl::DataLossError(absl::StrCat(path, ": exported policy ", what));
   };
   if (bytes.size() < kHeaderSize) return loss("truncated in its header");
-  const uint32_t format = Get<uint32_t>(bytes, sizeof(kMagic));
+  const uint32_t format = GetRaw<uint32_t>(bytes, sizeof(kPolicyMagic));
   if (format > kPolicyFileFormat) {
     return absl::FailedPreconditionError(absl::StrCat(
         path, ": exported policy of format ", format, ", written by a newer juggle (this one "
         "reads formats 1 to ", kPolicyFileFormat, ")"));
   }
   if (format != kPolicyFileFormat) return loss(absl::StrCat("of unknown format ", format));
-  const uint64_t size = Get<uint64_t>(bytes, sizeof(kMagic) + sizeof(uint32_t));
-  const uint64_t checksum = Get<uint64_t>(bytes, sizeof(kMagic) + sizeof(uint32_t) + 8);
+  const uint64_t size = GetRaw<uint64_t>(bytes, sizeof(kPolicyMagic) + sizeof(uint32_t));
+  const uint64_t checksum = GetRaw<uint64_t>(bytes, sizeof(kPolicyMagic) + sizeof(uint32_t) + 8);
   const std::string_view payload = bytes.substr(kHeaderSize);
   if (payload.size() != size) {
     return loss(absl::StrCat("truncated or padded: its payload has ", payload.size(), " of ",

@@ -5,6 +5,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "envs/mujoco_model.h"
 #include "export/trajectory_model.h"
 
 namespace juggle {
@@ -13,10 +14,6 @@ namespace {
 constexpr double kDegrees = 180.0 / M_PI;
 // The rotation channel (in Zrotation Xrotation Yrotation order) of BVH axis X, Y, Z.
 constexpr int kAxisChannel[3] = {1, 2, 0};
-
-struct DataDeleter {
-  void operator()(mjData* d) const { mj_deleteData(d); }
-};
 
 // MuJoCo world (x, y, z) -> BVH (X, Y, Z) = (y, z, x).
 void ToBvh(const double* v, double* out) {
@@ -111,7 +108,7 @@ absl::StatusOr<BvhSkeleton> BuildBvhSkeleton(const mjModel* m) {
   }
 
   // Rest pose: qpos0.
-  std::unique_ptr<mjData, DataDeleter> d(mj_makeData(m));
+  MjDataPtr d(mj_makeData(m));
   mju_copy(d->qpos, m->qpos0, m->nq);
   mj_kinematics(m, d.get());
 
@@ -205,7 +202,7 @@ absl::StatusOr<BvhExport> ExportBvh(const mjModel* m, const Trajectory& t, int e
   out.joints = static_cast<int>(joints.size());
   for (const BvhJoint& j : joints) out.channels += static_cast<int>(j.channels.size());
 
-  std::unique_ptr<mjData, DataDeleter> d(mj_makeData(m));
+  MjDataPtr d(mj_makeData(m));
   mju_copy(d->qpos, m->qpos0, m->nq);
   mj_kinematics(m, d.get());
   std::vector<double> rest(9 * m->nbody);  // rest world rotations

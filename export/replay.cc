@@ -12,6 +12,7 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_replace.h"
 #include "common/file_io.h"
+#include "envs/mujoco_model.h"
 #include "export/trajectory_model.h"
 #include "export/web_assets.h"
 #include "nlohmann/json.hpp"
@@ -20,10 +21,6 @@ namespace juggle {
 namespace {
 
 constexpr double kScale = 10000;
-
-struct DataDeleter {
-  void operator()(mjData* d) const { mj_deleteData(d); }
-};
 
 const char* GeomTypeName(int type) {
   switch (type) {
@@ -146,7 +143,7 @@ absl::StatusOr<ReplayData> BuildReplayData(const mjModel* m, const Trajectory& t
   r.geoms = std::move(scene.geoms);
   r.skipped_geoms = scene.skipped_geoms;
 
-  std::unique_ptr<mjData, DataDeleter> d(mj_makeData(m));
+  MjDataPtr d(mj_makeData(m));
   const int nb = static_cast<int>(r.body_ids.size());
   const int nc = t.num_channels();
   const double t0 = t.time[r.samples.front()];

@@ -18,7 +18,7 @@ double Target(int d) { return (d % 2 == 0 ? 0.45 : -0.35) / (1 + d / 2); }
 
 // 100 Σ (x_d − c_d)², as a kick's cost grows with its landing error; records every candidate.
 // `exact`: every call must ask for exact costs (an infinite bound), as the model needs them.
-BatchCost Bowl(std::vector<double>* seen = nullptr, bool exact = true) {
+BatchCost BayesBowl(std::vector<double>* seen = nullptr, bool exact = true) {
   return [seen, exact](const std::vector<double>& x, int n, double bound,
                        std::vector<double>* costs) {
     if (exact) {
@@ -41,7 +41,7 @@ TEST(BayesSearchTest, ReachesABowlsBottomInFewerEvaluationsThanTheCrossEntropyMe
   BayesSettings bayes;
   bayes.evaluations = 48;
   Rng rng(7);
-  const CemResult b = *MinimizeBayes(space, bayes, seeds, &rng, Bowl());
+  const CemResult b = *MinimizeBayes(space, bayes, seeds, &rng, BayesBowl());
   EXPECT_EQ(b.evaluations, 48);
   // The same budget for the cross-entropy method: 8 samples × 6 iterations.
   CemSettings cem;
@@ -49,7 +49,7 @@ TEST(BayesSearchTest, ReachesABowlsBottomInFewerEvaluationsThanTheCrossEntropyMe
   cem.iterations = 6;
   cem.keep_elite_fraction = 0;
   Rng cem_rng(7);
-  const CemResult c = *MinimizeCem(space, cem, seeds, &cem_rng, Bowl(nullptr, false));
+  const CemResult c = *MinimizeCem(space, cem, seeds, &cem_rng, BayesBowl(nullptr, false));
   EXPECT_EQ(c.evaluations, 48);
   EXPECT_LT(b.best_cost, 0.5);  // within 0.07 of the bottom
   EXPECT_LT(b.best_cost, c.best_cost / 4);
@@ -70,7 +70,7 @@ TEST(BayesSearchTest, NeverReturnsWorseThanTheIncumbentAndKeepsCandidatesInTheBo
   settings.evaluations = 20;
   Rng rng(1);
   const std::vector<double> incumbent = {Target(0), Target(1), 0.1};
-  const CemResult r = *MinimizeBayes(space, settings, {incumbent}, &rng, Bowl(&seen));
+  const CemResult r = *MinimizeBayes(space, settings, {incumbent}, &rng, BayesBowl(&seen));
   EXPECT_EQ(r.best, incumbent);
   EXPECT_DOUBLE_EQ(r.best_cost, r.incumbent_cost);
   ASSERT_EQ(seen.size(), 20u * 3);
@@ -92,7 +92,7 @@ TEST(BayesSearchTest, StopsOnceGoodEnoughAndCallsTheCostInBatches) {
   settings.stop_below = 5;
   Rng rng(2);
   const CemResult r =
-      *MinimizeBayes(space, settings, {std::vector<double>(4, 0.0)}, &rng, Bowl());
+      *MinimizeBayes(space, settings, {std::vector<double>(4, 0.0)}, &rng, BayesBowl());
   EXPECT_LE(r.best_cost, 5);
   EXPECT_GT(r.iteration_best[r.iteration_best.size() - 2], 5);  // the call before was not
   EXPECT_LT(r.evaluations, 200);
@@ -108,8 +108,8 @@ TEST(BayesSearchTest, IsDeterministicForARandomStreamAndSeedsAreCandidates) {
   Rng a(11), b(11);
   std::vector<double> seen_a, seen_b;
   const std::vector<std::vector<double>> seeds = {std::vector<double>(5, 0.0), good};
-  const CemResult ra = *MinimizeBayes(space, settings, seeds, &a, Bowl(&seen_a));
-  const CemResult rb = *MinimizeBayes(space, settings, seeds, &b, Bowl(&seen_b));
+  const CemResult ra = *MinimizeBayes(space, settings, seeds, &a, BayesBowl(&seen_a));
+  const CemResult rb = *MinimizeBayes(space, settings, seeds, &b, BayesBowl(&seen_b));
   EXPECT_EQ(seen_a, seen_b);
   EXPECT_EQ(ra.best, rb.best);
   EXPECT_EQ(std::vector<double>(seen_a.begin() + 5, seen_a.begin() + 10), good);

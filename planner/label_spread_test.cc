@@ -23,7 +23,7 @@ class LabelSpreadTest : public ::testing::Test {
  protected:
   void SetUp() override {
     absl::StatusOr<LoadedConfig> config =
-        LoadRunConfig(testing::RepoPath("configs/right_foot_planner.textproto"));
+        LoadRunConfig(::juggle::testing::RepoPath("configs/right_foot_planner.textproto"));
     ASSERT_TRUE(config.ok()) << config.status();
     config_ = *std::move(config);
     config::PlannerConfig& p = *config_.run.mutable_planner();

@@ -15,7 +15,7 @@ class PlannerControllerTest : public ::testing::Test {
  protected:
   void SetUp() override {
     absl::StatusOr<LoadedConfig> config =
-        LoadRunConfig(testing::RepoPath("configs/right_foot_planner.textproto"));
+        LoadRunConfig(::juggle::testing::RepoPath("configs/right_foot_planner.textproto"));
     ASSERT_TRUE(config.ok()) << config.status();
     config_ = *config;
     config::PlannerConfig& p = *config_.run.mutable_planner();

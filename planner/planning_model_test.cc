@@ -35,7 +35,7 @@ class PlanningModelTest : public ::testing::Test {
  protected:
   void SetUp() override {
     absl::StatusOr<LoadedConfig> config =
-        LoadRunConfig(testing::RepoPath("configs/right_foot_planner.textproto"));
+        LoadRunConfig(::juggle::testing::RepoPath("configs/right_foot_planner.textproto"));
     ASSERT_TRUE(config.ok()) << config.status();
     config_ = *config;
     absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(config_);

@@ -49,7 +49,7 @@ constexpr int kInvalidArgument = 3;               // google.rpc.Code numbering
 constexpr int kFailedPrecondition = 9;
 
 // Polls `predicate` every 50 ms for up to `seconds`.
-bool WaitFor(const std::function<bool()>& predicate, double seconds) {
+bool WaitUntil(const std::function<bool()>& predicate, double seconds) {
   const auto until = Clock::now() + std::chrono::milliseconds(int(seconds * 1000));
   while (Clock::now() < until) {
     if (predicate()) return true;
@@ -347,11 +347,11 @@ TEST_F(RolloutProtocolTest, RejectsBadChunksWithTheirCodesCountsThemAndStillTrai
   EXPECT_TRUE(ok.accepted()) << ok.code() << ": " << ok.message();
   EXPECT_EQ(ok.code(), 0);
   EXPECT_TRUE(ok.message().empty()) << ok.message();
-  EXPECT_TRUE(WaitFor([&] { return server_->version() >= 1; }, 8))
+  EXPECT_TRUE(WaitUntil([&] { return server_->version() >= 1; }, 8))
       << "the learner did not train on the valid contribution";
   EXPECT_EQ(server_->version(), 1);
   // The training loop publishes the policy before it records the iteration's metrics.
-  EXPECT_TRUE(WaitFor([&] { return server_->metrics().Get("juggle_iterations_total") >= 1; }, 8));
+  EXPECT_TRUE(WaitUntil([&] { return server_->metrics().Get("juggle_iterations_total") >= 1; }, 8));
   EXPECT_EQ(server_->metrics().Get("juggle_iterations_total"), 1);
   EXPECT_EQ(server_->metrics().Get("juggle_samples_total"), reg.unroll_length());
   EXPECT_THAT(Metrics(), HasSubstr("\njuggle_policy_version 1\n"));
@@ -460,7 +460,7 @@ TEST_F(RolloutProtocolTest, ASynchronousRoundGoesOnWithoutAWorkerThatSendsNothin
   ASSERT_TRUE(stream->Read(&ack));
   EXPECT_TRUE(ack.accepted()) << ack.message();
   const auto start = Clock::now();
-  EXPECT_TRUE(WaitFor([&] { return server_->version() >= 1; }, 10))
+  EXPECT_TRUE(WaitUntil([&] { return server_->version() >= 1; }, 10))
       << "the round waited for the silent worker past sync_round_timeout_s";
   EXPECT_GE(std::chrono::duration<double>(Clock::now() - start).count(), 1.5)
       << "the round did not wait for the timeout";
@@ -509,7 +509,8 @@ TEST_F(RolloutProtocolTest, EveryHandlerCalledTwiceLeavesTheStateOfOneCall) {
   EXPECT_NE(again.incarnation(), first.incarnation());
   // The training loop refreshes the gauge every pass.
   const auto connected = [&] { return server_->metrics().Get("juggle_workers_connected"); };
-  EXPECT_TRUE(WaitFor([&] { return connected() == 1; }, 5)) << "one worker, not two: " << connected();
+  EXPECT_TRUE(WaitUntil([&] { return connected() == 1; }, 5))
+      << "one worker, not two: " << connected();
   EXPECT_EQ(server_->metrics().Get("juggle_worker_restarts_total"), 1);
   EXPECT_EQ(GetPolicy(first.incarnation(), -1).status.error_code(), grpc::StatusCode::FAILED_PRECONDITION)
       << "the replaced incarnation is refused";
@@ -552,7 +553,7 @@ TEST_F(RolloutProtocolTest, EveryHandlerCalledTwiceLeavesTheStateOfOneCall) {
   EXPECT_TRUE(send(parts[0]).accepted());
   send(parts[0]);  // the retry; its ack may say accepted: what counts is what is trained
   EXPECT_TRUE(send(parts[1]).accepted());
-  ASSERT_TRUE(WaitFor([&] { return server_->metrics().Get("juggle_iterations_total") >= 1; }, 10))
+  ASSERT_TRUE(WaitUntil([&] { return server_->metrics().Get("juggle_iterations_total") >= 1; }, 10))
       << "the contribution was not trained on";
   // The last part again, after the contribution was trained (version 1 now: refused as stale,
   // or taken as a duplicate: either way not trained).

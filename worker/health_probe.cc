@@ -15,7 +15,7 @@ namespace {
 // installed with Debian's gRPC, so the bytes are read by hand.
 constexpr char kServingResponse[] = {0x08, 0x01};
 
-absl::Status FromGrpc(const grpc::Status& s, const std::string& address) {
+absl::Status HealthCheckStatus(const grpc::Status& s, const std::string& address) {
   return absl::Status(static_cast<absl::StatusCode>(s.error_code()),
                       absl::StrCat("health check of ", address, ": ", s.error_message()));
 }
@@ -42,7 +42,7 @@ absl::Status ProbeLearnerHealth(const std::string& address, const TransportSecur
   stub.UnaryCall(&ctx, "/grpc.health.v1.Health/Check", grpc::StubOptions(), &request, &response,
                  [&done](grpc::Status s) { done.set_value(std::move(s)); });
   const grpc::Status status = done.get_future().get();
-  if (!status.ok()) return FromGrpc(status, address);
+  if (!status.ok()) return HealthCheckStatus(status, address);
 
   std::vector<grpc::Slice> slices;
   if (!response.Dump(&slices).ok()) return absl::InternalError("unreadable health response");

@@ -15,7 +15,6 @@
 namespace juggle::football {
 namespace {
 
-constexpr double kUpright[4] = {M_SQRT1_2, M_SQRT1_2, 0, 0};
 constexpr double kDegree = M_PI / 180;
 
 double Norm3(const double* v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
@@ -146,7 +145,7 @@ void FootballEnv::TargetVelocity(double v[3]) const {
 bool FootballEnv::Diverged() const { return SimulationDiverged(model_, data_.get()); }
 
 bool FootballEnv::Fallen() const {
-  const double dot = mju_dot(data_->qpos + 3, kUpright, 4);
+  const double dot = mju_dot(data_->qpos + 3, humanoid::kUprightRoot, 4);
   const double tilt_sin2 = std::max(0.0, 1.0 - dot * dot);
   return tilt_sin2 > spec_->football().max_tilt_sin2() ||
          data_->qpos[2] < spec_->football().min_root_height();

@@ -140,6 +140,11 @@ class FootballEnv : public juggle::Env {
   FootballEnvState s_;
 };
 
+// `env` as the football env it is (REQUIRES: a FootballEnv, e.g. a football planning task's).
+inline const FootballEnv& AsFootballEnv(const Env& env) {
+  return static_cast<const FootballEnv&>(env);
+}
+
 }  // namespace juggle::football
 
 #endif  // JUGGLE_ENVS_FOOTBALL_ENV_H_

@@ -83,7 +83,9 @@ TEST(KickMotionTest, AKneeLagHoldsTheKneeFoldedThenOpensItByTheSwingsEndOnTheSam
     const LegAt a = ReferenceAt(*together, t, adjust);
     const LegAt b = ReferenceAt(*whip, t, adjust);
     for (int k = 0; k < 4; ++k) EXPECT_DOUBLE_EQ(a.hip_quat[k], b.hip_quat[k]) << "t " << t;
-    if (t < swing || t >= recover) EXPECT_DOUBLE_EQ(a.knee, b.knee) << "t " << t;
+    if (t < swing || t >= recover) {
+      EXPECT_DOUBLE_EQ(a.knee, b.knee) << "t " << t;
+    }
   }
 }
 

@@ -12,8 +12,6 @@
 namespace juggle::football {
 namespace {
 
-constexpr double kUpright[4] = {M_SQRT1_2, M_SQRT1_2, 0, 0};
-
 absl::Status Invalid(const SourceLocator& where, const FieldPath& path, const std::string& what) {
   return absl::InvalidArgumentError(absl::StrCat(where.Where(path), ": ", what));
 }
@@ -91,7 +89,7 @@ absl::StatusOr<std::shared_ptr<const FootballSpec>> FootballSpec::Build(const Lo
   }
   pose[0] = pose[1] = 0;
   pose[2] = f.root_height();
-  std::copy(kUpright, kUpright + 4, pose.begin() + 3);
+  std::copy(humanoid::kUprightRoot, humanoid::kUprightRoot + 4, pose.begin() + 3);
   // Where the kicking foot stands (forward kinematics of the standing pose).
   MjDataPtr d(mj_makeData(model));
   mju_copy(d->qpos, pose.data(), humanoid::kCharacterNq);

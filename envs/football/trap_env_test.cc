@@ -29,11 +29,11 @@ using ::juggle::testing::WriteTemp;
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
 
-constexpr char kShipped[] = "configs/football_trap.textproto";
+constexpr char kShippedTrap[] = "configs/football_trap.textproto";
 
 class FootballTrapEnvTest : public ::testing::Test {
  protected:
-  void SetUp() override { Use(RepoPath(kShipped)); }
+  void SetUp() override { Use(RepoPath(kShippedTrap)); }
 
   void Use(const std::string& path) {
     absl::StatusOr<LoadedConfig> config = LoadRunConfig(path);
@@ -46,7 +46,7 @@ class FootballTrapEnvTest : public ::testing::Test {
 
   // The shipped config with `football_fields` added inside `football { trap { ... } }`.
   void UseTrap(const std::string& trap_fields) {
-    const std::string text = absl::StrCat("base_config: \"", RepoPath(kShipped),
+    const std::string text = absl::StrCat("base_config: \"", RepoPath(kShippedTrap),
                                           "\"\nfootball {\n  trap { ", trap_fields, " }\n}\n");
     Use(WriteTemp("football_trap_variant.textproto", text));
   }
@@ -216,10 +216,10 @@ TEST_F(FootballTrapEnvTest, ABallThatMeetsTheTurfFirstEndsAsGroundFirst) {
 }
 
 TEST_F(FootballTrapEnvTest, PassesThatCannotReachThePartAreRefusedNamingFileLineAndField) {
-  const std::string weak = absl::StrCat(
-      "base_config: \"", RepoPath(kShipped),
-      "\"\nfootball {\n  trap {\n    parts: HEAD\n    launch_speed_max_mps: 3\n"
-      "    launch_speed_min_mps: 2\n  }\n}\n");
+  const std::string weak =
+      absl::StrCat("base_config: \"", RepoPath(kShippedTrap),
+                   "\"\nfootball {\n  trap {\n    parts: HEAD\n    launch_speed_max_mps: 3\n"
+                   "    launch_speed_min_mps: 2\n  }\n}\n");
   const std::string path = WriteTemp("football_trap_weak.textproto", weak);
   absl::StatusOr<LoadedConfig> c = LoadRunConfig(path);
   ASSERT_TRUE(c.ok()) << c.status();
@@ -230,7 +230,7 @@ TEST_F(FootballTrapEnvTest, PassesThatCannotReachThePartAreRefusedNamingFileLine
   EXPECT_THAT(spec.status().message(), HasSubstr("cannot come down through"));
 
   const std::string reversed = absl::StrCat(
-      "base_config: \"", RepoPath(kShipped),
+      "base_config: \"", RepoPath(kShippedTrap),
       "\"\nfootball {\n  trap {\n    meet_ahead_min_m: 0.5\n    meet_ahead_max_m: 0.1\n  }\n}\n");
   const std::string path2 = WriteTemp("football_trap_reversed.textproto", reversed);
   c = LoadRunConfig(path2);
@@ -257,9 +257,9 @@ TEST_F(FootballTrapEnvTest, ADesignatedPartTheModelLacksIsRefusedNamingFileLineA
   WriteTemp("football_ball.xml", ReadFile(RepoPath("configs/models/football_ball.xml")));
   const std::string pitch = WriteTemp("headless_pitch.xml",
                                       ReadFile(RepoPath("configs/models/football_pitch.xml")));
-  const std::string text = absl::StrCat("base_config: \"", RepoPath(kShipped),
-                                        "\"\nfootball {\n  model_file: \"", pitch,
-                                        "\"\n  trap {\n    parts: TORSO\n    parts: HEAD\n  }\n}\n");
+  const std::string text =
+      absl::StrCat("base_config: \"", RepoPath(kShippedTrap), "\"\nfootball {\n  model_file: \"",
+                   pitch, "\"\n  trap {\n    parts: TORSO\n    parts: HEAD\n  }\n}\n");
   const std::string path = WriteTemp("football_trap_headless.textproto", text);
   absl::StatusOr<LoadedConfig> c = LoadRunConfig(path);
   ASSERT_TRUE(c.ok()) << c.status();

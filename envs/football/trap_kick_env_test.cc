@@ -27,7 +27,7 @@ using ::juggle::testing::WriteTemp;
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
 
-constexpr char kShipped[] = "configs/football_trap_kick.textproto";
+constexpr char kShippedTrapKick[] = "configs/football_trap_kick.textproto";
 
 class FootballTrapKickEnvTest : public ::testing::Test {
  protected:
@@ -37,8 +37,8 @@ class FootballTrapKickEnvTest : public ::testing::Test {
   // The shipped config with `fields` added inside `football { ... }`.
   void UseFootball(const std::string& fields) {
     path_ = WriteTemp("football_trap_kick_variant.textproto",
-                      absl::StrCat("base_config: \"", RepoPath(kShipped), "\"\nfootball {\n  ",
-                                   fields, "\n}\n"));
+                      absl::StrCat("base_config: \"", RepoPath(kShippedTrapKick),
+                                   "\"\nfootball {\n  ", fields, "\n}\n"));
     absl::StatusOr<LoadedConfig> config = LoadRunConfig(path_);
     ASSERT_TRUE(config.ok()) << config.status();
     absl::StatusOr<std::shared_ptr<const EnvSpec>> spec = CreateEnvSpec(*config);
@@ -169,7 +169,7 @@ TEST_F(FootballTrapKickEnvTest, TheSummaryLineCountsSequencesThatSucceeded) {
 
 TEST_F(FootballTrapKickEnvTest, AZoneOutOfOrderIsRefusedNamingFileLineAndField) {
   const std::string text = absl::StrCat(
-      "base_config: \"", RepoPath(kShipped),
+      "base_config: \"", RepoPath(kShippedTrapKick),
       "\"\nfootball {\n  trap_kick { zone_ahead_min_m: 0.5 zone_ahead_max_m: 0.3 }\n}\n");
   const std::string path = WriteTemp("football_trap_kick_bad_zone.textproto", text);
   absl::StatusOr<LoadedConfig> config = LoadRunConfig(path);

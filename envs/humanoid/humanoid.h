@@ -5,10 +5,11 @@
 #ifndef JUGGLE_ENVS_HUMANOID_HUMANOID_H_
 #define JUGGLE_ENVS_HUMANOID_HUMANOID_H_
 
-#include <array>
-#include <string>
-
 #include <mujoco/mujoco.h>
+
+#include <array>
+#include <cmath>
+#include <string>
 
 #include "absl/status/statusor.h"
 
@@ -25,6 +26,8 @@ extern const char* const kJointNames[kNumJoints];
 
 constexpr int kCharacterNq = 43;  // root 7 + 8 ball joints × 4 + 4 hinges
 constexpr int kCharacterNv = 34;  // root 6 + 8 × 3 + 4
+// The root's orientation standing upright and facing forward (w, x, y, z).
+inline constexpr double kUprightRoot[4] = {M_SQRT1_2, M_SQRT1_2, 0, 0};
 
 using CharacterPose = std::array<double, kCharacterNq>;
 

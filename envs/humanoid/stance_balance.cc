@@ -3,12 +3,6 @@
 #include <algorithm>
 
 namespace juggle::humanoid {
-namespace {
-
-// The upright-forward root orientation (w, x, y, z).
-constexpr double kUpright[4] = {M_SQRT1_2, M_SQRT1_2, 0, 0};
-
-}  // namespace
 
 void AddStanceBalance(const Joints& joints, const config::StanceBalance& b, Foot stance,
                       int root_body, double action_torque, const mjModel* m, mjData* data,
@@ -40,7 +34,7 @@ void AddStanceBalance(const Joints& joints, const config::StanceBalance& b, Foot
   }
   if (b.pelvis_kp() != 0 || b.pelvis_kd() != 0 || b.yaw_kp() != 0 || b.yaw_kd() != 0) {
     double tilt[3];
-    mju_subQuat(tilt, data->qpos + 3, kUpright);
+    mju_subQuat(tilt, data->qpos + 3, kUprightRoot);
     const double* w = data->qvel + 3;
     for (int i : {0, 2}) tau_hip[i] += b.pelvis_kp() * tilt[i] + b.pelvis_kd() * w[i];
     tau_hip[1] += b.yaw_kp() * tilt[1] + b.yaw_kd() * w[1];  // about the root's vertical (y)

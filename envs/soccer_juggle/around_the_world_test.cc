@@ -18,8 +18,6 @@
 namespace juggle::soccer_juggle {
 namespace {
 
-constexpr float kZeroAction[kNumActions] = {0};
-
 std::string AtwGraphText(bool swing_side) {
   std::ifstream in(testing::RepoPath("configs/graphs/foot_and_atw.textproto"));
   std::stringstream text;

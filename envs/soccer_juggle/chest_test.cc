@@ -24,8 +24,6 @@ using testing::ChestNodeFields;
 using testing::kChestPose;
 using testing::SoccerSpecWithGraph;
 
-constexpr float kZeroAction[kNumActions] = {0};
-
 // chest_DOWN <-> chest_UP with `pose` in the chest_lean and `extra` inside each node.
 std::string ChestGraph(const std::string& extra, const std::string& pose = kChestPose) {
   std::string out;

@@ -13,10 +13,6 @@
 namespace juggle::soccer_juggle {
 namespace {
 
-
-
-constexpr float kZeroAction[kNumActions] = {0};
-
 class JuggleEnvTest : public ::testing::Test {
  protected:
   void SetUp() override {

@@ -19,8 +19,6 @@ namespace {
 
 using testing::SoccerSpecWithGraph;
 
-constexpr float kZeroAction[kNumActions] = {0};
-
 // Two header nodes at this model's head (configs/graphs/headers.textproto) with `extra` inside
 // each node (e.g. a head_feedback block) and `dip` as the head_dip's fields.
 std::string HeaderGraph(const std::string& extra, const std::string& dip = "amplitude: 0.5") {
@@ -36,15 +34,7 @@ std::string HeaderGraph(const std::string& extra, const std::string& dip = "ampl
                "edge { from: \"head_UP\" to: \"head_DOWN\" }\n";
 }
 
-// Where the head's centre is (world) in `pose`, by forward kinematics.
-std::array<double, 3> HeadCentre(const JuggleSpec& spec, const CharacterPose& pose) {
-  MjDataPtr data(mj_makeData(spec.model()));
-  std::copy(pose.begin(), pose.end(), data->qpos);
-  mj_kinematics(spec.model(), data.get());
-  const int head = mj_name2id(spec.model(), mjOBJ_GEOM, "head");
-  const double* p = data->geom_xpos + 3 * head;
-  return {p[0], p[1], p[2]};
-}
+using ::juggle::testing::HeadCentre;
 
 struct Lean {
   SwingAdjust adjust;

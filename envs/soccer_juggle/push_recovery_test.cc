@@ -24,8 +24,6 @@
 namespace juggle::soccer_juggle {
 namespace {
 
-constexpr float kZeroAction[kNumActions] = {0};
-
 // configs/<config_name>.textproto with `balance` (text) merged over its stance balance; null
 // (test failed) on error.
 std::shared_ptr<const JuggleSpec> WithBalance(

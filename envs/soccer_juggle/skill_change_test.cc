@@ -22,8 +22,6 @@ using ::testing::HasSubstr;
 using testing::ChestNodeFields;
 using testing::SoccerSpecWithGraph;
 
-constexpr float kZeroAction[kNumActions] = {0};
-
 // The header's and the chest's node fields (configs/graphs/headers.textproto, chest.textproto).
 constexpr char kHead[] =
     " contact_body: \"neck\" contact_height: 1.75 apex_height: 2.0"
@@ -55,14 +53,7 @@ std::string HeadersGraph() {
                       "edge { from: \"head_up\" to: \"head_down\" }\n");
 }
 
-// The head's centre, world, in `pose` by forward kinematics.
-std::array<double, 3> HeadCentre(const JuggleSpec& spec, const CharacterPose& pose) {
-  MjDataPtr data(mj_makeData(spec.model()));
-  std::copy(pose.begin(), pose.end(), data->qpos);
-  mj_kinematics(spec.model(), data.get());
-  const double* p = data->geom_xpos + 3 * mj_name2id(spec.model(), mjOBJ_GEOM, "head");
-  return {p[0], p[1], p[2]};
-}
+using ::juggle::testing::HeadCentre;
 
 CursorState Cursor(int current, int next) {
   CursorState c;

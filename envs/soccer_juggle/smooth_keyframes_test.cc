@@ -15,7 +15,7 @@
 namespace juggle::soccer_juggle {
 namespace {
 
-std::shared_ptr<const JuggleSpec> AtwSpec(bool smooth) {
+std::shared_ptr<const JuggleSpec> SmoothAtwSpec(bool smooth) {
   std::ifstream in(testing::RepoPath("configs/graphs/around_the_world.textproto"));
   std::stringstream text;
   text << in.rdbuf();
@@ -36,8 +36,8 @@ CharacterPose PoseAt(const JuggleSpec& spec, int node, double phase) {
 }
 
 TEST(SmoothKeyframesTest, TheCubicPassesThroughEveryFrame) {
-  const std::shared_ptr<const JuggleSpec> linear = AtwSpec(false);
-  const std::shared_ptr<const JuggleSpec> smooth = AtwSpec(true);
+  const std::shared_ptr<const JuggleSpec> linear = SmoothAtwSpec(false);
+  const std::shared_ptr<const JuggleSpec> smooth = SmoothAtwSpec(true);
   ASSERT_NE(linear, nullptr);
   ASSERT_NE(smooth, nullptr);
   for (const char* name : {"right_atw_down", "right_atw_up"}) {
@@ -61,8 +61,8 @@ TEST(SmoothKeyframesTest, TheCubicPassesThroughEveryFrame) {
 }
 
 TEST(SmoothKeyframesTest, TheVelocityIsContinuousAtAFrameWhereTheLinearOneJumps) {
-  const std::shared_ptr<const JuggleSpec> linear = AtwSpec(false);
-  const std::shared_ptr<const JuggleSpec> smooth = AtwSpec(true);
+  const std::shared_ptr<const JuggleSpec> linear = SmoothAtwSpec(false);
+  const std::shared_ptr<const JuggleSpec> smooth = SmoothAtwSpec(true);
   ASSERT_NE(linear, nullptr);
   ASSERT_NE(smooth, nullptr);
   const int node = *smooth->graph().FindNode("right_atw_up");

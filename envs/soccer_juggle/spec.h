@@ -45,6 +45,8 @@ using humanoid::kLeftKnee;
 using humanoid::kLeftAnkle;
 
 constexpr int kNumActions = humanoid::kNumActuatedDofs;  // actuated DoF of the humanoid
+// The zero action: the base controller alone drives the character.
+inline constexpr float kZeroAction[kNumActions] = {};
 constexpr int kObsBase = 88;       // observation floats before the three node one-hots
 
 // Observation size for a control graph with `num_nodes` nodes.

@@ -19,8 +19,6 @@
 namespace juggle::soccer_juggle {
 namespace {
 
-constexpr float kZeroAction[kNumActions] = {0};
-
 // `name`'s config with its graph replaced by `graph`; null (test failed) on error.
 std::shared_ptr<const JuggleSpec> SpecWith(const std::string& name,
                                            const config::ControlGraph& graph) {

@@ -5,6 +5,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +14,7 @@
 #include <string>
 
 #include "absl/strings/str_cat.h"
+#include "envs/mujoco_model.h"
 #include "envs/registry.h"
 #include "envs/soccer_juggle/spec.h"
 #include "envs/toss/spec.h"
@@ -119,6 +122,16 @@ inline std::string Loc(const std::string& file, const std::string& text, const s
     }
   }
   return absl::StrCat(file, ":", line, ":", pos - line_start + 1);
+}
+
+// Where the head's centre is (world) in `pose` of `spec`'s model, by forward kinematics.
+inline std::array<double, 3> HeadCentre(const soccer_juggle::JuggleSpec& spec,
+                                        const humanoid::CharacterPose& pose) {
+  MjDataPtr data(mj_makeData(spec.model()));
+  std::copy(pose.begin(), pose.end(), data->qpos);
+  mj_kinematics(spec.model(), data.get());
+  const double* p = data->geom_xpos + 3 * mj_name2id(spec.model(), mjOBJ_GEOM, "head");
+  return {p[0], p[1], p[2]};
 }
 
 }  // namespace juggle::testing

@@ -11,7 +11,7 @@ namespace {
 
 std::shared_ptr<const TossSpec> Spec() { return testing::LoadTossSpec("toss_catch"); }
 
-TEST(TossWorldTest, AFastBallPassingThePalmBetweenTwoStepsIsCaught) {
+TEST(TossWorldCatchTest, AFastBallPassingThePalmBetweenTwoStepsIsCaught) {
   auto spec = Spec();
   TossWorld world(spec);
   const Vec2 palm = world.palm_position(Hand::kRight);
@@ -24,7 +24,7 @@ TEST(TossWorldTest, AFastBallPassingThePalmBetweenTwoStepsIsCaught) {
   EXPECT_TRUE(world.CanCatch(0, Hand::kRight));
 }
 
-TEST(TossWorldTest, ABallPassingBesideThePalmIsNotCaught) {
+TEST(TossWorldCatchTest, ABallPassingBesideThePalmIsNotCaught) {
   auto spec = Spec();
   TossWorld world(spec);
   const Vec2 palm = world.palm_position(Hand::kRight);
@@ -33,7 +33,7 @@ TEST(TossWorldTest, ABallPassingBesideThePalmIsNotCaught) {
   EXPECT_FALSE(world.CanCatch(0, Hand::kRight));
 }
 
-TEST(TossWorldTest, AGoodThrowLandsWithinTheCatchRadiusNotTwice) {
+TEST(TossWorldCatchTest, AGoodThrowLandsWithinTheCatchRadiusNotTwice) {
   auto spec = Spec();
   const ThrowTiming t = ComputeThrowTiming(3, 0, spec->timing());
   const Vec2 home{spec->home_x(Hand::kRight), spec->home_z()};

@@ -18,13 +18,12 @@
 namespace juggle::planner {
 namespace {
 
+using football::AsFootballEnv;
 using football::FootballEnv;
 using football::KickAdjust;
 
 // Steps a cut window may run on (1/6 s at 50 Hz is 9 steps).
-constexpr int kRunOnSteps = 10;
-
-const FootballEnv& AsFootballEnv(const Env& env) { return static_cast<const FootballEnv&>(env); }
+constexpr int kKickRunOnSteps = 10;
 
 double Norm3(const double* v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
@@ -147,7 +146,7 @@ FootballKickTask::FootballKickTask(std::shared_ptr<const football::FootballSpec>
   }
 }
 
-int FootballKickTask::max_run_on_steps() const { return kRunOnSteps; }
+int FootballKickTask::max_run_on_steps() const { return kKickRunOnSteps; }
 
 int FootballKickTask::KnotAtOrBefore(int step) const {
   return planner::KnotAtOrBefore(layout_, step);

@@ -32,12 +32,12 @@ using ::juggle::testing::WriteTemp;
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
 
-constexpr char kShipped[] = "configs/football_kick.textproto";
+constexpr char kShippedKick[] = "configs/football_kick.textproto";
 
 class FootballKickTaskTest : public testing::ShippedTaskTest {
  protected:
   void SetUp() override {
-    Use(LoadRunConfig(RepoPath(kShipped)));
+    Use(LoadRunConfig(RepoPath(kShippedKick)));
     ASSERT_EQ(task_->family(), "football");
   }
 };
@@ -151,12 +151,12 @@ void ExpectRefusedAt(const char* name, const char* base, const std::string& plan
 }
 
 TEST_F(FootballKickTaskTest, RunsItCannotPlanAreRefusedNamingFileLineAndField) {
-  ExpectRefusedAt("football_long_horizon.textproto", kShipped, "horizon_steps: 5000",
+  ExpectRefusedAt("football_long_horizon.textproto", kShippedKick, "horizon_steps: 5000",
                   "horizon_steps", "max_episode_steps");
-  ExpectRefusedAt("football_two_kicks.textproto", kShipped, "football { kick { cycles: 2 } }",
+  ExpectRefusedAt("football_two_kicks.textproto", kShippedKick, "football { kick { cycles: 2 } }",
                   "cycles", "one kick per episode");
-  ExpectRefusedAt("football_no_room.textproto", kShipped, "football { trap { keep_margin_m: 1 } }",
-                  "keep_margin_m", "reach_m");
+  ExpectRefusedAt("football_no_room.textproto", kShippedKick,
+                  "football { trap { keep_margin_m: 1 } }", "keep_margin_m", "reach_m");
   // The trap has no residuals: a refinement there would do nothing.
   ExpectRefusedAt("football_refined_trap.textproto", "configs/football_trap.textproto",
                   "rescue { refine_first: 2 }", "refine_first", "TRAP");

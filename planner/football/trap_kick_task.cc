@@ -15,6 +15,7 @@
 namespace juggle::planner {
 namespace {
 
+using football::AsFootballEnv;
 using football::FootballEnv;
 
 // The zone term: reach × 4 × (√(1 + (distance / kZoneScale)²) − 1), quadratic near the zone and
@@ -22,9 +23,7 @@ using football::FootballEnv;
 // distance of 5 m would outweigh it and the search would rather miss the ball).
 constexpr double kZoneScale = 0.5;
 // How finely the free path is followed (s), and for at most how long.
-constexpr double kPathStep = 0.01, kPathSeconds = 3.0;
-
-const FootballEnv& AsFootballEnv(const Env& env) { return static_cast<const FootballEnv&>(env); }
+constexpr double kZonePathStep = 0.01, kZonePathSeconds = 3.0;
 
 // The second touch's search space (kSecondTouchVariables; empty when off).
 SearchSpace SecondTouchSpace(const config::SecondTouch& c) {
@@ -137,18 +136,18 @@ double FreePathZoneDistance(const Env& env) {
   const football::FootballSpec& spec = e.spec();
   const config::TrapThenKick& z = spec.football().trap_kick();
   const football::TrapEpisode& t = e.state().trap;
-  const double deadline = t.first_touch_s >= 0 ? t.first_touch_s + z.wait_s()
-                                               : e.data()->time + kPathSeconds;
+  const double deadline =
+      t.first_touch_s >= 0 ? t.first_touch_s + z.wait_s() : e.data()->time + kZonePathSeconds;
   FreeBall ball(e, /*bounces=*/true);  // a ball still hopping is not yet in the zone
   double best = std::numeric_limits<double>::infinity();
-  for (double now = e.data()->time;; now += kPathStep) {
+  for (double now = e.data()->time;; now += kZonePathStep) {
     if (ball.on_turf()) {
       const double speed = std::sqrt(ball.v[0] * ball.v[0] + ball.v[1] * ball.v[1]);
       best = std::min(best, football::KickZoneDistance(spec, ball.p[0], ball.p[1]) +
                                 0.5 * std::max(0.0, speed - z.max_speed_mps()));
     }
-    if (now >= deadline - 1e-9 || now - e.data()->time >= kPathSeconds) break;
-    ball.Step(kPathStep);
+    if (now >= deadline - 1e-9 || now - e.data()->time >= kZonePathSeconds) break;
+    ball.Step(kZonePathStep);
   }
   if (!std::isfinite(best)) {  // still in the air at the deadline: where it is
     best = football::KickZoneDistance(spec, ball.p[0], ball.p[1]) + ball.p[2];

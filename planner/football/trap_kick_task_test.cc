@@ -34,7 +34,7 @@ namespace {
 
 using ::juggle::testing::RepoPath;
 
-constexpr char kShipped[] = "configs/football_trap_kick.textproto";
+constexpr char kShippedTrapKick[] = "configs/football_trap_kick.textproto";
 // A pass that standing still does not bring into the kick's zone (env seed Rng(kSeed); the
 // shipped settings were chosen on juggle eval's seed 1000000, other streams). With the trap's
 // settings of configs/football_trap.textproto (2026-12-06; the rescue off, SetUp) the first
@@ -50,7 +50,7 @@ class FootballTrapKickTaskTest : public testing::ShippedTaskTest {
     // what these tests check (the switch, the exact predictions, the seed's determinism) does
     // not depend on it; the rescue's space for a part is checked on its own below, the rescue's
     // search by the trap's tests (trap_task_test.cc), which run the shipped TRAP config with it.
-    absl::StatusOr<LoadedConfig> c = LoadRunConfig(RepoPath(kShipped));
+    absl::StatusOr<LoadedConfig> c = LoadRunConfig(RepoPath(kShippedTrapKick));
     ASSERT_TRUE(c.ok()) << c.status();
     ASSERT_GT(c->run.planner().rescue().cost_above(), 0) << "the shipped config has a rescue";
     c->run.mutable_planner()->mutable_rescue()->set_cost_above(0);
@@ -183,7 +183,7 @@ TEST_F(FootballTrapKickTaskTest, ABallStillHoppingAtTheEndOfItsPathIsNotInTheZon
 // With planner.football.second_touch the plan has the second touch's variables between the
 // trap's and the kick's; every visited state is as predicted and its actions replay bit for bit.
 TEST_F(FootballTrapKickTaskTest, ASecondTouchIsPlannedBetweenTrapAndKickAndAsPredicted) {
-  const std::string text = absl::StrCat("base_config: \"", RepoPath(kShipped),
+  const std::string text = absl::StrCat("base_config: \"", RepoPath(kShippedTrapKick),
                                         "\"\nplanner { football { second_touch { enabled: true } } "
                                         "rescue { cost_above: 0 } }\n");  // as SetUp
   Use(LoadRunConfig(::juggle::testing::WriteTemp("football_second_touch.textproto", text)));
@@ -202,7 +202,7 @@ TEST_F(FootballTrapKickTaskTest, ASecondTouchIsPlannedBetweenTrapAndKickAndAsPre
 // nothing and the search holds it (the trap's reach is searched); from the touch on the search
 // holds the trap's reach and moves the second touch.
 TEST_F(FootballTrapKickTaskTest, ASecondTouchIsSearchedOnlyAfterTheTouchAndTheTrapOnlyBefore) {
-  const std::string text = absl::StrCat("base_config: \"", RepoPath(kShipped),
+  const std::string text = absl::StrCat("base_config: \"", RepoPath(kShippedTrapKick),
                                         "\"\nplanner { football { second_touch { enabled: true } } "
                                         "rescue { cost_above: 0 } }\n");  // as SetUp
   Use(LoadRunConfig(::juggle::testing::WriteTemp("football_second_touch_own.textproto", text)));
@@ -254,7 +254,7 @@ TEST_F(FootballTrapKickTaskTest, ASecondTouchIsSearchedOnlyAfterTheTouchAndTheTr
 // trap then kick: a foot pass's reach angles are searched at the foot's spread in the regular
 // and the rescue search, a chest pass's at the trap's, and the kick's variables at the kick's.
 TEST_F(FootballTrapKickTaskTest, APartsOwnTrapSettingsSetItsPassesReachSpaceOnly) {
-  absl::StatusOr<LoadedConfig> loaded = LoadRunConfig(RepoPath(kShipped));
+  absl::StatusOr<LoadedConfig> loaded = LoadRunConfig(RepoPath(kShippedTrapKick));
   ASSERT_TRUE(loaded.ok()) << loaded.status();
   LoadedConfig c = *loaded;
   const config::TrapPlanning& base = c.run.planner().football().trap();
@@ -308,9 +308,9 @@ TEST_F(FootballTrapKickTaskTest, ASecondTouchOutsideTrapThenKickOrOutOfOrderIsRe
   EXPECT_THAT(std::string(s.message()), ::testing::StartsWith(Loc(path, on_trap, "enabled")));
   EXPECT_THAT(std::string(s.message()), ::testing::HasSubstr("TRAP_KICK"));
 
-  const std::string reversed = absl::StrCat(
-      "base_config: \"", RepoPath(kShipped),
-      "\"\nplanner {\n  football { second_touch { enabled: true earliest_s: 1.0 latest_s: 0.5 } }\n}\n");
+  const std::string reversed = absl::StrCat("base_config: \"", RepoPath(kShippedTrapKick),
+                                            "\"\nplanner {\n  football { second_touch { enabled: "
+                                            "true earliest_s: 1.0 latest_s: 0.5 } }\n}\n");
   const std::string path2 = WriteTemp("football_second_touch_reversed.textproto", reversed);
   c = LoadRunConfig(path2);
   ASSERT_TRUE(c.ok()) << c.status();

@@ -15,18 +15,17 @@
 namespace juggle::planner {
 namespace {
 
+using football::AsFootballEnv;
 using football::FootballEnv;
 using football::TrapEpisode;
 
 // Steps a horizon may run on to record the relative speed's frames after a touch.
-constexpr int kRunOnSteps = football::kRelativeSpeedFrames;
+constexpr int kTrapRunOnSteps = football::kRelativeSpeedFrames;
 // How far the ball's path is followed past the horizon (s) and how finely.
 constexpr double kPathSeconds = 1.0, kPathStep = 0.01;
 // The keep term's scale: lost + reach × (metres beyond trap.reach_m − keep_margin_m at the
 // trap's end / kKeepScale)².
 constexpr double kKeepScale = 0.5;
-
-const FootballEnv& AsFootballEnv(const Env& env) { return static_cast<const FootballEnv&>(env); }
 
 double Smoothstep(double u) {
   u = std::clamp(u, 0.0, 1.0);
@@ -282,7 +281,7 @@ void FootballTrapTask::Restrict(const Env& env, const std::vector<double>&, Sear
   *space = PartSpace(env);
 }
 
-int FootballTrapTask::max_run_on_steps() const { return kRunOnSteps; }
+int FootballTrapTask::max_run_on_steps() const { return kTrapRunOnSteps; }
 
 void FootballTrapTask::Action(const Env& env, const double* theta, PlanClock, const double* prior,
                               float* action) const {

@@ -30,7 +30,7 @@ namespace {
 
 using ::juggle::testing::RepoPath;
 
-constexpr char kShipped[] = "configs/football_trap.textproto";
+constexpr char kShippedTrap[] = "configs/football_trap.textproto";
 // Two lobs to the foot (env seeds Rng(s); the shipped settings were chosen on juggle eval's
 // seed 1000000, other streams). With the boot (configs/models/football_pitch.xml) the search
 // meets 5 of the 8 foot lobs among seeds 1000001-1000030 with the foot first; 1000001, used
@@ -44,7 +44,7 @@ constexpr uint64_t kStillTrapSeed = 1000015;
 class FootballTrapTaskTest : public testing::ShippedTaskTest {
  protected:
   void SetUp() override {
-    Use(LoadRunConfig(RepoPath(kShipped)));
+    Use(LoadRunConfig(RepoPath(kShippedTrap)));
     ASSERT_EQ(task_->family(), "football");
     ASSERT_EQ(task_->dim(), kTrapVariables);
   }

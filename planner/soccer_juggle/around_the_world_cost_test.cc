@@ -23,14 +23,14 @@ using soccer_juggle::JuggleSpec;
 using soccer_juggle::kNumActions;
 
 std::string ReadRepoFile(const std::string& relative) {
-  std::ifstream in(testing::RepoPath(relative));
+  std::ifstream in(::juggle::testing::RepoPath(relative));
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
 }
 
 TEST(AroundTheWorldCostTest, TheTermIsTheWeightTimesTheStepsViolationsOverTheHorizon) {
-  absl::StatusOr<LoadedConfig> config = testing::LoadRightFootPlannerWithGraph(
+  absl::StatusOr<LoadedConfig> config = ::juggle::testing::LoadRightFootPlannerWithGraph(
       ReadRepoFile("configs/graphs/foot_and_atw.textproto"),
       "soccer_juggle { cost { around_the_world: 50 } }");
   ASSERT_TRUE(config.ok()) << config.status();

@@ -26,12 +26,7 @@ using soccer_juggle::JuggleEnv;
 using soccer_juggle::JuggleSpec;
 using soccer_juggle::kNumActions;
 
-std::string WriteTemp(const std::string& name, const std::string& text) {
-  const std::string dir = MakeTempDir("kick_memory_test_");
-  const std::string path = dir + "/" + name;
-  EXPECT_TRUE(WriteFile(path, text).ok());
-  return path;
-}
+using ::juggle::testing::WriteTemp;
 
 TEST(KickMemoryTest, ReadsRowsSkippingCommentsAndNamesTheLineOfABadOne) {
   const config::PlannerCost cost;
@@ -81,7 +76,7 @@ class KickMemoryPlannerTest : public ::testing::Test {
  protected:
   void SetUp() override {
     absl::StatusOr<LoadedConfig> config =
-        LoadRunConfig(testing::RepoPath("configs/right_foot_planner.textproto"));
+        LoadRunConfig(::juggle::testing::RepoPath("configs/right_foot_planner.textproto"));
     ASSERT_TRUE(config.ok()) << config.status();
     config_ = *config;
     config::PlannerConfig& p = *config_.run.mutable_planner();

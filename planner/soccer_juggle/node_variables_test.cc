@@ -23,8 +23,8 @@
 namespace juggle::planner {
 namespace {
 
-using testing::LoadRightFootPlannerWithGraph;
-using testing::SoccerSpecWithGraph;
+using ::juggle::testing::LoadRightFootPlannerWithGraph;
+using ::juggle::testing::SoccerSpecWithGraph;
 
 using soccer_juggle::JuggleEnv;
 using soccer_juggle::JuggleSpec;
@@ -186,8 +186,8 @@ TEST_P(NodeKickVariablesErrorTest, IsAConfigErrorNamingTheNodeAndTheFieldAtItsLi
   absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SoccerSpecWithGraph(graph_text);
   ASSERT_FALSE(spec.ok());
   EXPECT_EQ(spec.status().code(), absl::StatusCode::kInvalidArgument);
-  const std::string graph = testing::WriteTemp("graph.textproto", graph_text);
-  const std::string at = testing::Loc(graph, graph_text, GetParam().needle);
+  const std::string graph = ::juggle::testing::WriteTemp("graph.textproto", graph_text);
+  const std::string at = ::juggle::testing::Loc(graph, graph_text, GetParam().needle);
   EXPECT_THAT(std::string(spec.status().message()),
               HasSubstr(at.substr(0, at.rfind(':'))));  // file:line
   EXPECT_THAT(std::string(spec.status().message()), HasSubstr("node 'down'"));
@@ -221,9 +221,8 @@ TEST(NodeKickFeedbackTest, OutsideADownNodeWithALegSwingIsAConfigErrorAtItsLine)
     absl::StatusOr<std::shared_ptr<const JuggleSpec>> spec = SoccerSpecWithGraph(graph_text);
     ASSERT_FALSE(spec.ok());
     EXPECT_EQ(spec.status().code(), absl::StatusCode::kInvalidArgument);
-    const std::string at =
-        testing::Loc(testing::WriteTemp("graph.textproto", graph_text), graph_text,
-                     "kick_feedback");
+    const std::string at = ::juggle::testing::Loc(
+        ::juggle::testing::WriteTemp("graph.textproto", graph_text), graph_text, "kick_feedback");
     EXPECT_THAT(std::string(spec.status().message()), HasSubstr(at.substr(0, at.rfind(':'))));
     EXPECT_THAT(std::string(spec.status().message()),
                 HasSubstr("kick_feedback acts only in a DOWN node with a leg swing"));
@@ -236,7 +235,7 @@ TEST(NodeKickFeedbackTest, OutsideADownNodeWithALegSwingIsAConfigErrorAtItsLine)
 
 TEST(NodeKickFeedbackTest, TheKneesFromTheFootConfigGivesTheKneeItsOwnGainsAndLoadsForThePlanner) {
   absl::StatusOr<LoadedConfig> config =
-      LoadRunConfig(testing::RepoPath("configs/knees_from_foot_planner.textproto"));
+      LoadRunConfig(::juggle::testing::RepoPath("configs/knees_from_foot_planner.textproto"));
   ASSERT_TRUE(config.ok()) << config.status();
   EXPECT_TRUE(ValidatePlannerConfig(*config).ok()) << ValidatePlannerConfig(*config);
   const ControlGraph& graph = *config->graph;
@@ -280,8 +279,8 @@ TEST(NodeKickVariablesTest, AKeyframeNodeWithoutDeclaredVariablesIsRefusedAtItsK
   ASSERT_TRUE(config.ok()) << config.status();
   const absl::Status status = ValidateSoccerJuggleTask(*config);
   EXPECT_EQ(status.code(), absl::StatusCode::kInvalidArgument);
-  const std::string at = testing::Loc(testing::WriteTemp("graph.textproto", graph_text),
-                                      graph_text, "keyframes");
+  const std::string at = ::juggle::testing::Loc(
+      ::juggle::testing::WriteTemp("graph.textproto", graph_text), graph_text, "keyframes");
   EXPECT_THAT(std::string(status.message()), HasSubstr(at.substr(0, at.rfind(':'))));
   EXPECT_THAT(std::string(status.message()), HasSubstr("node 'down' moves by keyframes"));
 

@@ -1177,7 +1177,7 @@ namespace {
 // non-finite labels (configs/learning/guided_leg_only.textproto masks joints this way).
 TEST(SoccerPlannerMaskTest, JointsWithZeroFeedForwardScaleGetZeroFiniteActions) {
   absl::StatusOr<LoadedConfig> config =
-      LoadRunConfig(testing::RepoPath("configs/right_foot_planner.textproto"));
+      LoadRunConfig(::juggle::testing::RepoPath("configs/right_foot_planner.textproto"));
   ASSERT_TRUE(config.ok()) << config.status();
   config::JointGains* chest = config->run.mutable_soccer_juggle()->mutable_env()->add_joint_gains();
   chest->set_joint("chest");

@@ -32,7 +32,8 @@ struct Skill {
 class SkillRescueTest : public ::testing::TestWithParam<Skill> {
  protected:
   void SetUp() override {
-    absl::StatusOr<LoadedConfig> config = LoadRunConfig(testing::RepoPath(GetParam().config));
+    absl::StatusOr<LoadedConfig> config =
+        LoadRunConfig(::juggle::testing::RepoPath(GetParam().config));
     ASSERT_TRUE(config.ok()) << config.status();
     config_ = *config;
     UseSmallPlanner(&config_);

@@ -25,12 +25,13 @@ using soccer_juggle::kNumActions;
 std::shared_ptr<const JuggleSpec> StallSpec(LoadedConfig* config,
                                             const std::string& graph =
                                                 "configs/graphs/right_foot_stall.textproto") {
-  const std::string run = testing::WriteTemp(
+  const std::string run = ::juggle::testing::WriteTemp(
       "run.textproto",
-      absl::StrCat("base_config: \"", testing::RepoPath("configs/stall_planner.textproto"),
-                   "\"\nname: \"t\"\nsoccer_juggle { graph_file: \"", testing::RepoPath(graph),
-                   "\" env { start { ball_position: 0 ball_velocity: 0 joint_angle: 0 "
-                   "joint_speed: 0 random_phase_fraction: 0 } } }\n"));
+      absl::StrCat(
+          "base_config: \"", ::juggle::testing::RepoPath("configs/stall_planner.textproto"),
+          "\"\nname: \"t\"\nsoccer_juggle { graph_file: \"", ::juggle::testing::RepoPath(graph),
+          "\" env { start { ball_position: 0 ball_velocity: 0 joint_angle: 0 "
+          "joint_speed: 0 random_phase_fraction: 0 } } }\n"));
   absl::StatusOr<LoadedConfig> loaded = LoadRunConfig(run);
   EXPECT_TRUE(loaded.ok()) << loaded.status();
   *config = *loaded;
@@ -175,7 +176,7 @@ TEST_F(StallTest, ARolloutScoresAStallsStepsAndNoKickUntilTheBallLeavesTheFootFr
 
 TEST(StallConfigTest, TheShippedStallPlannerPassesThePlannersLoadChecks) {
   absl::StatusOr<LoadedConfig> config =
-      LoadRunConfig(testing::RepoPath("configs/stall_planner.textproto"));
+      LoadRunConfig(::juggle::testing::RepoPath("configs/stall_planner.textproto"));
   ASSERT_TRUE(config.ok()) << config.status();
   EXPECT_TRUE(ValidatePlannerConfig(*config).ok()) << ValidatePlannerConfig(*config);
 }

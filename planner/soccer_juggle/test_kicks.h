@@ -25,7 +25,7 @@ inline void UseSmallPlanner(LoadedConfig* config) {
 // configs/right_foot_planner.textproto with UseSmallPlanner's settings.
 inline absl::StatusOr<LoadedConfig> SmallRightFootPlanner() {
   absl::StatusOr<LoadedConfig> config =
-      LoadRunConfig(testing::RepoPath("configs/right_foot_planner.textproto"));
+      LoadRunConfig(::juggle::testing::RepoPath("configs/right_foot_planner.textproto"));
   if (config.ok()) UseSmallPlanner(&*config);
   return config;
 }

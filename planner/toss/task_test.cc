@@ -33,7 +33,7 @@ using ::juggle::testing::WriteTemp;
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
 
-constexpr char kShipped[] = "configs/toss_throw_planner.textproto";
+constexpr char kShippedThrow[] = "configs/toss_throw_planner.textproto";
 
 std::string ReadText(const std::string& path) {
   std::ifstream in(path);
@@ -48,7 +48,7 @@ absl::StatusOr<LoadedConfig> LoadText(const std::string& name, const std::string
 
 // A config over the shipped toss planner config with `fields` added.
 std::string Over(const std::string& fields) {
-  return absl::StrCat("base_config: \"", RepoPath(kShipped), "\"\n", fields, "\n");
+  return absl::StrCat("base_config: \"", RepoPath(kShippedThrow), "\"\n", fields, "\n");
 }
 
 // One throw episode: what it released and the actions that made it.
@@ -61,7 +61,7 @@ struct Throw {
 
 class TossTaskTest : public ::testing::Test {
  protected:
-  void SetUp() override { Use(LoadRunConfig(RepoPath(kShipped))); }
+  void SetUp() override { Use(LoadRunConfig(RepoPath(kShippedThrow))); }
 
   void Use(absl::StatusOr<LoadedConfig> config) {
     ASSERT_TRUE(config.ok()) << config.status();

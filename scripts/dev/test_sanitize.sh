@@ -15,12 +15,9 @@ fi
 which=${1:-all}
 jobs=${JOBS:-$(nproc)}
 root=$(pwd)
-ASAN_TARGETS=(juggle rollout_protocol_test secure_service_test async_mode_test learner_start_test
-              multiprocess_test contribution_assembler_test worker_registry_test sync_round_test
-              checkpoint_test chunk_codec_test policy_store_test)
+ASAN_TARGETS=(juggle service_test learner_start_test multiprocess_test learner_test common_test)
 ASAN_SUITES='RolloutProtocolTest|SecureServiceTest|TransportSecurityTest|AsyncModeTest|LearnerStartTest|MultiProcessTest|ContributionAssemblerTest|WorkerRegistryTest|SyncRoundTest|CheckpointTest|CheckpointParseTest|ChunkCodecTest|PolicyStoreTest'
-TSAN_TARGETS=(rollout_protocol_test async_mode_test bounded_queue_test env_pool_test policy_store_test
-              fork_join_pool_test receding_horizon_test planning_model_test)
+TSAN_TARGETS=(service_test common_test env_pool_test learner_test planner_test)
 TSAN_SUITES='RolloutProtocolTest|AsyncModeTest|BoundedQueueTest|EnvPoolTest|PolicyStoreTest|ForkJoinPoolTest|RecedingHorizonTest|PlanningModelTest'
 status=0
 run() {  # run PRESET SUITES EXCLUDE TARGETS...

@@ -8,9 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "common/file_io.h"
 #include "common/outcome.h"
-#include "common/testing/temp_dir.h"
 #include "envs/registry.h"
 #include "envs/testing/test_configs.h"
 #include "gtest/gtest.h"

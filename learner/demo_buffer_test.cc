@@ -10,23 +10,23 @@
 namespace juggle {
 namespace {
 
-constexpr int kD = 3, kA = 2, kT = 4;
+constexpr int kD = 3, kA = 2, kSteps = 4;
 
-// `unrolls` unrolls of kT steps; unroll u is labelled when u is odd. Observation row i (over
+// `unrolls` unrolls of kSteps steps; unroll u is labelled when u is odd. Observation row i (over
 // the whole batch) starts with `first + i`, and its label (if any) with -(first + i).
 UnrollBatch Batch(int unrolls, float first) {
   UnrollBatch b;
   b.num_unrolls = unrolls;
-  b.unroll_length = kT;
+  b.unroll_length = kSteps;
   b.obs_dim = kD;
   b.act_dim = kA;
-  b.obs.assign(size_t(unrolls) * kT * kD, 0);
-  for (int i = 0; i < unrolls * kT; ++i) b.obs[size_t(i) * kD] = first + i;
+  b.obs.assign(size_t(unrolls) * kSteps * kD, 0);
+  for (int i = 0; i < unrolls * kSteps; ++i) b.obs[size_t(i) * kD] = first + i;
   b.labelled.assign(unrolls, 0);
   for (int u = 1; u < unrolls; u += 2) {
     b.labelled[u] = 1;
-    for (int t = 0; t < kT; ++t) {
-      b.labels.push_back(-(first + u * kT + t));
+    for (int t = 0; t < kSteps; ++t) {
+      b.labels.push_back(-(first + u * kSteps + t));
       b.labels.push_back(0.5f);
     }
   }
@@ -47,7 +47,7 @@ std::set<float> Keys(const DemoBuffer& d) {
 
 TEST(DemoBufferTest, AddsOnlyTheLabelledUnrollsWithTheirOwnLabels) {
   DemoBuffer d(100, kD, kA);
-  EXPECT_EQ(d.AddLabelled(Batch(4, 0)), 2 * kT);  // unrolls 1 and 3
+  EXPECT_EQ(d.AddLabelled(Batch(4, 0)), 2 * kSteps);  // unrolls 1 and 3
   EXPECT_EQ(Keys(d), (std::set<float>{4, 5, 6, 7, 12, 13, 14, 15}));
 }
 

@@ -15,9 +15,10 @@ fi
 which=${1:-all}
 jobs=${JOBS:-$(nproc)}
 root=$(pwd)
-ASAN_TARGETS=(juggle service_test learner_start_test multiprocess_test learner_test common_test)
+ASAN_TARGETS=(juggle service_test learner_start_test multiprocess_test learner_test learner_core_test
+  common_test)
 ASAN_SUITES='RolloutProtocolTest|SecureServiceTest|TransportSecurityTest|AsyncModeTest|LearnerStartTest|MultiProcessTest|ContributionAssemblerTest|WorkerRegistryTest|SyncRoundTest|CheckpointTest|CheckpointParseTest|ChunkCodecTest|PolicyStoreTest'
-TSAN_TARGETS=(service_test common_test env_pool_test learner_test planner_test)
+TSAN_TARGETS=(service_test common_test env_pool_test learner_test learner_core_test planner_test)
 TSAN_SUITES='RolloutProtocolTest|AsyncModeTest|BoundedQueueTest|EnvPoolTest|PolicyStoreTest|ForkJoinPoolTest|RecedingHorizonTest|PlanningModelTest'
 status=0
 run() {  # run PRESET SUITES EXCLUDE TARGETS...

@@ -1,8 +1,11 @@
 #include "envs/humanoid/stance_balance.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace juggle::humanoid {
+
+double Heading(const double* xmat) { return std::atan2(xmat[3], xmat[0]); }
 
 void AddStanceBalance(const Joints& joints, const config::StanceBalance& b, Foot stance,
                       int root_body, double action_torque, const mjModel* m, mjData* data,
@@ -37,7 +40,12 @@ void AddStanceBalance(const Joints& joints, const config::StanceBalance& b, Foot
     mju_subQuat(tilt, data->qpos + 3, kUprightRoot);
     const double* w = data->qvel + 3;
     for (int i : {0, 2}) tau_hip[i] += b.pelvis_kp() * tilt[i] + b.pelvis_kd() * w[i];
-    tau_hip[1] += b.yaw_kp() * tilt[1] + b.yaw_kd() * w[1];  // about the root's vertical (y)
+    double yaw = tilt[1];  // about the root's vertical (y), from the world's forward
+    if (b.yaw_from_stance_foot()) {
+      const double off = Heading(data->xmat + 9 * root_body) - Heading(data->xmat + 9 * foot);
+      yaw = std::remainder(off, 2 * M_PI);
+    }
+    tau_hip[1] += b.yaw_kp() * yaw + b.yaw_kd() * w[1];
   }
   add(ankle, tau_ankle);
   add(hip, tau_hip);

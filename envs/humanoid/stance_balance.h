@@ -15,6 +15,11 @@ namespace juggle::humanoid {
 
 enum class Foot { kLeft, kRight };
 
+// The heading (rad, about the world's vertical, 0 along +x) of a body of the character from its
+// world rotation matrix (mjData::xmat, row-major): where its local x axis points, which is the
+// character's forward for the root and, standing at rest, for every leg body.
+double Heading(const double* xmat);
+
 // Adds `gains`' torques for standing on `stance` to `feedforward` ([kCharacterNv], N·m), each
 // term clamped to its joint's feed-forward range (action_torque × the joint's scale), as a
 // policy action would be. `root_body`: the character's root body. Updates `data`'s subtree

@@ -2,7 +2,8 @@
 // centre-of-mass term through the stance ankle, and hip_roll / hip_pitch putting that term's
 // roll (about the world's forward axis) / pitch (about its left axis) on the pelvis through the
 // stance hip — read back in the world frame from each joint's body frame, an independent path
-// from the one the code writes them by.
+// from the one the code writes them by — and the yaw term's two headings, the world's and the
+// stance foot's, on a character turned and a hip twisted by hand.
 #include "envs/humanoid/stance_balance.h"
 
 #include <array>
@@ -114,6 +115,48 @@ TEST_F(StanceBalanceTest, TheHipPitchPutsTheAnklesPitchOnThePelvisThroughTheStan
   const std::array<double, 3> both = InWorld(Torques(gains), kLeftHip);
   EXPECT_NEAR(both[0], -1.5 * on_foot[0], 1e-9);
   EXPECT_NEAR(both[1], -0.5 * on_foot[1], 1e-9);
+}
+
+// Turns the character (root) by `root_yaw` about the world's vertical and twists the left hip by
+// `hip_twist` about the thigh's long axis (the leg hangs straight, so that is the vertical too),
+// zero velocities, and recomputes the kinematics.
+void Turn(const mjModel* m, mjData* d, const Joints& joints, double root_yaw, double hip_twist) {
+  const double up[3] = {0, 0, 1}, along_thigh[3] = {0, 1, 0};
+  double turn[4], hip[4];
+  mju_axisAngle2Quat(turn, up, root_yaw);
+  mju_mulQuat(d->qpos + 3, turn, kUprightRoot);
+  mju_axisAngle2Quat(hip, along_thigh, hip_twist);
+  mju_copy4(d->qpos + joints[kLeftHip].qpos_adr, hip);
+  mju_zero(d->qvel, m->nv);
+  mj_forward(m, d);
+}
+
+TEST_F(StanceBalanceTest, TheYawTermHoldsTheWorldsHeadingUnlessToldToHoldTheStanceFoots) {
+  config::StanceBalance gains;
+  gains.set_yaw_kp(300);
+  const int yaw_dof = joints_[kLeftHip].dof_adr + 1;  // about the thigh's (and root's) vertical
+
+  // The whole character turned 0.2 rad, the legs straight: the world's target pulls it back,
+  // the stance foot's sees nothing to correct.
+  Turn(model_.get(), data_.get(), joints_, 0.2, 0);
+  EXPECT_NEAR(Torques(gains)[yaw_dof], 300 * 0.2, 1e-9);
+  gains.set_yaw_from_stance_foot(true);
+  EXPECT_NEAR(Torques(gains)[yaw_dof], 0, 1e-9);
+
+  // Root square to the world, the stance foot turned 0.1 rad left by its hip: now only the
+  // stance foot's target acts, turning the pelvis after the foot (a torque to the left on the
+  // pelvis is −0.1·kp on the thigh's dof, which the pelvis feels as its reaction).
+  Turn(model_.get(), data_.get(), joints_, 0, 0.1);
+  EXPECT_NEAR(Heading(data_->xmat + 9 * model_->dof_bodyid[joints_[kLeftAnkle].dof_adr]), 0.1,
+              1e-9);
+  EXPECT_NEAR(Torques(gains)[yaw_dof], -300 * 0.1, 1e-9);
+  gains.set_yaw_from_stance_foot(false);
+  EXPECT_NEAR(Torques(gains)[yaw_dof], 0, 1e-9);
+
+  // Both at once, across the ±π seam: the difference is taken on the circle.
+  gains.set_yaw_from_stance_foot(true);
+  Turn(model_.get(), data_.get(), joints_, M_PI - 0.05, 0.1);
+  EXPECT_NEAR(Torques(gains)[yaw_dof], -300 * 0.1, 1e-9);
 }
 
 }  // namespace

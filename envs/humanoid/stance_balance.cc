@@ -29,11 +29,7 @@ void AddStanceBalance(const Joints& joints, const config::StanceBalance& b, Foot
     const double ex = com[0] - pos[0] - b.com_x(), ey = com[1] - pos[1] - b.com_y();
     const double world[3] = {-(b.com_kp() * ey + b.com_kd() * vel[1]),
                              b.com_kp() * ex + b.com_kd() * vel[0], 0};
-    double on_foot[3] = {world[0], world[1], world[2]};
-    if (b.ankle_roll_max() > 0) {
-      on_foot[0] = std::clamp(on_foot[0], -b.ankle_roll_max(), b.ankle_roll_max());
-    }
-    mju_mulMatTVec(tau_ankle, data->xmat + 9 * foot, on_foot, 3, 3);  // into the foot frame
+    mju_mulMatTVec(tau_ankle, data->xmat + 9 * foot, world, 3, 3);  // into the foot frame
     if (b.hip_roll() != 0 || b.hip_pitch() != 0) {  // the same on the pelvis, through the hip
       const double on_thigh[3] = {-b.hip_roll() * world[0], -b.hip_pitch() * world[1], 0};
       mju_mulMatTVec(tau_hip, data->xmat + 9 * m->dof_bodyid[hip.dof_adr], on_thigh, 3, 3);

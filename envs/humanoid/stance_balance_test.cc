@@ -117,26 +117,6 @@ TEST_F(StanceBalanceTest, TheHipPitchPutsTheAnklesPitchOnThePelvisThroughTheStan
   EXPECT_NEAR(both[1], -0.5 * on_foot[1], 1e-9);
 }
 
-TEST_F(StanceBalanceTest, TheAnkleRollMaxHoldsTheFootsRollAndLeavesItsPitchAndTheHips) {
-  config::StanceBalance gains;
-  OffsetTarget(&gains);  // the foot's world torque (830 · 0.03, −830 · 0.02, 0) = (24.9, −16.6, 0)
-  gains.set_hip_roll(1.0);
-  const std::array<double, 3> free_foot = InWorld(Torques(gains), kLeftAnkle);
-  const std::array<double, 3> free_thigh = InWorld(Torques(gains), kLeftHip);
-
-  gains.set_ankle_roll_max(15);
-  const std::array<double, kCharacterNv> held = Torques(gains);
-  const std::array<double, 3> on_foot = InWorld(held, kLeftAnkle);
-  EXPECT_NEAR(on_foot[0], 15, 1e-9);
-  EXPECT_NEAR(on_foot[1], free_foot[1], 1e-9);
-  EXPECT_NEAR(on_foot[2], 0, 1e-9);
-  const std::array<double, 3> on_thigh = InWorld(held, kLeftHip);  // the hip's share unchanged
-  for (int i = 0; i < 3; ++i) EXPECT_NEAR(on_thigh[i], free_thigh[i], 1e-9);
-
-  gains.set_ankle_roll_max(30);  // above the roll: nothing held
-  EXPECT_NEAR(InWorld(Torques(gains), kLeftAnkle)[0], 830 * 0.03, 1e-9);
-}
-
 // Turns the character (root) by `root_yaw` about the world's vertical and twists the left hip by
 // `hip_twist` about the thigh's long axis (the leg hangs straight, so that is the vertical too),
 // zero velocities, and recomputes the kinematics.

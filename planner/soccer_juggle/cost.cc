@@ -105,6 +105,27 @@ double BallClearance(const JuggleEnv& env) {
   return std::max(best, 0.0);
 }
 
+double StanceSoleCost(const JuggleEnv& env, const config::PlannerCost& w) {
+  if (w.stance_tilt() == 0 && w.stance_turn() == 0) return 0;
+  const JuggleSpec& spec = env.spec();
+  const mjData* d = env.data();
+  const int right = spec.model()->dof_bodyid[spec.joint(soccer_juggle::kRightAnkle).dof_adr];
+  const int left = spec.model()->dof_bodyid[spec.joint(soccer_juggle::kLeftAnkle).dof_adr];
+  config::Side swing = config::RIGHT;
+  const bool one_foot =
+      soccer_juggle::SwingingLeg(spec.graph().node(env.node()).spec.pose(), &swing);
+  double sum = 0;
+  for (const int foot : {left, right}) {
+    if (one_foot && foot == (swing == config::LEFT ? left : right)) continue;
+    // The foot's up axis is its local y (y-up joint frames): the rotation matrix's column 1.
+    const double tilt = std::acos(std::clamp(d->xmat[9 * foot + 7], -1.0, 1.0));
+    const double turn = d->cvel[6 * foot + 2];  // angular velocity about the world's z
+    sum += w.stance_tilt() * Square(tilt / w.stance_tilt_scale()) +
+           w.stance_turn() * Square(turn / w.stance_turn_scale());
+  }
+  return sum;
+}
+
 double BodyCost(const JuggleEnv& env, const config::PlannerCost& w) {
   const JuggleSpec& spec = env.spec();
   const mjData* d = env.data();
@@ -141,7 +162,7 @@ double BodyCost(const JuggleEnv& env, const config::PlannerCost& w) {
   return w.tilt() * Square(tilt / w.tilt_scale()) + w.yaw() * Square(yaw / w.yaw_scale()) +
          w.capture_point() * Square(cp / w.capture_point_scale()) +
          w.root_height() * Square(height / w.root_height_scale()) +
-         w.com_speed() * Square(speed / w.com_speed_scale());
+         w.com_speed() * Square(speed / w.com_speed_scale()) + StanceSoleCost(env, w);
 }
 
 std::vector<double> OutcomeValues(const KickOutcome& k) {

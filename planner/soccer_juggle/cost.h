@@ -57,7 +57,12 @@ double StallCost(const soccer_juggle::JuggleEnv& env, const config::PlannerCost&
 // touch it (geom centres less their bounding radii: a ranking, not a collision distance).
 double BallClearance(const soccer_juggle::JuggleEnv& env);
 
-// Body terms at one state (each already weight × (value/scale)²).
+// The standing sole's terms at one state (PlannerCost.stance_tilt, stance_turn), summed over
+// the standing foot, or both feet when the node swings no leg. Needs mjData's cvel (set by a
+// step or mj_forward).
+double StanceSoleCost(const soccer_juggle::JuggleEnv& env, const config::PlannerCost& cost);
+
+// Body terms at one state (each already weight × (value/scale)²), StanceSoleCost among them.
 double BodyCost(const soccer_juggle::JuggleEnv& env, const config::PlannerCost& cost);
 
 // The cost of a soccer rollout as the driver's scorer. Terms, in order (SoccerTermNames()):

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <sstream>
 #include <string>
 
 #include "absl/strings/str_cat.h"
@@ -25,6 +26,14 @@ namespace juggle::testing {
 inline std::string RepoPath(const std::string& relative) {
   const char* root = std::getenv("JUGGLE_SOURCE_DIR");
   return root ? std::string(root) + "/" + relative : relative;
+}
+
+// The text of a repository file (empty when it cannot be read).
+inline std::string ReadRepoFile(const std::string& relative) {
+  std::ifstream in(RepoPath(relative));
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 // Loads configs/<name>.textproto; fails the test on error.

@@ -1,10 +1,8 @@
 // The planner's around-the-world term (PlannerCost.around_the_world, docs/planner.md
 // "Around-the-world"): over a rollout it is the weight times the env's violation summed over the
 // steps, divided by the horizon, and it is part of the total.
-#include <fstream>
 #include <memory>
 #include <numeric>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -22,16 +20,9 @@ using soccer_juggle::JuggleEnv;
 using soccer_juggle::JuggleSpec;
 using soccer_juggle::kNumActions;
 
-std::string ReadRepoFile(const std::string& relative) {
-  std::ifstream in(::juggle::testing::RepoPath(relative));
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 TEST(AroundTheWorldCostTest, TheTermIsTheWeightTimesTheStepsViolationsOverTheHorizon) {
   absl::StatusOr<LoadedConfig> config = ::juggle::testing::LoadRightFootPlannerWithGraph(
-      ReadRepoFile("configs/graphs/foot_and_atw.textproto"),
+      ::juggle::testing::ReadRepoFile("configs/graphs/foot_and_atw.textproto"),
       "soccer_juggle { cost { around_the_world: 50 } }");
   ASSERT_TRUE(config.ok()) << config.status();
   absl::StatusOr<std::shared_ptr<const EnvSpec>> base = CreateEnvSpec(*config);

@@ -4,9 +4,7 @@
 // equal their formulas, count the standing foot only while a leg swings and both feet
 // otherwise, and are part of the body cost.
 #include <cmath>
-#include <fstream>
 #include <memory>
-#include <sstream>
 #include <string>
 
 #include "common/adaptive_walk.h"
@@ -23,18 +21,11 @@ namespace {
 using soccer_juggle::JuggleEnv;
 using soccer_juggle::JuggleSpec;
 
-std::string FootAndHeadGraph() {
-  std::ifstream in(::juggle::testing::RepoPath("configs/graphs/foot_and_head.textproto"));
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 class StanceSoleCostTest : public ::testing::Test {
  protected:
   void SetUp() override {
     absl::StatusOr<LoadedConfig> config = ::juggle::testing::LoadRightFootPlannerWithGraph(
-        FootAndHeadGraph(),
+        ::juggle::testing::ReadRepoFile("configs/graphs/foot_and_head.textproto"),
         "soccer_juggle { cost { stance_tilt: 3 stance_tilt_scale: 0.04 stance_turn: 2 "
         "stance_turn_scale: 0.5 } }");
     ASSERT_TRUE(config.ok()) << config.status();

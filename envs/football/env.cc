@@ -75,7 +75,6 @@ void FootballEnv::Reset(const AdaptiveWalk&) {
   s_.touch_time_s = -1;
   s_.touch_body = -1;
   s_.touch_foot_speed = 0;
-  s_.touch_step_m = 0;
   s_.window_done = false;
   s_.score = {};
   s_.fell = false;
@@ -122,9 +121,7 @@ void FootballEnv::ResetKick() {
   const double* foot = spec_->kick_foot_standing();
   double* ball = data_->qpos + b.qpos;
   const double jitter = k.position_jitter_m();
-  // With a step the standing foot comes down step.length_m ahead (kick_motion.h).
-  ball[0] = foot[0] + k.ball_ahead_m() + spec_->football().motion().step().length_m() +
-            rng.Uniform(-jitter, jitter);
+  ball[0] = foot[0] + k.ball_ahead_m() + rng.Uniform(-jitter, jitter);
   ball[1] = foot[1] + k.ball_side_m() + rng.Uniform(-jitter, jitter);
   ball[2] = b.radius;
   ball[3] = 1;
@@ -190,9 +187,6 @@ void FootballEnv::NoteTouches() {
     double velocity[6];  // rotational, then translational (world frame)
     mj_objectVelocity(model_, data_.get(), mjOBJ_GEOM, spec_->kick_foot_geom(), velocity, 0);
     s_.touch_foot_speed = Norm3(velocity + 3);
-    if (const int left = spec_->left_ankle_body(); left >= 0) {
-      s_.touch_step_m = data_->xpos[3 * left] - spec_->left_ankle_standing()[0];
-    }
     return;
   }
 }
@@ -202,14 +196,7 @@ StepResult FootballEnv::Step(const float* action, const AdaptiveWalk&) {
   // The trap's phase (TRAP, TRAP_KICK before the switch) or the kick's (on the kick's clock).
   const bool trap = !kicking();
   const double t = trap ? time_s() : kick_time_s();
-  if (!trap) {
-    // A step's foot is placed from where the pelvis is (kick_motion.h).
-    const KickTimes times = KickTimesOf(f.motion(), {});
-    StepPlacement place;
-    const bool placing = times.start > times.step && t >= times.step_swing && t < times.swing;
-    if (placing) place = StepPlacementOf(*spec_, *data_, times, t);
-    KickReferencePose(*spec_, t, {}, &s_.reference, placing ? &place : nullptr);
-  }
+  if (!trap) KickReferencePose(*spec_, t, {}, &s_.reference);
   double feedforward[humanoid::kCharacterNv] = {0};
   const double unit = f.action_torque();
   for (const humanoid::ActuatedJoint& joint : spec_->joints()) {
@@ -220,7 +207,20 @@ StepResult FootballEnv::Step(const float* action, const AdaptiveWalk&) {
     }
   }
   if (id_data_ != nullptr && !trap) AddReferenceFeedforward(t, feedforward);
-  if (f.has_stance_balance()) AddBalance(trap, t, feedforward);
+  const KickTimes kick = KickTimesOf(f.motion(), {});
+  // One stance (the left foot) for TRAP's traps with the right leg and during the kick;
+  // TRAP_KICK stands on both feet otherwise (it stands for seconds: the PD alone tips the
+  // character over after about 1.4 s).
+  const bool one_foot = trap ? f.task() == config::TRAP && (s_.trap.part == config::FOOT ||
+                                                            s_.trap.part == config::LOWER_LEG)
+                             : t >= kick.start && t < kick.end;
+  if (f.has_stance_balance() && one_foot) {
+    humanoid::AddStanceBalance(spec_->joints(), f.stance_balance(), humanoid::Foot::kLeft,
+                               spec_->root_body(), unit, model_, data_.get(), feedforward);
+  } else if (f.has_stance_balance() && spec_->trap_kick()) {
+    humanoid::AddDoubleStanceBalance(spec_->joints(), f.stance_balance(), spec_->root_body(), unit,
+                                     model_, data_.get(), feedforward);
+  }
   for (int a = 0; a < kNumActions; ++a) s_.previous_action[a] = std::clamp(action[a], -1.0f, 1.0f);
 
   StepResult result;
@@ -251,43 +251,6 @@ StepResult FootballEnv::Step(const float* action, const AdaptiveWalk&) {
   }
   AfterKickStep(touched_before, &result);
   return result;
-}
-
-void FootballEnv::AddBalance(bool trap, double t, double* feedforward) {
-  const config::FootballConfig& f = spec_->football();
-  const double unit = f.action_torque();
-  const KickTimes kick = KickTimesOf(f.motion(), {});
-  config::StanceBalance gains = f.stance_balance();
-  // A step's weight shift: both feet, the centre of mass moving over the right one.
-  if (!trap && t >= kick.step && t < kick.step_swing) {
-    gains.set_com_y(gains.com_y() - StepShiftShare(kick, t) * f.motion().step().shift() *
-                                        spec_->hip_half_width_m());
-    humanoid::AddDoubleStanceBalance(spec_->joints(), gains, spec_->root_body(), unit, model_,
-                                     data_.get(), feedforward);
-    return;
-  }
-  // One stance: the right foot over a step's swing, its centre of mass target moving on ahead; the
-  // left for TRAP's traps with the right leg and during the kick.
-  if (!trap && t >= kick.step_swing && t < kick.start) {
-    gains.set_com_x(gains.com_x() + StepComAhead(f.motion(), kick, t));
-    // Where the shift left it across: short of the right foot by the share not shifted.
-    gains.set_com_y(gains.com_y() + (1 - f.motion().step().shift()) * spec_->hip_half_width_m());
-    humanoid::AddStanceBalance(spec_->joints(), gains, humanoid::Foot::kRight, spec_->root_body(),
-                               unit, model_, data_.get(), feedforward);
-    return;
-  }
-  const bool one_foot = trap ? f.task() == config::TRAP && (s_.trap.part == config::FOOT ||
-                                                            s_.trap.part == config::LOWER_LEG)
-                             : t >= kick.start && t < kick.end;
-  if (one_foot) {
-    humanoid::AddStanceBalance(spec_->joints(), gains, humanoid::Foot::kLeft, spec_->root_body(),
-                               unit, model_, data_.get(), feedforward);
-  } else if (spec_->trap_kick()) {
-    // TRAP_KICK stands on both feet otherwise (it stands for seconds: the PD alone tips the
-    // character over after about 1.4 s).
-    humanoid::AddDoubleStanceBalance(spec_->joints(), gains, spec_->root_body(), unit, model_,
-                                     data_.get(), feedforward);
-  }
 }
 
 void FootballEnv::AfterKickStep(bool touched_before, StepResult* out) {
@@ -496,9 +459,6 @@ void FootballEnv::AppendKickMetrics(std::vector<NamedValue>* out) const {
   if (s_.kick.touched) {
     out->push_back({"kick_foot_speed_mps", s_.touch_foot_speed});
     out->push_back({"kick_touch_s", s_.touch_time_s});
-    if (spec_->football().motion().step().length_m() > 0) {
-      out->push_back({"kick_step_m", s_.touch_step_m});
-    }
   }
   if (s_.touch_body >= 0) {
     const TouchPart part = TouchPartOf(*spec_, s_.touch_body);

@@ -44,7 +44,6 @@ struct FootballEnvState {
   double touch_time_s = -1;        // simulated time of the first touch (−1: none yet)
   int touch_body = -1;             // the body that touched the ball first
   double touch_foot_speed = 0;     // the kicking foot's speed at the touch (m/s)
-  double touch_step_m = 0;         // the left foot's advance on where it stood, at the touch (m)
   bool window_done = false;        // 1/6 s has passed since the touch
   KickScore score;                 // valid once window_done
   bool fell = false;
@@ -88,9 +87,7 @@ class FootballEnv : public juggle::Env {
   // (config::TrapPart), trap_lob (0/1), trap_meet_speed_mps, trap_end_distance_m, fell.
   // KICK: kick_success (0/1), and for a success kick_direction_deviation_deg and
   // kick_speed_deviation_mps; kick_target_speed_mps; kick_speed_mps (the mean measured speed);
-  // kick_foot_speed_mps (the kicking foot's speed at the touch), kick_touch_s (when); with a
-  // step into the kick, kick_step_m (how far the left foot stood ahead of its start at the
-  // touch); once
+  // kick_foot_speed_mps (the kicking foot's speed at the touch), kick_touch_s (when); once
   // anything touched the ball, which part did first, as 0/1 (all 0: the kicking foot; else the
   // kick ends as wrong_touch): kick_touch_kicking_leg (its lower leg or thigh),
   // kick_touch_standing_leg (the standing foot, lower leg or thigh), kick_touch_upper_body (the
@@ -116,10 +113,6 @@ class FootballEnv : public juggle::Env {
  private:
   // football.reference_feedforward: the kick's inverse dynamics at episode time `t`, clamped.
   void AddReferenceFeedforward(double t, double* feedforward);
-  // The stance balance's torques for this control step (TRAP: `trap`; the kick at kick-clock
-  // `t`): over a step's weight shift both feet, over its swing the right foot, during the kick
-  // (and TRAP's traps with the right leg) the left, TRAP_KICK's other steps both feet.
-  void AddBalance(bool trap, double t, double* feedforward);
   void NoteTouches();
   void ResetKick();
   // Draws the kick's target speed and direction (KickTargets).

@@ -6,8 +6,6 @@
 // lob on the turf first is ground_first; config errors (lobs too weak for the part, ranges out
 // of order, a part the model lacks) name file, line and field.
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -240,23 +238,17 @@ TEST_F(FootballTrapEnvTest, PassesThatCannotReachThePartAreRefusedNamingFileLine
   EXPECT_THAT(std::string(spec.status().message()), StartsWith(Loc(path2, reversed, "meet_ahead_min_m")));
 }
 
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 TEST_F(FootballTrapEnvTest, ADesignatedPartTheModelLacksIsRefusedNamingFileLineAndField) {
   // The pitch with the head's geom renamed, in the test's temp folder.
-  std::string humanoid = ReadFile(RepoPath("configs/models/humanoid.xml"));
+  std::string humanoid = ::juggle::testing::ReadRepoFile("configs/models/humanoid.xml");
   const size_t at = humanoid.find("name=\"head\"");
   ASSERT_NE(at, std::string::npos);
   humanoid.replace(at, 11, "name=\"noggin\"");
   WriteTemp("humanoid.xml", humanoid);
-  WriteTemp("football_ball.xml", ReadFile(RepoPath("configs/models/football_ball.xml")));
-  const std::string pitch = WriteTemp("headless_pitch.xml",
-                                      ReadFile(RepoPath("configs/models/football_pitch.xml")));
+  WriteTemp("football_ball.xml",
+            ::juggle::testing::ReadRepoFile("configs/models/football_ball.xml"));
+  const std::string pitch = WriteTemp(
+      "headless_pitch.xml", ::juggle::testing::ReadRepoFile("configs/models/football_pitch.xml"));
   const std::string text =
       absl::StrCat("base_config: \"", RepoPath(kShippedTrap), "\"\nfootball {\n  model_file: \"",
                    pitch, "\"\n  trap {\n    parts: TORSO\n    parts: HEAD\n  }\n}\n");

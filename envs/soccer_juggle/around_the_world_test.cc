@@ -3,9 +3,7 @@
 // episode's end and against a hand-made state, and keyframes' swing_side (the base controller
 // balancing on the other foot). graphs/foot_and_atw.textproto on the right-foot planner's config.
 #include <cmath>
-#include <fstream>
 #include <memory>
-#include <sstream>
 #include <string>
 
 #include "absl/strings/str_replace.h"
@@ -19,12 +17,9 @@ namespace juggle::soccer_juggle {
 namespace {
 
 std::string AtwGraphText(bool swing_side) {
-  std::ifstream in(testing::RepoPath("configs/graphs/foot_and_atw.textproto"));
-  std::stringstream text;
-  text << in.rdbuf();
-  if (!swing_side) return text.str();
-  return absl::StrReplaceAll(text.str(),
-                             {{"keyframes {\n", "keyframes {\n      swing_side: RIGHT\n"}});
+  const std::string text = testing::ReadRepoFile("configs/graphs/foot_and_atw.textproto");
+  if (!swing_side) return text;
+  return absl::StrReplaceAll(text, {{"keyframes {\n", "keyframes {\n      swing_side: RIGHT\n"}});
 }
 
 std::shared_ptr<const JuggleSpec> AtwSpec(bool swing_side) {

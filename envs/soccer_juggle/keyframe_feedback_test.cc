@@ -6,9 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <fstream>
 #include <memory>
-#include <sstream>
 #include <string>
 
 #include "absl/strings/str_replace.h"
@@ -23,11 +21,8 @@ namespace {
 
 // The shipped graph, its DOWN node's own kick feedback (the timing) kept or taken out.
 std::string AtwGraph(bool own_feedback = false) {
-  std::ifstream in(testing::RepoPath("configs/graphs/around_the_world.textproto"));
-  std::stringstream text;
-  text << in.rdbuf();
   const std::string shipped = "  kick_feedback { timing: 1 }\n";
-  std::string graph = text.str();
+  std::string graph = testing::ReadRepoFile("configs/graphs/around_the_world.textproto");
   EXPECT_NE(graph.find(shipped), std::string::npos);
   return own_feedback ? graph : absl::StrReplaceAll(graph, {{shipped, ""}});
 }

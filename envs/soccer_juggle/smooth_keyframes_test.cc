@@ -2,9 +2,7 @@
 // through every authored frame, and its velocity, which jumps at a frame when the frames are
 // joined by straight lines, is continuous there. graphs/around_the_world.textproto's frames.
 #include <cmath>
-#include <fstream>
 #include <memory>
-#include <sstream>
 #include <string>
 
 #include "absl/strings/str_replace.h"
@@ -16,10 +14,7 @@ namespace juggle::soccer_juggle {
 namespace {
 
 std::shared_ptr<const JuggleSpec> SmoothAtwSpec(bool smooth) {
-  std::ifstream in(testing::RepoPath("configs/graphs/around_the_world.textproto"));
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string graph = text.str();
+  std::string graph = testing::ReadRepoFile("configs/graphs/around_the_world.textproto");
   if (smooth) {
     graph = absl::StrReplaceAll(graph, {{"swing_side: RIGHT\n", "swing_side: RIGHT smooth: true\n"}});
   }

@@ -3,10 +3,8 @@
 // the last, where without it the character falls at the first change. Zero action, the ball
 // out of play.
 #include <cmath>
-#include <fstream>
 #include <functional>
 #include <memory>
-#include <sstream>
 #include <vector>
 
 #include "envs/soccer_juggle/base_controller.h"
@@ -96,10 +94,8 @@ constexpr char kHeadersOnly[] = R"pb(
 // graphs/both_feet_smooth.textproto with its edges replaced: every kick is from the other foot
 // than the last (right, left, right, ...), so every UP node hands the stance over.
 config::ControlGraph FeetTakingTurns() {
-  std::ifstream in(testing::RepoPath("configs/graphs/both_feet_smooth.textproto"));
-  std::stringstream text;
-  text << in.rdbuf();
-  config::ControlGraph graph = ParseGraph(text.str().c_str());
+  config::ControlGraph graph =
+      ParseGraph(testing::ReadRepoFile("configs/graphs/both_feet_smooth.textproto").c_str());
   graph.clear_edge();
   for (const auto& [from, to] :
        std::vector<std::pair<const char*, const char*>>{{"right_foot_down", "right_foot_up"},

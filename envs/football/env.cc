@@ -75,16 +75,12 @@ void FootballEnv::Reset(const AdaptiveWalk&) {
   s_.touch_time_s = -1;
   s_.touch_body = -1;
   s_.touch_foot_speed = 0;
-  s_.touch_step_m = 0;
-  s_.step_unloaded = s_.step_airborne = s_.step_planted = s_.step_transferred = false;
-  s_.step_hold_s = s_.step_plant_hold_s = 0;
   s_.window_done = false;
   s_.score = {};
   s_.fell = false;
   s_.previous_action.fill(0.0f);
   s_.kick.touched = false;
   s_.kick.after_touch.clear();
-  s_.kick_started = true;
   s_.kick_origin_s = 0;
   s_.touch_armed = true;
   if (!spec_->trap()) {
@@ -92,7 +88,7 @@ void FootballEnv::Reset(const AdaptiveWalk&) {
     return;
   }
   s_.trap = DrawTrapEpisode(*spec_, s_.rng);
-  s_.kick_started = false;  // TRAP never kicks; TRAP_KICK kicks after the switch
+  s_.kick_origin_s = -1;  // TRAP never kicks; TRAP_KICK kicks after the switch
   if (spec_->trap_kick()) DrawKickTarget();
   mj_resetData(model_, data_.get());
   s_.reference = spec_->standing_pose();
@@ -125,9 +121,7 @@ void FootballEnv::ResetKick() {
   const double* foot = spec_->kick_foot_standing();
   double* ball = data_->qpos + b.qpos;
   const double jitter = k.position_jitter_m();
-  // With a step the standing foot comes down step.length_m ahead (kick_motion.h).
-  ball[0] = foot[0] + k.ball_ahead_m() + spec_->football().motion().step().length_m() +
-            rng.Uniform(-jitter, jitter);
+  ball[0] = foot[0] + k.ball_ahead_m() + rng.Uniform(-jitter, jitter);
   ball[1] = foot[1] + k.ball_side_m() + rng.Uniform(-jitter, jitter);
   ball[2] = b.radius;
   ball[3] = 1;
@@ -193,9 +187,6 @@ void FootballEnv::NoteTouches() {
     double velocity[6];  // rotational, then translational (world frame)
     mj_objectVelocity(model_, data_.get(), mjOBJ_GEOM, spec_->kick_foot_geom(), velocity, 0);
     s_.touch_foot_speed = Norm3(velocity + 3);
-    if (const int left = spec_->left_ankle_body(); left >= 0) {
-      s_.touch_step_m = data_->xpos[3 * left] - spec_->left_ankle_standing()[0];
-    }
     return;
   }
 }
@@ -204,18 +195,8 @@ StepResult FootballEnv::Step(const float* action, const AdaptiveWalk&) {
   const config::FootballConfig& f = spec_->football();
   // The trap's phase (TRAP, TRAP_KICK before the switch) or the kick's (on the kick's clock).
   const bool trap = !kicking();
-  if (!trap) FollowStepContacts();
   const double t = trap ? time_s() : kick_time_s();
-  if (!trap) {
-    // A step's foot is placed from where the pelvis is (kick_motion.h).
-    const KickTimes times = KickTimesOf(f.motion(), {});
-    StepPlacement place;
-    const double until = f.motion().step().keep_placed() ? times.recover : times.swing;
-    const bool placing = times.start > times.step && t >= times.step_swing && t < until;
-    if (placing) place = StepPlacementOf(*spec_, *data_, times, t);
-    place.toe_down = f.motion().step().toe_down() * s_.step_plant_hold_s;
-    KickReferencePose(*spec_, t, {}, &s_.reference, placing ? &place : nullptr);
-  }
+  if (!trap) KickReferencePose(*spec_, t, {}, &s_.reference);
   double feedforward[humanoid::kCharacterNv] = {0};
   const double unit = f.action_torque();
   for (const humanoid::ActuatedJoint& joint : spec_->joints()) {
@@ -226,7 +207,20 @@ StepResult FootballEnv::Step(const float* action, const AdaptiveWalk&) {
     }
   }
   if (id_data_ != nullptr && !trap) AddReferenceFeedforward(t, feedforward);
-  if (f.has_stance_balance()) AddBalance(trap, t, feedforward);
+  const KickTimes kick = KickTimesOf(f.motion(), {});
+  // One stance (the left foot) for TRAP's traps with the right leg and during the kick;
+  // TRAP_KICK stands on both feet otherwise (it stands for seconds: the PD alone tips the
+  // character over after about 1.4 s).
+  const bool one_foot = trap ? f.task() == config::TRAP && (s_.trap.part == config::FOOT ||
+                                                            s_.trap.part == config::LOWER_LEG)
+                             : t >= kick.start && t < kick.end;
+  if (f.has_stance_balance() && one_foot) {
+    humanoid::AddStanceBalance(spec_->joints(), f.stance_balance(), humanoid::Foot::kLeft,
+                               spec_->root_body(), unit, model_, data_.get(), feedforward);
+  } else if (f.has_stance_balance() && spec_->trap_kick()) {
+    humanoid::AddDoubleStanceBalance(spec_->joints(), f.stance_balance(), spec_->root_body(), unit,
+                                     model_, data_.get(), feedforward);
+  }
   for (int a = 0; a < kNumActions; ++a) s_.previous_action[a] = std::clamp(action[a], -1.0f, 1.0f);
 
   StepResult result;
@@ -257,121 +251,6 @@ StepResult FootballEnv::Step(const float* action, const AdaptiveWalk&) {
   }
   AfterKickStep(touched_before, &result);
   return result;
-}
-
-double FootballEnv::FootLoad(int foot) const {
-  double force = 0;
-  for (int c = 0; c < data_->ncon; ++c) {
-    const mjContact& contact = data_->contact[c];
-    const int a = model_->geom_bodyid[contact.geom1], b = model_->geom_bodyid[contact.geom2];
-    if (!((a == foot && b == 0) || (a == 0 && b == foot))) continue;
-    double wrench[6];
-    mj_contactForce(model_, data_.get(), c, wrench);
-    force += wrench[0];  // the normal, in the contact's frame
-  }
-  const double weight = model_->body_subtreemass[spec_->root_body()] * -model_->opt.gravity[2];
-  return weight > 0 ? force / weight : 0;
-}
-
-void FootballEnv::FollowStepContacts() {
-  const config::KickStep& step = spec_->football().motion().step();
-  if (step.length_m() <= 0 || (step.unload() <= 0 && !step.touchdown())) return;
-  const KickTimes times = KickTimesOf(spec_->football().motion(), {});
-  const double t = kick_time_s();
-  // Holding keeps the clock just short of `at`, in the phase before it.
-  constexpr double kShort = 1e-6;
-  const auto hold = [&](double at) {
-    s_.step_hold_s += t - (at - kShort);
-    s_.kick_origin_s = time_s() - (at - kShort);
-  };
-  const bool may_hold = s_.step_hold_s < step.max_hold_s();
-  const double load = FootLoad(spec_->left_ankle_body());
-  if (step.unload() > 0 && !s_.step_unloaded) {
-    if (t < times.step_swing - kShort) return;
-    bool captured = true;
-    if (step.has_capture_m()) {
-      mj_subtreeVel(model_, data_.get());
-      const double* com = data_->subtree_com + 3 * spec_->root_body();
-      const double rate = std::sqrt(-model_->opt.gravity[2] / std::max(0.3, com[2]));
-      const double velocity = data_->subtree_linvel[3 * spec_->root_body() + 1];
-      const double ankle = data_->xpos[3 * spec_->kick_foot_body() + 1];
-      captured = com[1] + velocity / rate <= ankle + step.capture_m();
-    }
-    if ((load > step.unload() || !captured) && may_hold) return hold(times.step_swing);
-    s_.step_unloaded = true;
-  }
-  if (step.touchdown() && !s_.step_planted && t >= times.step_swing) {
-    const double down = std::max(0.05, step.unload());
-    if (t < times.plant - kShort) {
-      if (load <= 0) s_.step_airborne = true;
-      const double mid = 0.5 * (times.step_swing + times.plant);
-      const double ahead = data_->xpos[3 * spec_->left_ankle_body()] -
-                           spec_->left_ankle_standing()[0] - step.length_m();
-      if (s_.step_airborne && t > mid && load >= down && ahead > -0.05) {
-        s_.kick_origin_s = time_s() - times.plant;  // down early: the transfer starts now
-        s_.step_planted = true;
-      }
-      return;
-    }
-    if (load < down && may_hold) {
-      s_.step_plant_hold_s += t - (times.plant - kShort);
-      return hold(times.plant);
-    }
-    s_.step_planted = true;
-  }
-  // The transfer's end: the back-swing waits for the right foot to be unloaded.
-  if (step.unload() > 0 && step.transfer_s() > 0 && !s_.step_transferred &&
-      t >= times.start - kShort) {
-    if (FootLoad(spec_->kick_foot_body()) > step.unload() && may_hold) return hold(times.start);
-    s_.step_transferred = true;
-  }
-}
-
-void FootballEnv::AddBalance(bool trap, double t, double* feedforward) {
-  const config::FootballConfig& f = spec_->football();
-  const double unit = f.action_torque();
-  const KickTimes kick = KickTimesOf(f.motion(), {});
-  config::StanceBalance gains = f.stance_balance();
-  // A step's weight shift: both feet, the centre of mass moving over the right one.
-  if (!trap && t >= kick.step && t < kick.step_swing) {
-    gains.set_com_y(gains.com_y() - StepShiftShare(kick, t) * f.motion().step().shift() *
-                                        spec_->hip_half_width_m());
-    humanoid::AddDoubleStanceBalance(spec_->joints(), gains, spec_->root_body(), unit, model_,
-                                     data_.get(), feedforward);
-    return;
-  }
-  // One stance: the right foot over a step's swing, its centre of mass target moving on ahead; the
-  // left for TRAP's traps with the right leg and during the kick.
-  if (!trap && t >= kick.step_swing && t < kick.plant) {
-    gains.set_com_x(gains.com_x() + StepComAhead(f.motion(), kick, t));
-    // Where the shift left it across: short of the right foot by the share not shifted.
-    gains.set_com_y(gains.com_y() + (1 - f.motion().step().shift()) * spec_->hip_half_width_m());
-    humanoid::AddStanceBalance(spec_->joints(), gains, humanoid::Foot::kRight, spec_->root_body(),
-                               unit, model_, data_.get(), feedforward);
-    return;
-  }
-  // A step's transfer: both feet, the centre of mass moving back to between them.
-  if (!trap && t >= kick.plant && t < kick.start) {
-    const double share = StepTransferShare(kick, t);
-    const config::KickStep& step = f.motion().step();
-    gains.set_com_y(gains.com_y() + ((share - 1) * step.shift() + share * step.transfer_onto()) *
-                                        spec_->hip_half_width_m());
-    humanoid::AddDoubleStanceBalance(spec_->joints(), gains, spec_->root_body(), unit, model_,
-                                     data_.get(), feedforward);
-    return;
-  }
-  const bool one_foot = trap ? f.task() == config::TRAP && (s_.trap.part == config::FOOT ||
-                                                            s_.trap.part == config::LOWER_LEG)
-                             : t >= kick.start && t < kick.end;
-  if (one_foot) {
-    humanoid::AddStanceBalance(spec_->joints(), gains, humanoid::Foot::kLeft, spec_->root_body(),
-                               unit, model_, data_.get(), feedforward);
-  } else if (spec_->trap_kick()) {
-    // TRAP_KICK stands on both feet otherwise (it stands for seconds: the PD alone tips the
-    // character over after about 1.4 s).
-    humanoid::AddDoubleStanceBalance(spec_->joints(), gains, spec_->root_body(), unit, model_,
-                                     data_.get(), feedforward);
-  }
 }
 
 void FootballEnv::AfterKickStep(bool touched_before, StepResult* out) {
@@ -448,8 +327,7 @@ void FootballEnv::AfterTrapKickTrapStep(StepResult* result) {
       s_.fell = true;
       result->outcome = kFell;
     } else if (e.first_body >= 0 && BallKickable(*spec_, data_.get())) {
-      s_.kick_started = true;  // the kick's clock starts; its touches count from here
-      s_.kick_origin_s = time_s();
+      s_.kick_origin_s = time_s();  // the kick's clock starts; its touches count from here
       s_.touch_armed = !BallTouchesCharacter(*spec_, data_.get());
       if (!e.settled) EndTrap(*spec_, data_.get(), &e);  // the ball is controlled: in the zone
     } else if (e.first_body >= 0 &&
@@ -581,10 +459,6 @@ void FootballEnv::AppendKickMetrics(std::vector<NamedValue>* out) const {
   if (s_.kick.touched) {
     out->push_back({"kick_foot_speed_mps", s_.touch_foot_speed});
     out->push_back({"kick_touch_s", s_.touch_time_s});
-    if (spec_->football().motion().step().length_m() > 0) {
-      out->push_back({"kick_step_m", s_.touch_step_m});
-      out->push_back({"kick_step_hold_s", s_.step_hold_s});
-    }
   }
   if (s_.touch_body >= 0) {
     const TouchPart part = TouchPartOf(*spec_, s_.touch_body);

@@ -44,21 +44,13 @@ struct FootballEnvState {
   double touch_time_s = -1;        // simulated time of the first touch (−1: none yet)
   int touch_body = -1;             // the body that touched the ball first
   double touch_foot_speed = 0;     // the kicking foot's speed at the touch (m/s)
-  double touch_step_m = 0;         // the left foot's advance on where it stood, at the touch (m)
-  // A step's contact-driven phases (KickStep.unload, touchdown): the left foot unloaded, off the
-  // floor in the swing, down again; the kick's clock held so far (s).
-  bool step_unloaded = false, step_airborne = false, step_planted = false;
-  bool step_transferred = false;
-  double step_hold_s = 0, step_plant_hold_s = 0;  // held in all; at the plant
   bool window_done = false;        // 1/6 s has passed since the touch
   KickScore score;                 // valid once window_done
   bool fell = false;
   std::array<float, kNumActions> previous_action{};
   TrapEpisode trap;                // TRAP, TRAP_KICK
-  // The kick has begun (KICK: from the reset; TRAP: never; TRAP_KICK: from the switch), and the
-  // episode time (s) at which its clock reads 0 (a step's contact-driven phases move it: it may
-  // lie before the episode's start).
-  bool kick_started = true;
+  // Episode time (s) at which the kick's clock starts: 0 for KICK; −1 for TRAP, and for
+  // TRAP_KICK until the switch from the trap.
   double kick_origin_s = 0;
   // The kick's first touch counts only once the ball has been free of the character since the
   // switch (a trapped ball may rest against the foot; the back-swing frees it). KICK: true.
@@ -95,9 +87,7 @@ class FootballEnv : public juggle::Env {
   // (config::TrapPart), trap_lob (0/1), trap_meet_speed_mps, trap_end_distance_m, fell.
   // KICK: kick_success (0/1), and for a success kick_direction_deviation_deg and
   // kick_speed_deviation_mps; kick_target_speed_mps; kick_speed_mps (the mean measured speed);
-  // kick_foot_speed_mps (the kicking foot's speed at the touch), kick_touch_s (when); with a
-  // step into the kick, kick_step_m (how far the left foot stood ahead of its start at the
-  // touch); once
+  // kick_foot_speed_mps (the kicking foot's speed at the touch), kick_touch_s (when); once
   // anything touched the ball, which part did first, as 0/1 (all 0: the kicking foot; else the
   // kick ends as wrong_touch): kick_touch_kicking_leg (its lower leg or thigh),
   // kick_touch_standing_leg (the standing foot, lower leg or thigh), kick_touch_upper_body (the
@@ -114,7 +104,7 @@ class FootballEnv : public juggle::Env {
   // Simulated seconds since the episode's start.
   double time_s() const { return s_.steps * spec_->control_dt(); }
   // Whether the kick is under way (KICK always; TRAP_KICK after the switch).
-  bool kicking() const { return s_.kick_started; }
+  bool kicking() const { return s_.kick_origin_s >= 0; }
   // Seconds on the kick's clock (the scripted kick's times, kick_motion.h). REQUIRES: kicking().
   double kick_time_s() const { return time_s() - s_.kick_origin_s; }
   // The ball's velocity the target asks for (m/s, world frame).
@@ -123,17 +113,6 @@ class FootballEnv : public juggle::Env {
  private:
   // football.reference_feedforward: the kick's inverse dynamics at episode time `t`, clamped.
   void AddReferenceFeedforward(double t, double* feedforward);
-  // The stance balance's torques for this control step (TRAP: `trap`; the kick at kick-clock
-  // `t`): over a step's weight shift both feet, over its swing the right foot, during the kick
-  // (and TRAP's traps with the right leg) the left, TRAP_KICK's other steps both feet.
-  void AddBalance(bool trap, double t, double* feedforward);
-  // A step's contact-driven phases (KickStep.unload, touchdown): holds the kick's clock at the
-  // shift's end until the left foot is unloaded and at the swing's end until it is down again,
-  // and ends the swing early at a touchdown. Before each control step of the kick.
-  void FollowStepContacts();
-  // The normal force from the floor on a foot (`foot_body`) now, as a share of the character's
-  // weight.
-  double FootLoad(int foot_body) const;
   void NoteTouches();
   void ResetKick();
   // Draws the kick's target speed and direction (KickTargets).

@@ -53,12 +53,6 @@ absl::StatusOr<std::shared_ptr<const FootballSpec>> FootballSpec::Build(const Lo
                    absl::StrCat("sim_dt ", f.sim_dt(), " differs from the model's timestep ",
                                 model->opt.timestep));
   }
-  if (f.motion().step().length_m() > 0 && f.task() != config::KICK) {
-    // TRAP_KICK's kick starts with the ball already in the zone: a step would pass it.
-    return Invalid(where, {{"motion"}, {"step"}, {"length_m"}},
-                   absl::StrCat("a step into the kick is for the KICK task; this config's task is ",
-                                config::FootballTask_Name(f.task())));
-  }
   absl::StatusOr<PitchBall> ball = FindPitchBall(model);
   if (!ball.ok()) return Invalid(where, {{"model_file"}}, std::string(ball.status().message()));
   spec->ball_ = *ball;
@@ -102,18 +96,6 @@ absl::StatusOr<std::shared_ptr<const FootballSpec>> FootballSpec::Build(const Lo
   mj_kinematics(model, d.get());
   spec->kick_foot_bounds_ = MeasureGeomBounds(model, spec->kick_foot_geom_);
   GeomBoundsCentre(spec->kick_foot_bounds_, model, d.get(), spec->kick_foot_standing_);
-  // A step's geometry (kick_motion.h): the legs' length and the hips' spacing, the left foot.
-  const int left = mj_name2id(model, mjOBJ_BODY, "left_ankle");
-  const int hip = mj_name2id(model, mjOBJ_BODY, "right_hip");
-  if (left >= 0 && hip >= 0) {
-    spec->left_ankle_body_ = left;
-    mju_copy3(spec->left_ankle_standing_, d->xpos + 3 * left);
-    spec->leg_length_m_ = mju_dist3(d->xpos + 3 * hip, d->xpos + 3 * spec->kick_foot_body_);
-    spec->hip_half_width_m_ = std::abs(d->xpos[3 * hip + 1] - pose[1]);
-  } else if (f.motion().step().length_m() > 0) {
-    return Invalid(where, {{"model_file"}},
-                   "a step into the kick (motion.step) needs bodies 'left_ankle' and 'right_hip'");
-  }
   if (f.task() == config::TRAP || f.task() == config::TRAP_KICK) {
     absl::StatusOr<TrapBodies> trap = ResolveTrapBodies(model, pose.data(), f.trap(), where);
     if (!trap.ok()) return trap.status();

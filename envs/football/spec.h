@@ -67,15 +67,6 @@ class FootballSpec : public EnvSpec {
   int kick_foot_geom() const { return kick_foot_geom_; }
   const GeomBounds& kick_foot_bounds() const { return kick_foot_bounds_; }
   const double* kick_foot_standing() const { return kick_foot_standing_; }
-  // The leg's length from the hip's joint to the ankle's in the standing pose (m): a step's
-  // hip angles come from it (kick_motion.h).
-  double leg_length_m() const { return leg_length_m_; }
-  // Half the distance between the hips' joints (m): how far the pelvis moves sideways to stand
-  // over one foot.
-  double hip_half_width_m() const { return hip_half_width_m_; }
-  // The stepping (left) foot's body and where its joint stands (world, m).
-  int left_ankle_body() const { return left_ankle_body_; }
-  const double* left_ankle_standing() const { return left_ankle_standing_; }
   // The TRAP and TRAP_KICK tasks' parts and arms (trap_episode.h; empty for KICK).
   const TrapBodies& trap_bodies() const { return trap_bodies_; }
   // An episode starts with a pass to trap (TRAP, TRAP_KICK); trap_kick(): a kick follows it.
@@ -95,9 +86,6 @@ class FootballSpec : public EnvSpec {
   int root_body_ = -1, kick_foot_body_ = -1, kick_foot_geom_ = -1;
   GeomBounds kick_foot_bounds_;
   double kick_foot_standing_[3] = {0, 0, 0};
-  double leg_length_m_ = 0, hip_half_width_m_ = 0;
-  int left_ankle_body_ = -1;
-  double left_ankle_standing_[3] = {0, 0, 0};
   TrapBodies trap_bodies_;
 };
 

@@ -7,28 +7,6 @@ namespace juggle::humanoid {
 
 double Heading(const double* xmat) { return std::atan2(xmat[3], xmat[0]); }
 
-void AddLegForce(const Joints& joints, Foot stance, const double force[3], double action_torque,
-                 const mjModel* m, mjData* data, double* feedforward) {
-  const bool left = stance == Foot::kLeft;
-  const ActuatedJoint& hip = joints[left ? kLeftHip : kRightHip];
-  const ActuatedJoint& knee = joints[left ? kLeftKnee : kRightKnee];
-  const int foot = m->dof_bodyid[joints[left ? kLeftAnkle : kRightAnkle].dof_adr];
-  const int mark = data->pstack;  // mjMARKSTACK for an mjData not named d
-  mjtNum* jacp = mj_stackAlloc(data, 3 * m->nv);
-  mj_jacBody(m, data, jacp, nullptr, foot);
-  for (const ActuatedJoint* joint : {&hip, &knee}) {
-    const double limit = action_torque * joint->torque_scale;
-    for (int i = 0; i < joint->dofs; ++i) {
-      const int dof = joint->dof_adr + i;
-      // The foot pushes the floor with −force; the floor pushes the body with +force.
-      double tau = 0;
-      for (int k = 0; k < 3; ++k) tau -= jacp[k * m->nv + dof] * force[k];
-      feedforward[dof] += std::clamp(tau, -limit, limit);
-    }
-  }
-  data->pstack = mark;
-}
-
 void AddStanceBalance(const Joints& joints, const config::StanceBalance& b, Foot stance,
                       int root_body, double action_torque, const mjModel* m, mjData* data,
                       double* feedforward) {
@@ -43,18 +21,12 @@ void AddStanceBalance(const Joints& joints, const config::StanceBalance& b, Foot
     }
   };
   double tau_ankle[3] = {0, 0, 0}, tau_hip[3] = {0, 0, 0};
-  if (b.com_kp() != 0 || b.com_kd() != 0 || b.force_kp() != 0 || b.force_kd() != 0) {
+  if (b.com_kp() != 0 || b.com_kd() != 0) {
     mj_subtreeVel(m, data);  // COM velocity of the character (the root's subtree)
     const double* com = data->subtree_com + 3 * root_body;
     const double* vel = data->subtree_linvel + 3 * root_body;
     const double* pos = data->xpos + 3 * foot;
     const double ex = com[0] - pos[0] - b.com_x(), ey = com[1] - pos[1] - b.com_y();
-    if (b.force_kp() != 0 || b.force_kd() != 0) {
-      const double mass = m->body_subtreemass[root_body];
-      const double force[3] = {-mass * (b.force_kp() * ex + b.force_kd() * vel[0]),
-                               -mass * (b.force_kp() * ey + b.force_kd() * vel[1]), 0};
-      AddLegForce(joints, stance, force, action_torque, m, data, feedforward);
-    }
     const double world[3] = {-(b.com_kp() * ey + b.com_kd() * vel[1]),
                              b.com_kp() * ex + b.com_kd() * vel[0], 0};
     mju_mulMatTVec(tau_ankle, data->xmat + 9 * foot, world, 3, 3);  // into the foot frame
@@ -94,8 +66,6 @@ void AddDoubleStanceBalance(const Joints& joints, const config::StanceBalance& g
     half.set_pelvis_kd(gains.pelvis_kd() / 2);
     half.set_yaw_kp(gains.yaw_kp() / 2);
     half.set_yaw_kd(gains.yaw_kd() / 2);
-    half.set_force_kp(gains.force_kp() / 2);
-    half.set_force_kd(gains.force_kd() / 2);
     // The target from this ankle: to the midpoint, then the configured offset.
     half.set_com_x(gains.com_x() + (other[0] - own[0]) / 2);
     half.set_com_y(gains.com_y() + (other[1] - own[1]) / 2);

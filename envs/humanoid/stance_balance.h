@@ -20,12 +20,6 @@ enum class Foot { kLeft, kRight };
 // character's forward for the root and, standing at rest, for every leg body.
 double Heading(const double* xmat);
 
-// Adds to `feedforward` the torques of `stance`'s hip and knee that make the floor push the body
-// with `force` (world, N) through that foot (the foot's Jacobian transposed), each clamped to its
-// joint's feed-forward range.
-void AddLegForce(const Joints& joints, Foot stance, const double force[3], double action_torque,
-                 const mjModel* m, mjData* data, double* feedforward);
-
 // Adds `gains`' torques for standing on `stance` to `feedforward` ([kCharacterNv], N·m), each
 // term clamped to its joint's feed-forward range (action_torque × the joint's scale), as a
 // policy action would be. `root_body`: the character's root body. Updates `data`'s subtree

@@ -7,9 +7,7 @@
 #include "envs/humanoid/stance_balance.h"
 
 #include <array>
-#include <cmath>
 #include <string>
-#include <vector>
 
 #include "envs/mujoco_model.h"
 #include "envs/testing/test_configs.h"
@@ -159,79 +157,6 @@ TEST_F(StanceBalanceTest, TheYawTermHoldsTheWorldsHeadingUnlessToldToHoldTheStan
   gains.set_yaw_from_stance_foot(true);
   Turn(model_.get(), data_.get(), joints_, M_PI - 0.05, 0.1);
   EXPECT_NEAR(Torques(gains)[yaw_dof], -300 * 0.1, 1e-9);
-}
-
-// The virtual force through the stance leg, checked by virtual work on an independent path:
-// turning one of the leg's dofs by a small angle with the root held moves the foot by dp
-// (forward kinematics after the turn), and the torque on that dof must do the work the
-// floor's push on the foot does, tau·dq = −force·dp (the foot pushes the floor with −force).
-TEST_F(StanceBalanceTest, TheLegForceDoesTheWorkOfTheFloorsPushOnTheFootsDisplacement) {
-  // A bent leg, so that the knee and every hip axis move the foot.
-  data_->qpos[joints_[kLeftKnee].qpos_adr] = -0.6;
-  double axis[3] = {0.1, 0.2, 0.4}, quat[4];
-  mju_normalize3(axis);
-  mju_axisAngle2Quat(quat, axis, 0.45);
-  mju_copy4(data_->qpos + joints_[kLeftHip].qpos_adr, quat);
-  mj_forward(model_.get(), data_.get());
-  const int foot = model_->dof_bodyid[joints_[kLeftAnkle].dof_adr];
-  const double force[3] = {30, -20, 10};
-  std::array<double, kCharacterNv> tau{};
-  AddLegForce(joints_, Foot::kLeft, force, 100.0, model_.get(), data_.get(), tau.data());
-
-  const std::vector<double> start(data_->qpos, data_->qpos + model_->nq);
-  const double before[3] = {data_->xpos[3 * foot], data_->xpos[3 * foot + 1],
-                            data_->xpos[3 * foot + 2]};
-  constexpr double kStep = 1e-6;
-  int moved = 0;
-  for (JointId joint : {kLeftHip, kLeftKnee}) {
-    for (int i = 0; i < joints_[joint].dofs; ++i) {
-      const int dof = joints_[joint].dof_adr + i;
-      std::vector<double> dq(model_->nv, 0.0);
-      dq[dof] = kStep;
-      mju_copy(data_->qpos, start.data(), model_->nq);
-      mj_integratePos(model_.get(), data_->qpos, dq.data(), 1.0);
-      mj_kinematics(model_.get(), data_.get());
-      double work = 0;
-      for (int k = 0; k < 3; ++k) work -= force[k] * (data_->xpos[3 * foot + k] - before[k]);
-      EXPECT_NEAR(tau[dof] * kStep, work, 1e-10) << "dof " << dof;
-      if (std::abs(tau[dof]) > 1) ++moved;
-    }
-  }
-  EXPECT_EQ(moved, 4) << "every hip axis and the knee carry part of the force";
-  // Nothing on the root, the ankles or the other leg.
-  for (int dof = 0; dof < kCharacterNv; ++dof) {
-    const bool leg = (dof >= joints_[kLeftHip].dof_adr && dof < joints_[kLeftHip].dof_adr + 3) ||
-                     dof == joints_[kLeftKnee].dof_adr;
-    if (!leg) EXPECT_EQ(tau[dof], 0) << "dof " << dof;
-  }
-}
-
-TEST_F(StanceBalanceTest, TheLegForceIsClampedToEachJointsFeedForwardRange) {
-  data_->qpos[joints_[kLeftKnee].qpos_adr] = -0.6;
-  mj_forward(model_.get(), data_.get());
-  const double force[3] = {1e6, 0, 0};
-  std::array<double, kCharacterNv> tau{};
-  AddLegForce(joints_, Foot::kLeft, force, 100.0, model_.get(), data_.get(), tau.data());
-  const double knee_limit = 100.0 * joints_[kLeftKnee].torque_scale;
-  EXPECT_DOUBLE_EQ(std::abs(tau[joints_[kLeftKnee].dof_adr]), knee_limit);
-}
-
-TEST_F(StanceBalanceTest, TheForceTermPushesTheCentreOfMassTowardItsTarget) {
-  // The target 3 cm to the left of where the centre of mass is over the left ankle: the term
-  // is the leg force (0, mass·kp·0.03, 0), here read back through AddLegForce.
-  config::StanceBalance gains;
-  OffsetTarget(&gains);
-  gains.set_com_kp(0);
-  gains.set_com_x(gains.com_x() - 0.02);  // no error ahead
-  gains.set_force_kp(40);
-  const double mass = model_->body_subtreemass[root_];
-  const double expected_force[3] = {0, mass * 40 * 0.03, 0};
-  std::array<double, kCharacterNv> expected{};
-  AddLegForce(joints_, Foot::kLeft, expected_force, 100.0, model_.get(), data_.get(),
-              expected.data());
-  const std::array<double, kCharacterNv> tau = Torques(gains);
-  for (int dof = 0; dof < kCharacterNv; ++dof) EXPECT_NEAR(tau[dof], expected[dof], 1e-9) << dof;
-  EXPECT_GT(std::abs(tau[joints_[kLeftHip].dof_adr]), 1) << "the hip's roll carries it";
 }
 
 }  // namespace
